@@ -1,0 +1,76 @@
+#include "mechanics/forces.h"
+
+#include "mechanics/attachment_forces.h"
+#include "mechanics/spring_forces.h"
+
+namespace viscera::mechanics {
+
+void ForceJacobians::Resize(int num_points) {
+  stiffness.Resize(num_points);
+  damping.Resize(num_points);
+  rank1_u.setZero(num_points, 3);
+  rank1_coeff = 0.0;
+}
+
+void ComputeForces(const Model& model, const Points& q, const Points& qd,
+                   std::span<const PointLoad> loads, StretchScratch* scratch, Points* F,
+                   Energies* energies, ForceJacobians* jac) {
+  BlockBand* K = jac ? &jac->stiffness : nullptr;
+  BlockBand* D = jac ? &jac->damping : nullptr;
+  if (jac) {
+    K->SetZero();
+    D->SetZero();
+  }
+
+  // Gravity: constant generalized force; E = -sum_i Q_i . q_i (= m g h for g along -z).
+  *F = model.gravity_force();
+  if (energies) energies->gravity = -(model.gravity_force().array() * q.array()).sum();
+
+  // Viscous friction: force density -gamma rho dP/dt, i.e. Q = -gamma M qd.
+  const double gamma = model.params().damping;
+  if (gamma > 0.0) {
+    const Band& m = model.mass_band();
+    const int n = model.num_points();
+    for (int i = 0; i < n; ++i) {
+      F->row(i) -= gamma * m(i, 0) * qd.row(i);
+      for (int d = 1; d <= kHalfBand && i + d < n; ++d) {
+        F->row(i) -= gamma * m(i, d) * qd.row(i + d);
+        F->row(i + d) -= gamma * m(i, d) * qd.row(i);
+      }
+      if (D) {
+        for (int d = 0; d <= kHalfBand && i + d < n; ++d) D->block(i, d) += gamma * m(i, d) * Mat3::Identity();
+      }
+    }
+  }
+
+  const double e_stretch = AddSpringForces(model.stretch_springs(), q, qd, F, K, D);
+  const double e_bend = AddSpringForces(model.bend_springs(), q, qd, F, K, D);
+  const double e_continuous = AddStretchingForces(model, q, scratch, F, K, jac ? &jac->rank1_u : nullptr,
+                                                  jac ? &jac->rank1_coeff : nullptr);
+  const double e_attachment = AddAttachmentForces(model.attachments(), q, qd, F, K, D);
+  for (const PointLoad& load : loads) model.curve().AddForce(load.s, load.force, F);
+
+  if (energies) {
+    energies->stretch = e_stretch;
+    energies->bend = e_bend;
+    energies->continuous = e_continuous;
+    energies->attachment = e_attachment;
+  }
+}
+
+double KineticEnergy(const Model& model, const Points& qd, Points* scratch) {
+  BandMultiply(model.mass_band(), qd, scratch);
+  return 0.5 * (qd.array() * scratch->array()).sum();
+}
+
+Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd) {
+  StretchScratch scratch;
+  scratch.Resize(model.num_points());
+  Points f(model.num_points(), 3);
+  Energies e;
+  ComputeForces(model, q, qd, {}, &scratch, &f, &e);
+  e.kinetic = KineticEnergy(model, qd, &f);
+  return e;
+}
+
+}  // namespace viscera::mechanics

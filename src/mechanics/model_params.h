@@ -1,0 +1,53 @@
+#pragma once
+/// Plain, unvalidated description of an intestine model, in SI units. Model's constructor
+/// validates it. Scenes (src/scene) fill it from TOML.
+#include <optional>
+#include <vector>
+
+#include "common/types.h"
+
+namespace viscera::mechanics {
+
+enum class IntegratorKind { kRk4, kImplicitEuler };
+enum class MassSolverKind { kBanded, kCholmod };
+/// The Terzopoulos stretching energy over the whole curve (the paper) or per segment.
+enum class ContinuousScope { kGlobal, kSegment };
+
+/// A soft spring from a curve point to a fixed world point (anatomical attachment, mesentery).
+struct AttachmentParams {
+  double s = 0.0;                 ///< curve parameter in [0, 1]
+  std::optional<Vec3> point;      ///< world anchor (m); default: where the curve point starts
+  double stiffness = 0.0;         ///< N/m
+  double damping = 0.0;           ///< N s/m, on the curve point's velocity
+  double rest_length = 0.0;       ///< m; 0 = zero-length spring
+};
+
+struct ModelParams {
+  // [simulation]
+  double rate_hz = 100.0;         ///< steps per simulated second
+  int substeps = 1;               ///< integrator sub-steps per step
+  IntegratorKind integrator = IntegratorKind::kRk4;
+  MassSolverKind mass_solver = MassSolverKind::kBanded;
+  Vec3 gravity{0.0, 0.0, -9.81};  ///< m/s^2
+
+  // [intestine]
+  double length = 0.0;            ///< rest length L (m); the rest shape is straight
+  double radius = 0.0;            ///< tube radius (m)
+  double mass = 0.0;              ///< total mass (kg)
+  double stretch_stiffness = 0.0; ///< axial stiffness EA (N)
+  double bend_stiffness = 0.0;    ///< bending stiffness EI (N m^2)
+  /// Curvature (1/m) at which the Provot bend springs' energy equals the rod's
+  /// (docs/mechanics.md); <= 0 means 1 / radius.
+  double bend_reference_curvature = 0.0;
+  double continuous_stretch = 0.0;  ///< k of the Terzopoulos energy (J)
+  ContinuousScope continuous_scope = ContinuousScope::kGlobal;
+  double damping = 0.0;           ///< viscous friction (1/s): force density -damping * rho * dP/dt
+  double spring_damping = 0.0;    ///< along each spring (1/s), times the segment mass
+  std::vector<double> pinned;     ///< curve parameters held where they start
+  std::vector<AttachmentParams> attachments;
+
+  /// Starting control points (#N by 3, N >= 4).
+  Points initial_q;
+};
+
+}  // namespace viscera::mechanics

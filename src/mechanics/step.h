@@ -1,0 +1,35 @@
+#pragma once
+/// One step of the mechanical layer: `substeps` integrator sub-steps of h = 1 / (rate_hz *
+/// substeps). The Workspace belongs to the stepping thread; Step allocates nothing in steady
+/// state (tests/mechanics/step_test.cc checks it).
+#include <memory>
+#include <span>
+
+#include "mechanics/integrator.h"
+
+namespace viscera::mechanics {
+
+/// What the world feeds a step. Contacts and tools extend this.
+struct StepInputs {
+  std::span<const PointLoad> loads;  ///< external forces, held for the whole step
+};
+
+/// Scratch owned by the thread that steps one simulation. Non-copyable.
+class Workspace {
+ public:
+  /// @pre model outlives the workspace.
+  explicit Workspace(const Model& model) : integrator_(MakeIntegrator(model)) {}
+  Workspace(const Workspace&) = delete;
+  Workspace& operator=(const Workspace&) = delete;
+  Integrator& integrator() { return *integrator_; }
+
+ private:
+  std::unique_ptr<Integrator> integrator_;
+};
+
+/// Advances state by one step (1 / rate_hz seconds). A step whose result is not finite resets
+/// q and qd to the model's start (t continues) and counts it in state->nonfinite_resets, so a
+/// session survives a blow-up instead of propagating NaN.
+void Step(const Model& model, const StepInputs& inputs, State* state, Workspace* workspace);
+
+}  // namespace viscera::mechanics
