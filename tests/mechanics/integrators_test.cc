@@ -64,10 +64,10 @@ TEST(Integrators, Rk4ConservesEnergyOfUndampedStretchedSpline) {
   p.attachments.push_back({0.5, std::nullopt, 20.0, 0.0, 0.0});
   p.rate_hz = 100.0;
   // RK4 damps a mode by about (h omega)^6 / 72 of its energy per step: conservation needs
-  // h omega << 1, not just stability. h omega_max = 0.1 here.
+  // h omega << 1, not just stability. h omega_max = 0.05 here.
   const Model probe(p);
   const double omega = EstimateStability(probe, InitialState(probe)).omega_max;
-  p.substeps = static_cast<int>(std::ceil(omega * probe.step_size() / 0.1));
+  p.substeps = static_cast<int>(std::ceil(omega * probe.step_size() / 0.05));
   const Model model(p);
   const State start = InitialState(model);
   const double e0 = TotalEnergy(model, start);
