@@ -1,0 +1,55 @@
+#pragma once
+/// Typed, strict reading of one TOML table: every error names the key (with its table path),
+/// the value and the reason; Finish() rejects keys nobody asked for.
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "common/types.h"
+
+namespace toml {
+inline namespace v3 {
+class table;
+class node;
+}  // namespace v3
+}  // namespace toml
+
+namespace viscera::scene {
+
+class TomlReader {
+ public:
+  /// @param path dotted path of the table, for messages ("intestine.shape").
+  TomlReader(const toml::table& table, std::string path);
+
+  bool Has(const std::string& key) const;
+  /// @throws InputError when missing (required) or of the wrong type, or not finite.
+  double Double(const std::string& key) const;
+  double Double(const std::string& key, double fallback) const;
+  int Int(const std::string& key) const;
+  int Int(const std::string& key, int fallback) const;
+  bool Bool(const std::string& key, bool fallback) const;
+  std::string String(const std::string& key) const;
+  std::string String(const std::string& key, const std::string& fallback) const;
+  Vec3 Vector(const std::string& key) const;
+  Vec3 Vector(const std::string& key, const Vec3& fallback) const;
+  Points PointList(const std::string& key) const;
+  /// The raw node (for keys with several accepted types); nullptr when absent.
+  const toml::node* Node(const std::string& key) const;
+  std::string Name(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  /// @throws InputError naming the first key that was never read.
+  void Finish() const;
+
+ private:
+  const toml::node& Required(const std::string& key) const;
+
+  const toml::table& table_;
+  std::string path_;
+  mutable std::set<std::string> read_;
+};
+
+/// Describes a TOML value for messages: `"abc"`, `1.5`, `[...]`, `{...}`.
+std::string Describe(const toml::node& node);
+
+}  // namespace viscera::scene

@@ -1,0 +1,75 @@
+#include "sim/trace_writer.h"
+
+#include <cerrno>
+#include <cstring>
+
+#include "common/check.h"
+
+namespace viscera::tools {
+namespace {
+
+// Appends a number with 10 significant digits (round-trips float32 and is plenty for m).
+void Number(std::string* out, double v) {
+  char buf[32];
+  const int n = std::snprintf(buf, sizeof buf, "%.10g", v);
+  out->append(buf, n);
+}
+
+}  // namespace
+
+TraceWriter::TraceWriter(const std::string& path) : file_(std::fopen(path.c_str(), "w")) {
+  ThrowUnless(file_ != nullptr, path, ": cannot write trace: ", std::strerror(errno));
+}
+
+TraceWriter::~TraceWriter() {
+  if (file_) std::fclose(file_);
+}
+
+void TraceWriter::Points(const char* key, const viscera::Points& p) {
+  line_ += ",\"";
+  line_ += key;
+  line_ += "\":[";
+  for (Eigen::Index i = 0; i < p.rows(); ++i) {
+    if (i) line_ += ',';
+    line_ += '[';
+    Number(&line_, p(i, 0));
+    line_ += ',';
+    Number(&line_, p(i, 1));
+    line_ += ',';
+    Number(&line_, p(i, 2));
+    line_ += ']';
+  }
+  line_ += ']';
+}
+
+void TraceWriter::Write(const mechanics::State& state, double length, const mechanics::Energies& e,
+                        double step_us) {
+  line_.clear();
+  line_ += "{\"t\":";
+  Number(&line_, state.t);
+  Points("q", state.q);
+  Points("qd", state.qd);
+  line_ += ",\"length\":";
+  Number(&line_, length);
+  line_ += ",\"energy\":{";
+  const std::pair<const char*, double> terms[] = {
+      {"kinetic", e.kinetic}, {"gravity", e.gravity},       {"stretch", e.stretch},
+      {"bend", e.bend},       {"continuous", e.continuous}, {"attachment", e.attachment},
+      {"total", e.total()}};
+  bool first = true;
+  for (const auto& [name, value] : terms) {
+    if (!first) line_ += ',';
+    first = false;
+    line_ += '"';
+    line_ += name;
+    line_ += "\":";
+    Number(&line_, value);
+  }
+  line_ += "},\"step_us\":";
+  Number(&line_, step_us);
+  line_ += "}\n";
+  std::fwrite(line_.data(), 1, line_.size(), file_);
+  ++frames_;
+}
+
+}  // namespace viscera::tools

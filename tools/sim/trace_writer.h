@@ -1,0 +1,32 @@
+#pragma once
+/// Writes a simulation trace as JSON Lines: one object per recorded frame with
+///   t (s), q and qd (#N lists of [x, y, z], m and m/s), length (m), energy {kinetic, gravity,
+///   stretch, bend, continuous, attachment, total} (J), step_us (CPU time of the step that
+///   produced the frame, microseconds).
+#include <cstdio>
+#include <string>
+
+#include "mechanics/forces.h"
+#include "mechanics/state.h"
+
+namespace viscera::tools {
+
+class TraceWriter {
+ public:
+  /// @throws InputError when the file cannot be opened.
+  explicit TraceWriter(const std::string& path);
+  ~TraceWriter();
+  TraceWriter(const TraceWriter&) = delete;
+  TraceWriter& operator=(const TraceWriter&) = delete;
+
+  void Write(const mechanics::State& state, double length, const mechanics::Energies& energy, double step_us);
+  int frames() const { return frames_; }
+
+ private:
+  void Points(const char* key, const viscera::Points& p);
+  std::FILE* file_;
+  std::string line_;
+  int frames_ = 0;
+};
+
+}  // namespace viscera::tools
