@@ -48,7 +48,7 @@ double Percentile(std::vector<double> v, double p) {
 
 int Run(const Options& opt) {
   scene::Scene scene = scene::LoadSceneFile(opt.scene);
-  for (const std::string& w : scene.warnings) std::cerr << "warning: " << opt.scene << ": " << w << "\n";
+  for (const std::string& w : scene.warnings) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
   const mechanics::Model model = [&] {
     try {
       return mechanics::Model(scene.model);
@@ -130,8 +130,14 @@ int Run(const Options& opt) {
               opt.trace.c_str());
   std::printf("step cost        mean %.1f us, p99 %.1f us  (%.0fx real time on one core)\n",
               total_us / steps, Percentile(cost_us, 0.99), simulated / (total_us * 1e-6));
-  std::printf("centre of mass   z %.4f m -> %.4f m (free fall alone: %.4f m)\n", com0.z(), com.z(),
-              com0.z() + 0.5 * model.params().gravity.z() * simulated * simulated);
+  std::printf("centre of mass   z %.4f m -> %.4f m", com0.z(), com.z());
+  if (model.pins().empty() && model.attachments().empty()) {
+    // A free body: its centre of mass falls like a point with viscous friction gamma.
+    const double gamma = model.params().damping, g = model.params().gravity.z(), t = simulated;
+    const double expected = gamma > 0.0 ? g / gamma * (t - (1.0 - std::exp(-gamma * t)) / gamma) : 0.5 * g * t * t;
+    std::printf(" (point under gravity and viscous friction: %.4f m)", com0.z() + expected);
+  }
+  std::printf("\n");
   std::printf("length           rest %.4f m, final %.4f m (%+.2f %%)\n", model.params().length,
               curve.Length(state.q), 100.0 * (curve.Length(state.q) / model.params().length - 1.0));
   std::printf("energy           %.4f J -> %.4f J (kinetic %.4f, gravity %.4f, stretch %.4f, bend %.4f, continuous %.4f)\n",

@@ -1,0 +1,175 @@
+#include "scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "common/check.h"
+#include "mechanics/model.h"
+
+namespace viscera::scene {
+namespace {
+
+const std::string kIntestine = R"(
+[intestine]
+length = 2.0
+radius = 0.0125
+mass = 0.5
+control_points = 41
+stretch_stiffness = 50.0
+[intestine.shape]
+kind = "straight"
+start = [0.0, 0.0, 1.0]
+direction = [1.0, 0.0, 0.0]
+)";
+
+// Expects ParseScene(text) to throw an InputError whose message contains every fragment.
+void ExpectError(const std::string& text, std::initializer_list<const char*> fragments) {
+  try {
+    ParseScene(text, "test.toml");
+    ADD_FAILURE() << "no error for:\n" << text;
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    for (const char* f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+  }
+}
+
+std::string Replace(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(Scene, ParsesAMinimalSceneWithDefaults) {
+  const Scene s = ParseScene(kIntestine);
+  EXPECT_EQ(s.model.initial_q.rows(), 41);
+  EXPECT_EQ(s.model.rate_hz, 100.0);
+  EXPECT_EQ(s.model.integrator, mechanics::IntegratorKind::kRk4);
+  EXPECT_EQ(s.model.gravity, Vec3(0.0, 0.0, -9.81));
+  EXPECT_TRUE(s.warnings.empty());
+  EXPECT_NEAR((s.model.initial_q.row(40) - s.model.initial_q.row(0)).norm(), 2.0, 1e-12);
+}
+
+TEST(Scene, ReadsEverySimulationKey) {
+  const Scene s = ParseScene("[simulation]\nrate_hz = 500\nsubsteps = 3\nintegrator = \"implicit\"\n"
+                             "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\n" + kIntestine);
+  EXPECT_EQ(s.model.rate_hz, 500.0);
+  EXPECT_EQ(s.model.substeps, 3);
+  EXPECT_EQ(s.model.integrator, mechanics::IntegratorKind::kImplicitEuler);
+  EXPECT_EQ(s.model.mass_solver, mechanics::MassSolverKind::kCholmod);
+  EXPECT_EQ(s.model.gravity, Vec3(0.0, -1.62, 0.0));
+}
+
+TEST(Scene, MissingKeysAreNamed) {
+  ExpectError(Replace(kIntestine, "mass = 0.5\n", ""), {"test.toml", "intestine.mass", "missing"});
+  ExpectError(Replace(kIntestine, "kind = \"straight\"\n", ""), {"intestine.shape.kind", "missing"});
+  ExpectError("[simulation]\nrate_hz = 100\n", {"[intestine]", "missing"});
+}
+
+TEST(Scene, WrongTypesAreNamedWithTheirValue) {
+  ExpectError(Replace(kIntestine, "length = 2.0", "length = \"long\""), {"intestine.length", "long", "expected a number"});
+  ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 4.5"), {"intestine.control_points", "4.5", "integer"});
+  ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, 1.0]"), {"intestine.shape.start", "[x, y, z]"});
+  ExpectError("[simulation]\nintegrator = \"euler\"\n" + kIntestine, {"simulation.integrator", "euler", "rk4"});
+}
+
+TEST(Scene, NonFiniteAndOutOfRangeValuesAreRejected) {
+  ExpectError(Replace(kIntestine, "length = 2.0", "length = nan"), {"intestine.length", "nan", "finite"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = inf"), {"intestine.mass", "finite"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = -1"), {"intestine.mass", "-1", "> 0"});
+  ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, nan, 1.0]"), {"intestine.shape.start[1]", "finite"});
+  ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 3"), {"control_points", "3", "at least 4"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\npinned = [\"middle\"]"), {"intestine.pinned", "middle"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\npinned = [1.5]"), {"intestine.pinned", "1.5", "[0, 1]"});
+}
+
+TEST(Scene, UnknownKeyInKnownTableIsAnError) {
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nstiffnes = 3"), {"intestine.stiffnes", "unknown key"});
+  ExpectError(Replace(kIntestine, "kind = \"straight\"", "kind = \"straight\"\nradius = 1"), {"intestine.shape.radius", "unknown key"});
+}
+
+TEST(Scene, UnknownTopLevelTableIsAWarning) {
+  const Scene s = ParseScene(kIntestine + "\n[contacts]\nstiffness = 1000\n");
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("[contacts]"), std::string::npos);
+}
+
+TEST(Scene, PlaneObstacleIsParsedAndSaidToBeIgnored) {
+  const Scene s = ParseScene(kIntestine + "\n[[obstacle]]\nkind = \"plane\"\npoint = [0,0,0]\nnormal = [0,0,2]\n");
+  ASSERT_EQ(s.obstacles.size(), 1u);
+  EXPECT_EQ(s.obstacles[0].normal, Vec3(0, 0, 1));
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("not simulated"), std::string::npos);
+  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"torus\"\n", {"obstacle[0].kind", "torus"});
+}
+
+TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
+  ExpectError("[intestine\nlength = 1\n", {"test.toml:1:"});
+}
+
+TEST(Scene, ShapesPlaceControlPointsAtEqualArcLength) {
+  // With 401 points 5 mm apart, a chord is shorter than its arc by (s kappa)^2 / 24 = 1e-4 of
+  // the spacing on the helix (kappa = 10 / m): allow 3e-4.
+  for (const char* shape : {"kind = \"helix\"\ncenter = [0, 0, 0.2]\nradius = 0.1\npitch = 0.03",
+                            "kind = \"serpentine\"\namplitude = 0.1\nwavelength = 0.4"}) {
+    std::string text = Replace(kIntestine, "kind = \"straight\"\nstart = [0.0, 0.0, 1.0]\ndirection = [1.0, 0.0, 0.0]", shape);
+    text = Replace(text, "control_points = 41", "control_points = 401");
+    const Scene s = ParseScene(text);
+    const Points& q = s.model.initial_q;
+    ASSERT_EQ(q.rows(), 401);
+    double total = 0.0;
+    for (int i = 0; i + 1 < 401; ++i) {
+      const double chord = (q.row(i + 1) - q.row(i)).norm();
+      EXPECT_NEAR(chord, 2.0 / 400, 3e-4 * 2.0 / 400) << shape << " " << i;
+      total += chord;
+    }
+    EXPECT_NEAR(total, 2.0, 1e-3) << shape;
+  }
+}
+
+TEST(Scene, PointsShapeGivesTheControlPointsDirectly) {
+  const std::string text = R"(
+[intestine]
+length = 0.3
+radius = 0.01
+mass = 0.1
+[intestine.shape]
+kind = "points"
+points = [[0,0,0], [0.1,0,0], [0.2,0,0], [0.3,0,0], [0.3,0.1,0]]
+)";
+  const Scene s = ParseScene(text);
+  EXPECT_EQ(s.model.initial_q.rows(), 5);
+  EXPECT_EQ(s.model.initial_q(4, 1), 0.1);
+  ExpectError(Replace(text, "mass = 0.1", "mass = 0.1\ncontrol_points = 7"), {"intestine.shape.points", "5", "7"});
+}
+
+TEST(Scene, AttachmentsArePinnedToTheirCurvePoint) {
+  const Scene s = ParseScene(kIntestine + "\n[[attachment]]\nat = 0.0\nstiffness = 200\n"
+                                          "[[attachment]]\nat = 1.0\npoint = [2, 0, 0.5]\nstiffness = 100\ndamping = 1\nrest_length = 0.1\n");
+  ASSERT_EQ(s.model.attachments.size(), 2u);
+  EXPECT_FALSE(s.model.attachments[0].point.has_value());
+  EXPECT_EQ(*s.model.attachments[1].point, Vec3(2, 0, 0.5));
+  const mechanics::Model model(s.model);
+  EXPECT_LT((model.attachments()[0].anchor - Vec3(0, 0, 1)).norm(), 1e-12);
+  ExpectError(kIntestine + "\n[[attachment]]\nat = 0.5\n", {"attachment[0].stiffness", "missing"});
+}
+
+TEST(Scene, ShippedScenesLoadAndBuildModels) {
+  for (const char* name : {"fall", "hanging", "attached"}) {
+    const std::string path = std::string(VISCERA_SOURCE_DIR) + "/scenes/" + name + ".toml";
+    const Scene s = LoadSceneFile(path);
+    EXPECT_NO_THROW(mechanics::Model{s.model}) << path;
+  }
+  const Scene fall = LoadSceneFile(std::string(VISCERA_SOURCE_DIR) + "/scenes/fall.toml");
+  EXPECT_EQ(fall.model.initial_q.rows(), 250);
+  EXPECT_EQ(fall.model.length, 4.0);
+  EXPECT_GT(fall.model.initial_q.col(2).minCoeff(), 0.05);  // above the surface
+}
+
+TEST(Scene, MissingFileIsAClearError) {
+  EXPECT_THROW(LoadSceneFile("/nonexistent/scene.toml"), InputError);
+}
+
+}  // namespace
+}  // namespace viscera::scene
