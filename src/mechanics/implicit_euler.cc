@@ -11,6 +11,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model)
     : model_(model),
       n_(model.num_points()),
       num_pins_(static_cast<int>(model.pins().size())),
+      use_cholmod_(model.params().linear_solver == LinearSolverKind::kCholmod),
+      system_(model.num_points()),
       solver_(&common_),
       solve_work_(&common_) {
   scratch_.Resize(n_);
@@ -21,7 +23,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model)
   schur_.setZero(3 * num_pins_, 3 * num_pins_);
   pin_rhs_.setZero(3 * num_pins_);
   pin_lambda_.setZero(3 * num_pins_);
-  BuildPattern();
+  if (use_cholmod_) BuildPattern();
 }
 
 void ImplicitEulerIntegrator::BuildPattern() {
@@ -47,20 +49,40 @@ void ImplicitEulerIntegrator::BuildPattern() {
   solver_.SetPattern(dim, col_ptr, row_index);
 }
 
-void ImplicitEulerIntegrator::FillMatrix(double h) {
-  double* values = solver_.values();
+void ImplicitEulerIntegrator::AssembleSystem(double h) {
   const Band& m = model_.mass_band();
   const double h2 = h * h;
   for (int i = 0; i < n_; ++i) {
     for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
-      Mat3 block = h * jac_.damping.block(i, d) + h2 * jac_.stiffness.block(i, d);
+      Mat3& block = system_.block(i, d);
+      block = h * jac_.damping.block(i, d) + h2 * jac_.stiffness.block(i, d);
       block.diagonal().array() += m(i, d);
+    }
+  }
+}
+
+bool ImplicitEulerIntegrator::FactorSystem() {
+  if (!use_cholmod_) return band_factor_.Factor(system_);
+  double* values = solver_.values();
+  for (int i = 0; i < n_; ++i) {
+    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
+      const Mat3& block = system_.block(i, d);
       const int* s = &slot_[(static_cast<size_t>(i) * BlockBand::kWidth + d) * 9];
       for (int e = 0; e < 9; ++e) {
         if (s[e] >= 0) values[s[e]] = block(e / 3, e % 3);
       }
     }
   }
+  return solver_.Factorize();
+}
+
+void ImplicitEulerIntegrator::SolveColumns() {
+  const Eigen::Index cols = rhs_.cols();
+  if (use_cholmod_) {
+    solver_.SolveInPlace(rhs_.data(), static_cast<int>(cols), &solve_work_);
+    return;
+  }
+  for (Eigen::Index k = 0; k < cols; ++k) band_factor_.SolveInPlace(rhs_.col(k).data());
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
@@ -85,8 +107,8 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
     }
   }
 
-  FillMatrix(h);
-  if (!solver_.Factorize()) {
+  AssembleSystem(h);
+  if (!FactorSystem()) {
     // Cannot happen for M + hD + h^2 K with K, D clamped PSD; count it and take an explicit
     // step rather than produce garbage.
     ++factorization_failures_;
@@ -96,8 +118,8 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
     q += h * v;
     return;
   }
+  SolveColumns();
   const Eigen::Index cols = rhs_.cols();
-  solver_.SolveInPlace(rhs_.data(), static_cast<int>(cols), &solve_work_);
 
   // Sherman-Morrison: (A + w u u^T)^-1 x = A^-1 x - z (w u.A^-1 x) / (1 + w u.z), z = A^-1 u.
   const double w = h * h * c;

@@ -2,13 +2,15 @@
 /// Linearly implicit (semi-implicit backward) Euler, as in Baraff & Witkin 1998:
 ///   (M + h D + h^2 K) dv = h (F(q, v) - h K v),   v' = v + dv,   q' = q + h v',
 /// with K = -dF/dq, D = -dF/dv and M the mass matrix acting on each axis. The 3N unknowns are
-/// ordered x0 y0 z0 x1 ...; the matrix is block banded (|i - j| <= 3) and is factored by
-/// CHOLMOD, whose symbolic analysis is done once and reused while the pattern holds. The global
+/// ordered x0 y0 z0 x1 ...; the matrix is block banded (|i - j| <= 3) and is factored either by
+/// a 3x3 block-band Cholesky or by CHOLMOD, whose symbolic analysis is done once and reused
+/// while the pattern holds (params().linear_solver; the faster is the default). The global
 /// stretching energy's dense rank-one stiffness is applied by Sherman-Morrison, and the pins are
 /// solved inside the system (Schur complement), all from one multi-column CHOLMOD solve.
 /// Unconditionally stable for the linearized system; it damps high frequencies (first order).
 #include <vector>
 
+#include "mechanics/block_band_cholesky.h"
 #include "mechanics/cholmod_solver.h"
 #include "mechanics/integrator.h"
 
@@ -25,11 +27,16 @@ class ImplicitEulerIntegrator final : public Integrator {
 
  private:
   void BuildPattern();
-  void FillMatrix(double h);
+  void AssembleSystem(double h);   // system_ = M + h D + h^2 K
+  bool FactorSystem();
+  void SolveColumns();             // rhs_ <- system_^-1 rhs_
 
   const Model& model_;
   int n_;                        // control points
   int num_pins_;
+  bool use_cholmod_;
+  BlockBand system_;
+  BlockBandCholesky band_factor_;
   CholmodCommon common_;
   CholmodSolver solver_;
   CholmodSolveWorkspace solve_work_;

@@ -10,6 +10,9 @@ namespace viscera::mechanics {
 
 enum class IntegratorKind { kRk4, kImplicitEuler };
 enum class MassSolverKind { kBanded, kCholmod };
+/// How the implicit integrator solves M + h D + h^2 K: 3x3 block-band Cholesky (valid while the
+/// pattern is the chain's band) or CHOLMOD (any pattern). docs/benchmarks.md compares them.
+enum class LinearSolverKind { kBlockBand, kCholmod };
 /// The Terzopoulos stretching energy over the whole curve (the paper) or per segment.
 enum class ContinuousScope { kGlobal, kSegment };
 
@@ -28,6 +31,7 @@ struct ModelParams {
   int substeps = 1;               ///< integrator sub-steps per step
   IntegratorKind integrator = IntegratorKind::kRk4;
   MassSolverKind mass_solver = MassSolverKind::kBanded;
+  LinearSolverKind linear_solver = LinearSolverKind::kBlockBand;
   Vec3 gravity{0.0, 0.0, -9.81};  ///< m/s^2
 
   // [intestine]

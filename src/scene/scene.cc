@@ -46,6 +46,14 @@ void ReadSimulation(const toml::table& table, ModelParams* p) {
   } else {
     Fail("simulation.mass_solver = \"", solver, "\": expected \"banded\" or \"cholmod\"");
   }
+  const std::string linear = r.String("linear_solver", "banded");
+  if (linear == "banded") {
+    p->linear_solver = mechanics::LinearSolverKind::kBlockBand;
+  } else if (linear == "cholmod") {
+    p->linear_solver = mechanics::LinearSolverKind::kCholmod;
+  } else {
+    Fail("simulation.linear_solver = \"", linear, "\": expected \"banded\" or \"cholmod\"");
+  }
   p->gravity = r.Vector("gravity", Vec3(0.0, 0.0, -9.81));
   r.Finish();
 }

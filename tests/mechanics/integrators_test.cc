@@ -127,6 +127,23 @@ TEST(Integrators, Rk4AndImplicitEulerAgreeOnAGentleMotion) {
   EXPECT_LT((a.q - b.q).rowwise().norm().maxCoeff(), 0.01);
 }
 
+TEST(Integrators, BlockBandAndCholmodSolveTheSameImplicitSystem) {
+  ModelParams p = GentleSwing(IntegratorKind::kImplicitEuler);
+  p.bend_stiffness = 1e-4;
+  p.spring_damping = 1.0;
+  p.pinned = {0.0, 0.5};
+  p.attachments.push_back({1.0, Vec3(1.2, 0.0, -0.3), 20.0, 0.5, 0.0});
+  p.linear_solver = LinearSolverKind::kBlockBand;
+  const Model band(p);
+  p.linear_solver = LinearSolverKind::kCholmod;
+  const Model cholmod(p);
+  const State a = Simulate(band, 0.3, InitialState(band));
+  const State b = Simulate(cholmod, 0.3, InitialState(cholmod));
+  EXPECT_GT((a.q - p.initial_q).norm(), 0.05);
+  EXPECT_LT((a.q - b.q).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((a.qd - b.qd).cwiseAbs().maxCoeff(), 1e-8);
+}
+
 TEST(Integrators, PinsHoldExactlyInBothIntegrators) {
   for (IntegratorKind kind : {IntegratorKind::kRk4, IntegratorKind::kImplicitEuler}) {
     ModelParams p = GentleSwing(kind);

@@ -1,0 +1,29 @@
+#pragma once
+/// Cholesky factor of a symmetric positive definite BlockBand matrix (3x3 blocks, block
+/// half-bandwidth 3): the implicit integrator's M + h D + h^2 K while no contact couples distant
+/// parts of the chain. Fixed-size 3x3 block arithmetic, O(n), no allocation after the first
+/// factorization. CHOLMOD (cholmod_solver.h) handles general patterns.
+#include <vector>
+
+#include "mechanics/block_band.h"
+
+namespace viscera::mechanics {
+
+class BlockBandCholesky {
+ public:
+  /// Factors A = L L^T. Returns false when A is not positive definite.
+  bool Factor(const BlockBand& a);
+
+  /// Solves A x = b in place; b holds 3n values ordered x0 y0 z0 x1 ...
+  void SolveInPlace(double* b) const;
+
+ private:
+  // l_[i * 4 + d] = L(i, i - d); inv_diag_[i] = L(i, i)^-1 (lower triangular).
+  std::vector<Mat3> l_;
+  std::vector<Mat3> inv_diag_;
+  int n_ = 0;
+  const Mat3& L(int i, int d) const { return l_[static_cast<size_t>(i) * BlockBand::kWidth + d]; }
+  Mat3& L(int i, int d) { return l_[static_cast<size_t>(i) * BlockBand::kWidth + d]; }
+};
+
+}  // namespace viscera::mechanics
