@@ -15,7 +15,8 @@
 
 namespace {
 
-// Exit codes: 0 success, 1 usage or local error, 2 no server answered.
+// Exit codes: 0 success, 1 local error (bad URL, no multicast route), 2 no server
+// answered; CLI11 reports bad flags with its own codes (100 and up).
 constexpr int kNoServer = 2;
 
 struct ServersOptions {
@@ -76,7 +77,7 @@ int main(int argc, char** argv) {
   ServersOptions servers_options;
   CLI::App* servers = app.add_subcommand("servers", "List the servers heard on the heartbeat channel");
   servers->add_option("--timeout", servers_options.timeout_s, "Seconds to listen")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(0.01, 3600.0))
       ->capture_default_str();
   servers->add_flag("--json", servers_options.json, "Print a JSON array");
   // accept --lcm-url after the subcommand too, as scripts tend to put it there

@@ -34,6 +34,7 @@ bool LcmBus::PublishRaw(const std::string& channel, const void* data, int size) 
 
 SubscriptionId LcmBus::AddSubscription(
     const std::string& channel, std::function<Outcome(const lcm::ReceiveBuffer&)> dispatch) {
+  VISCERA_DEMAND(!dispatching_);
   auto subscription = std::make_unique<Subscription>();
   subscription->bus = this;
   subscription->id = next_id_++;

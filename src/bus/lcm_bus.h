@@ -69,7 +69,9 @@ class LcmBus {
 
   /// Calls `handler` for every message on `channel` that decodes as a Msg, exactly
   /// (a datagram with trailing bytes is malformed). Owner thread only.
-  /// @pre handler is callable.
+  /// @pre not called from inside a handler (LCM 1.3.1 would change its handler list
+  ///      while iterating over it).
+  /// @throws InputError when handler is empty or LCM refuses the subscription.
   template <typename Msg>
   SubscriptionId Subscribe(const std::string& channel, Handler<Msg> handler);
 

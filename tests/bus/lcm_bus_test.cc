@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <random>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include <viscera_proto/heartbeat_t.hpp>
@@ -146,6 +147,24 @@ TEST(LcmBus, UnsubscribeInsideAHandlerIsDeferred) {
   bus.Drain();
   EXPECT_EQ(calls, 1);
   EXPECT_EQ(bus.stats().handler_failures, 0);
+}
+
+TEST(LcmBus, PublishFromAnotherThreadWhileTheOwnerPumps) {
+  LcmBus bus(kMemq);
+  constexpr int kCount = 200;
+  std::vector<int64_t> seqs;
+  bus.Subscribe<heartbeat_t>(kHeartbeatChannel,
+                             [&](const heartbeat_t& msg, int64_t) { seqs.push_back(msg.header.seq); });
+  std::thread publisher([&] {
+    for (int64_t i = 0; i < kCount; ++i) bus.Publish(kHeartbeatChannel, SampleHeartbeat(i));
+  });
+  // 5 s is far beyond need: the loop ends as soon as everything has arrived
+  for (int i = 0; i < 500 && static_cast<int>(seqs.size()) < kCount; ++i) bus.Pump(10);
+  publisher.join();
+  bus.Drain();
+  ASSERT_EQ(static_cast<int>(seqs.size()), kCount);
+  for (int i = 0; i < kCount; ++i) EXPECT_EQ(seqs[i], i);  // one publisher: order kept
+  EXPECT_EQ(bus.stats().published, kCount);
 }
 
 TEST(LcmBus, PumpTimesOutWhenNothingArrives) {
