@@ -2,8 +2,8 @@
 /// LcmBus: a small typed wrapper over lcm::LCM (Debian's LCM 1.3.1).
 ///
 /// Threading: exactly one thread, the owner, pumps the bus (Pump / Drain) and so runs
-/// every handler; Subscribe and Unsubscribe belong to that thread too. Publish may be
-/// called from any thread. LCM 1.3.1 has no lambda subscribe, and an exception thrown
+/// every handler; Subscribe and Unsubscribe belong to that thread too (or to the
+/// constructing thread before pumping starts). Publish may be called from any thread. LCM 1.3.1 has no lambda subscribe, and an exception thrown
 /// through its C dispatch code is undefined behaviour, so handlers are reached through
 /// a static trampoline that catches and counts everything.
 #include <atomic>
