@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev nlohmann-json3-dev
   libsodium-dev libcli11-dev
-  iproute2 util-linux
+  iproute2 util-linux python3
 )
 
 missing=()

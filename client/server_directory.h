@@ -1,0 +1,47 @@
+#pragma once
+/// ServerDirectory: the servers heard on the heartbeat channel, latest heartbeat each.
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <viscera_proto/heartbeat_t.hpp>
+
+namespace viscera::client {
+
+/// What the latest heartbeat of one server said.
+struct ServerInfo {
+  std::string server_id;
+  int sessions = 0;
+  int max_sessions = 0;
+  double load = 0.0;       ///< fraction of one core
+  double uptime_s = 0.0;   ///< s
+  int64_t heartbeats = 0;  ///< heard while listening
+};
+
+class ServerDirectory {
+ public:
+  /// Records a heartbeat. Heartbeats of another protocol version or with a broken
+  /// header are not trusted: counted in rejected(), otherwise ignored.
+  void Observe(const viscera_proto::heartbeat_t& heartbeat);
+
+  /// Servers heard, sorted by id.
+  std::vector<ServerInfo> Servers() const;
+  int64_t rejected() const { return rejected_; }
+  /// Why the last heartbeat was rejected ("" if none was).
+  const std::string& last_rejection() const { return last_rejection_; }
+
+ private:
+  std::map<std::string, ServerInfo> servers_;
+  int64_t rejected_ = 0;
+  std::string last_rejection_;
+};
+
+/// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load, uptime_s, heartbeats.
+nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers);
+
+/// A table with a header line, one line per server, columns aligned.
+std::string ServersToTable(const std::vector<ServerInfo>& servers);
+
+}  // namespace viscera::client

@@ -1,0 +1,50 @@
+#include "server/heartbeat_source.h"
+
+#include <ctime>
+#include <utility>
+
+#include "bus/header.h"
+#include "common/check.h"
+#include "common/clock.h"
+
+namespace viscera::server {
+
+int64_t ProcessCpuNanos() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions)
+    : server_id_(std::move(server_id)),
+      max_sessions_(max_sessions),
+      start_wall_ns_(MonotonicNanos()),
+      last_wall_ns_(start_wall_ns_),
+      last_cpu_ns_(ProcessCpuNanos()) {
+  ThrowUnless(!server_id_.empty(), "server id must not be empty");
+  ThrowUnless(max_sessions_ >= 1, "max sessions must be >= 1, got ", max_sessions_);
+}
+
+viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions) {
+  VISCERA_DEMAND(num_sessions >= 0);
+  const int64_t wall_ns = MonotonicNanos();
+  const int64_t cpu_ns = ProcessCpuNanos();
+  const int64_t wall_elapsed = wall_ns - last_wall_ns_;
+
+  viscera_proto::heartbeat_t msg;
+  msg.header = bus::MakeHeader(/*session_id=*/0, seq_++);
+  msg.server_id = server_id_;
+  msg.num_sessions = num_sessions;
+  msg.max_sessions = max_sessions_;
+  // the first heartbeat can come microseconds after start: report 0 rather than noise
+  msg.load = wall_elapsed > 1'000'000
+                 ? static_cast<float>(static_cast<double>(cpu_ns - last_cpu_ns_) / wall_elapsed)
+                 : 0.0f;
+  msg.uptime_us = (wall_ns - start_wall_ns_) / 1000;
+
+  last_wall_ns_ = wall_ns;
+  last_cpu_ns_ = cpu_ns;
+  return msg;
+}
+
+}  // namespace viscera::server

@@ -1,0 +1,32 @@
+#pragma once
+/// HeartbeatSource: builds the server's heartbeat_t messages, measuring its load.
+#include <cstdint>
+#include <string>
+
+#include <viscera_proto/heartbeat_t.hpp>
+
+namespace viscera::server {
+
+/// CPU time used by every thread of this process (ns).
+int64_t ProcessCpuNanos();
+
+class HeartbeatSource {
+ public:
+  /// @throws InputError when server_id is empty or max_sessions < 1.
+  HeartbeatSource(std::string server_id, int max_sessions);
+
+  /// The next heartbeat: sequence numbers count up from 0; load is the process's CPU
+  /// time since the previous call (or since construction) over the wall time elapsed.
+  /// @pre 0 <= num_sessions.
+  viscera_proto::heartbeat_t Next(int num_sessions);
+
+ private:
+  std::string server_id_;
+  int max_sessions_;
+  int64_t seq_ = 0;
+  int64_t start_wall_ns_;
+  int64_t last_wall_ns_;
+  int64_t last_cpu_ns_;
+};
+
+}  // namespace viscera::server

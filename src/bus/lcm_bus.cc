@@ -1,0 +1,140 @@
+#include "bus/lcm_bus.h"
+
+#include <cstdlib>
+#include <exception>
+#include <utility>
+
+namespace viscera::bus {
+
+std::string ResolveUrl(const std::string& flag) {
+  if (!flag.empty()) return flag;
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  if (env != nullptr && env[0] != '\0') return env;
+  return kDefaultUrl;
+}
+
+LcmBus::LcmBus(const std::string& url) : url_(url), lcm_(url) {
+  ThrowUnless(lcm_.good(), "LCM could not open URL '", url,
+              "' (for udpm://, does this network namespace have a multicast route?)");
+}
+
+// lcm_ is declared after subscriptions_, so LCM (and its pointers into our
+// Subscription records) goes first; the records outlive every use.
+LcmBus::~LcmBus() = default;
+
+bool LcmBus::PublishRaw(const std::string& channel, const void* data, int size) {
+  if (size < 0 || lcm_.publish(channel, data, static_cast<unsigned int>(size)) != 0) {
+    RecordError(Cat("LCM publish on ", channel, " (", size, " bytes) failed"));
+    ++publish_failures_;
+    return false;
+  }
+  ++published_;
+  return true;
+}
+
+SubscriptionId LcmBus::AddSubscription(
+    const std::string& channel, std::function<Outcome(const lcm::ReceiveBuffer&)> dispatch) {
+  VISCERA_DEMAND(!dispatching_);
+  auto subscription = std::make_unique<Subscription>();
+  subscription->bus = this;
+  subscription->id = next_id_++;
+  subscription->channel = channel;
+  subscription->dispatch = std::move(dispatch);
+  // LCM keeps the raw pointer as its context; unique_ptr keeps the address stable.
+  subscription->lcm_subscription =
+      lcm_.subscribeFunction(channel, &LcmBus::Trampoline, subscription.get());
+  ThrowUnless(subscription->lcm_subscription != nullptr, "LCM could not subscribe to '",
+              channel, "' on ", url_);
+  const SubscriptionId id = subscription->id;
+  subscriptions_.emplace(id, std::move(subscription));
+  return id;
+}
+
+void LcmBus::Unsubscribe(SubscriptionId id) {
+  if (dispatching_) {
+    pending_unsubscribe_.push_back(id);
+    return;
+  }
+  const auto it = subscriptions_.find(id);
+  if (it == subscriptions_.end()) return;
+  lcm_.unsubscribe(it->second->lcm_subscription);
+  subscriptions_.erase(it);
+}
+
+void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
+                        Subscription* subscription) {
+  LcmBus& bus = *subscription->bus;
+  ++bus.received_;
+  // Nothing may escape into LCM's C code: catch everything, count it, keep going.
+  try {
+    if (subscription->dispatch(*rbuf) == Outcome::kDecodeFailed) {
+      ++bus.decode_failures_;
+      bus.RecordError(Cat("malformed message on ", channel, " (", rbuf->data_size,
+                          " bytes): dropped"));
+      return;
+    }
+    ++bus.handled_;
+  } catch (const std::exception& e) {
+    ++bus.handler_failures_;
+    bus.RecordError(Cat("handler for ", channel, " threw: ", e.what()));
+  } catch (...) {
+    ++bus.handler_failures_;
+    bus.RecordError(Cat("handler for ", channel, " threw a non-std exception"));
+  }
+}
+
+int LcmBus::HandleOne(int timeout_ms) {
+  dispatching_ = true;
+  const int status = lcm_.handleTimeout(timeout_ms);
+  dispatching_ = false;
+  // Unsubscriptions requested by handlers run now that LCM is out of its dispatch.
+  std::vector<SubscriptionId> pending;
+  pending.swap(pending_unsubscribe_);
+  for (const SubscriptionId id : pending) Unsubscribe(id);
+  if (status < 0) RecordError(Cat("LCM handleTimeout failed on ", url_));
+  return status > 0 ? 1 : 0;
+}
+
+int LcmBus::Pump(int timeout_ms) {
+  ThrowUnless(timeout_ms >= 0, "LcmBus::Pump: timeout_ms must be >= 0, got ", timeout_ms);
+  CheckOwnerThread();
+  const int first = HandleOne(timeout_ms);
+  if (first == 0) return 0;
+  return first + Drain();
+}
+
+int LcmBus::Drain(int max_messages) {
+  CheckOwnerThread();
+  int handled = 0;
+  while (handled < max_messages && HandleOne(0) > 0) ++handled;
+  return handled;
+}
+
+void LcmBus::CheckOwnerThread() {
+  // LCM 1.3.1 allows a single thread in handle*; the first pumping thread owns the bus.
+  if (owner_ == std::thread::id{}) owner_ = std::this_thread::get_id();
+  VISCERA_DEMAND(owner_ == std::this_thread::get_id());
+}
+
+void LcmBus::RecordError(std::string message) {
+  std::lock_guard<std::mutex> lock(error_mutex_);
+  last_error_ = std::move(message);
+}
+
+BusStats LcmBus::stats() const {
+  BusStats s;
+  s.received = received_.load();
+  s.handled = handled_.load();
+  s.decode_failures = decode_failures_.load();
+  s.handler_failures = handler_failures_.load();
+  s.published = published_.load();
+  s.publish_failures = publish_failures_.load();
+  return s;
+}
+
+std::string LcmBus::last_error() const {
+  std::lock_guard<std::mutex> lock(error_mutex_);
+  return last_error_;
+}
+
+}  // namespace viscera::bus

@@ -1,0 +1,35 @@
+#pragma once
+/// JpegEncoder: 8-bit images to JPEG bytes with OpenCV, reusing one output buffer.
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+namespace viscera::render {
+
+class JpegEncoder {
+ public:
+  /// @param quality JPEG quality, 1 (smallest) .. 100 (best).
+  /// @throws InputError when quality is outside 1..100.
+  explicit JpegEncoder(int quality = 85);
+
+  /// Encodes `image`: CV_8UC1 (grey), CV_8UC3 (BGR) or CV_8UC4 (BGRA, alpha dropped),
+  /// top row first, any row stride. OffscreenContext::Frame() is already in that
+  /// layout, so frames go in without a flip or a colour conversion: OpenCV's JPEG
+  /// writer drops alpha row by row as it compresses, which costs less than a
+  /// separate cvtColor pass over the frame.
+  /// @return the JPEG bytes, valid until the next Encode; the buffer keeps its
+  ///         capacity, so steady-state encoding does not allocate it again.
+  /// @throws InputError for an empty image or another pixel type.
+  /// @throws std::runtime_error when OpenCV fails to encode.
+  const std::vector<uint8_t>& Encode(const cv::Mat& image);
+
+  int quality() const { return quality_; }
+
+ private:
+  int quality_;
+  std::vector<int> params_;
+  std::vector<uint8_t> bytes_;
+};
+
+}  // namespace viscera::render
