@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/types.h"
+#include "mechanics/tool.h"
 
 namespace viscera::mechanics {
 
@@ -49,6 +50,9 @@ struct ModelParams {
   double spring_damping = 0.0;    ///< along each spring (1/s), times the segment mass
   std::vector<double> pinned;     ///< curve parameters held where they start
   std::vector<AttachmentParams> attachments;
+
+  /// [[tool]]: laparoscopic tools, in this order in StepInputs::tools and State::tools.
+  std::vector<ToolParams> tools;
 
   /// Starting control points (#N by 3, N >= 4).
   Points initial_q;

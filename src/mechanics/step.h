@@ -12,6 +12,8 @@ namespace viscera::mechanics {
 /// What the world feeds a step. Contacts and tools extend this.
 struct StepInputs {
   std::span<const PointLoad> loads;  ///< external forces, held for the whole step
+  /// Device targets, one per model tool in scene order; empty keeps the previous targets.
+  std::span<const ToolTarget> tools;
 };
 
 /// Scratch owned by the thread that steps one simulation. Non-copyable.

@@ -1,0 +1,55 @@
+#pragma once
+/// Laparoscopic tools (France et al. 2005, Figure 4b; DESIGN.md 1.3): a shaft capsule from the
+/// trocar port to the tip, jaws at the tip. The device (a client) sets a target pose; the
+/// simulated tool follows it through a virtual coupling (spring-damper), so it cannot tunnel
+/// through tissue, and the coupling force is the force feedback.
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "common/types.h"
+
+namespace viscera::mechanics {
+
+/// A tool of the scene ([[tool]]), immutable.
+struct ToolParams {
+  std::string name;
+  double radius = 0.0025;          ///< shaft and jaw radius (m)
+  double length = 0.35;            ///< shaft length (m), for rendering and reach checks
+  Vec3 port = Vec3::Zero();        ///< trocar point the shaft passes through (m)
+  double max_force = 5.0;          ///< device-safe force clamp (N)
+  double coupling_stiffness = 300.0;  ///< virtual coupling (N/m)
+  double coupling_damping = 4.0;      ///< virtual coupling (N s/m)
+  double mass = 0.05;              ///< simulated tool tip mass (kg); its weight is not felt
+  double grasp_stiffness = 500.0;  ///< jaw-to-tube spring while grasping (N/m)
+  double grasp_reach = 0.0;        ///< how far from the jaws a tube can be grasped (m); 0 = 2 radii
+  double idle_timeout = 0.25;      ///< s without a target before the tool goes idle (server side)
+};
+
+/// What the device asks for, one per tool, each step.
+struct ToolTarget {
+  Vec3 tip = Vec3::Zero();  ///< target tip position (m)
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< jaw frame
+  double jaw = 1.0;         ///< jaw opening, 0 = closed .. 1 = open
+  /// false when the device is idle (no recent pose): the coupling force fades to zero and the
+  /// jaws open.
+  bool active = true;
+};
+
+/// The simulated tool and its haptic output after a step.
+struct ToolState {
+  Vec3 tip = Vec3::Zero();           ///< simulated tip position (m)
+  Vec3 tip_velocity = Vec3::Zero();  ///< m/s
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  double jaw = 1.0;
+  bool grasping = false;
+  double grasp_s = 0.0;              ///< curve parameter held while grasping
+  double coupling_scale = 1.0;       ///< 1 while active, fades to 0 when idle
+  /// Force on the user's hand (N): pressing down into tissue gives an upward force. Clamped.
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();        ///< about the port (N m)
+  Mat3 stiffness = Mat3::Zero();     ///< local dF/dx (N/m) for haptic interpolation between steps
+  bool clamped = false;              ///< force was limited to max_force this step
+};
+
+}  // namespace viscera::mechanics
