@@ -20,6 +20,7 @@ viscera_proto::header_t MakeHeader(int64_t session_id, int64_t seq) {
   header.seq = seq;
   header.utime = WallMicros();
   header.token_len = 0;
+  header.mac_len = 0;
   return header;
 }
 
@@ -31,6 +32,9 @@ std::string HeaderProblem(const viscera_proto::header_t& header) {
   if (header.seq < 0) return Cat("negative sequence number ", header.seq);
   if (header.token_len < 0 || static_cast<size_t>(header.token_len) != header.token.size()) {
     return Cat("token_len ", header.token_len, " but ", header.token.size(), " token bytes");
+  }
+  if (header.mac_len < 0 || static_cast<size_t>(header.mac_len) != header.mac.size()) {
+    return Cat("mac_len ", header.mac_len, " but ", header.mac.size(), " mac bytes");
   }
   return "";
 }

@@ -32,8 +32,20 @@ bool LcmBus::PublishRaw(const std::string& channel, const void* data, int size) 
   return true;
 }
 
+bool LcmBus::PublishEncoded(const std::string& channel, const char* type_name) {
+  // caller holds publish_mutex_
+  if (auth_ != nullptr && !auth_->Sign(&encode_buffer_)) {
+    RecordError(Cat("cannot sign ", type_name, " for ", channel,
+                    ": not a viscera message with an empty mac"));
+    ++publish_failures_;
+    return false;
+  }
+  return PublishRaw(channel, encode_buffer_.data(), static_cast<int>(encode_buffer_.size()));
+}
+
 SubscriptionId LcmBus::AddSubscription(
-    const std::string& channel, std::function<Outcome(const lcm::ReceiveBuffer&)> dispatch) {
+    const std::string& channel,
+    std::function<Outcome(const lcm::ReceiveBuffer&, const std::string&)> dispatch) {
   VISCERA_DEMAND(!dispatching_);
   auto subscription = std::make_unique<Subscription>();
   subscription->bus = this;
@@ -67,10 +79,20 @@ void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   ++bus.received_;
   // Nothing may escape into LCM's C code: catch everything, count it, keep going.
   try {
-    if (subscription->dispatch(*rbuf) == Outcome::kDecodeFailed) {
+    if (bus.auth_ != nullptr &&
+        !bus.auth_->Verify(static_cast<const uint8_t*>(rbuf->data),
+                           static_cast<int>(rbuf->data_size), &bus.verify_scratch_)) {
+      ++bus.auth_failures_;
+      bus.RecordError(Cat("message without a valid MAC on ", channel, " (", rbuf->data_size,
+                          " bytes): dropped"));
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kBadMac);
+      return;
+    }
+    if (subscription->dispatch(*rbuf, channel) == Outcome::kDecodeFailed) {
       ++bus.decode_failures_;
       bus.RecordError(Cat("malformed message on ", channel, " (", rbuf->data_size,
                           " bytes): dropped"));
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kMalformed);
       return;
     }
     ++bus.handled_;
@@ -129,6 +151,7 @@ BusStats LcmBus::stats() const {
   s.handler_failures = handler_failures_.load();
   s.published = published_.load();
   s.publish_failures = publish_failures_.load();
+  s.auth_failures = auth_failures_.load();
   return s;
 }
 

@@ -18,6 +18,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "bus/message_auth.h"
 #include "common/check.h"
 
 namespace viscera::bus {
@@ -38,6 +39,17 @@ struct BusStats {
   int64_t handler_failures = 0;  ///< a handler threw: caught, counted, bus lives on
   int64_t published = 0;         ///< messages handed to LCM successfully
   int64_t publish_failures = 0;  ///< encode or LCM publish failed
+  int64_t auth_failures = 0;     ///< with a key: missing or wrong MAC, dropped undecoded
+};
+
+/// Why the bus dropped a datagram before any handler saw it.
+enum class DropReason { kMalformed, kBadMac };
+
+/// What a handler learns about a datagram besides its content.
+struct MessageInfo {
+  const std::string* channel = nullptr;  ///< the channel it came on
+  int64_t recv_utime = 0;                ///< LCM's receive time (µs, wall clock)
+  int size = 0;                          ///< bytes on the wire
 };
 
 /// Identifies one subscription for Unsubscribe.
@@ -48,6 +60,11 @@ class LcmBus {
   /// Handler of a decoded message; `recv_utime` is LCM's receive time (µs, wall clock).
   template <typename Msg>
   using Handler = std::function<void(const Msg& msg, int64_t recv_utime)>;
+  /// Handler that also learns the channel (for subscriptions to a channel regex).
+  template <typename Msg>
+  using InfoHandler = std::function<void(const Msg& msg, const MessageInfo& info)>;
+  /// Told about every datagram dropped before its handler (owner thread).
+  using DropHandler = std::function<void(const std::string& channel, DropReason reason)>;
 
   /// Opens LCM on `url` (udpm://, memq://, ...).
   /// @throws InputError when LCM cannot open the URL.
@@ -64,8 +81,18 @@ class LcmBus {
   template <typename Msg>
   bool Publish(const std::string& channel, const Msg& msg);
 
-  /// Publishes raw bytes on `channel` (for tests and forwarding). Thread-safe.
+  /// Publishes raw bytes on `channel` (for tests and forwarding), unsigned. Thread-safe.
   bool PublishRaw(const std::string& channel, const void* data, int size);
+
+  /// With a pre-shared key, Publish signs every message and every datagram received must
+  /// carry a valid MAC (others are dropped undecoded and counted in auth_failures).
+  /// Call before publishing or pumping. nullptr turns authentication off.
+  void SetAuth(std::shared_ptr<const MessageAuth> auth) { auth_ = std::move(auth); }
+  bool authenticated() const { return auth_ != nullptr; }
+
+  /// Calls `on_drop` for every datagram dropped before reaching its handler (malformed or
+  /// failing the MAC), so owners can count them per channel. Owner thread only.
+  void SetDropHandler(DropHandler on_drop) { on_drop_ = std::move(on_drop); }
 
   /// Calls `handler` for every message on `channel` that decodes as a Msg, exactly
   /// (a datagram with trailing bytes is malformed). Owner thread only.
@@ -74,6 +101,11 @@ class LcmBus {
   /// @throws InputError when handler is empty or LCM refuses the subscription.
   template <typename Msg>
   SubscriptionId Subscribe(const std::string& channel, Handler<Msg> handler);
+
+  /// Same, with the channel and size passed along; `channel` may be an LCM regex
+  /// ("VISCERA_POSE_.*").
+  template <typename Msg>
+  SubscriptionId SubscribeWithInfo(const std::string& channel, InfoHandler<Msg> handler);
 
   /// Stops delivering to `id`. Safe inside a handler: LCM 1.3.1 must not unsubscribe
   /// while it dispatches, so the call is deferred until the dispatch returns.
@@ -103,15 +135,17 @@ class LcmBus {
     std::string channel;
     // Decodes into a buffer owned by the closure (reused: no allocation per message
     // once its arrays have grown) and calls the user's handler.
-    std::function<Outcome(const lcm::ReceiveBuffer&)> dispatch;
+    std::function<Outcome(const lcm::ReceiveBuffer&, const std::string&)> dispatch;
     lcm::Subscription* lcm_subscription = nullptr;
   };
 
   // The one entry point LCM's C code calls: never lets an exception out.
   static void Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& channel,
                          Subscription* subscription);
-  SubscriptionId AddSubscription(const std::string& channel,
-                                 std::function<Outcome(const lcm::ReceiveBuffer&)> dispatch);
+  SubscriptionId AddSubscription(
+      const std::string& channel,
+      std::function<Outcome(const lcm::ReceiveBuffer&, const std::string&)> dispatch);
+  bool PublishEncoded(const std::string& channel, const char* type_name);
   int HandleOne(int timeout_ms);
   void CheckOwnerThread();
   void RecordError(std::string message);
@@ -125,6 +159,10 @@ class LcmBus {
   bool dispatching_ = false;
   std::thread::id owner_;  // set by the first Pump/Drain
 
+  std::shared_ptr<const MessageAuth> auth_;
+  DropHandler on_drop_;
+  std::vector<uint8_t> verify_scratch_;  // owner thread
+
   std::mutex publish_mutex_;  // guards encode_buffer_
   std::vector<uint8_t> encode_buffer_;
 
@@ -137,6 +175,7 @@ class LcmBus {
   std::atomic<int64_t> handler_failures_{0};
   std::atomic<int64_t> published_{0};
   std::atomic<int64_t> publish_failures_{0};
+  std::atomic<int64_t> auth_failures_{0};
 };
 
 // ---------------------------------------------------------------- template bodies
@@ -156,17 +195,26 @@ bool LcmBus::Publish(const std::string& channel, const Msg& msg) {
     ++publish_failures_;
     return false;
   }
-  return PublishRaw(channel, encode_buffer_.data(), size);
+  return PublishEncoded(channel, Msg::getTypeName());
 }
 
 template <typename Msg>
 SubscriptionId LcmBus::Subscribe(const std::string& channel, Handler<Msg> handler) {
   ThrowUnless(static_cast<bool>(handler), "LcmBus::Subscribe(", channel, "): empty handler");
+  return SubscribeWithInfo<Msg>(
+      channel, [handler = std::move(handler)](const Msg& msg, const MessageInfo& info) {
+        handler(msg, info.recv_utime);
+      });
+}
+
+template <typename Msg>
+SubscriptionId LcmBus::SubscribeWithInfo(const std::string& channel, InfoHandler<Msg> handler) {
+  ThrowUnless(static_cast<bool>(handler), "LcmBus::Subscribe(", channel, "): empty handler");
   auto dispatch = [handler = std::move(handler), msg = Msg{}](
-                      const lcm::ReceiveBuffer& rbuf) mutable -> Outcome {
+                      const lcm::ReceiveBuffer& rbuf, const std::string& on) mutable -> Outcome {
     const int size = static_cast<int>(rbuf.data_size);
     if (msg.decode(rbuf.data, 0, size) != size) return Outcome::kDecodeFailed;
-    handler(msg, rbuf.recv_utime);
+    handler(msg, MessageInfo{&on, rbuf.recv_utime, size});
     return Outcome::kHandled;
   };
   return AddSubscription(channel, std::move(dispatch));

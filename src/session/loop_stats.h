@@ -1,0 +1,43 @@
+#pragma once
+/// LoopStats: timing of a fixed-rate loop over a status period: step cost and wake-up
+/// jitter percentiles, achieved rate, deadline misses. Fixed-size buffers: recording is
+/// allocation-free; Summarize sorts a preallocated copy.
+#include <cstdint>
+#include <vector>
+
+namespace viscera::session {
+
+struct LoopSummary {
+  double achieved_rate_hz = 0.0;  ///< steps over wall time since the previous summary (Hz)
+  float step_cost_p50_us = 0.0f;  ///< CPU time per step (µs)
+  float step_cost_p99_us = 0.0f;
+  float jitter_p99_us = 0.0f;     ///< wake-up lateness (µs)
+};
+
+/// The p-quantile (0..1) of values[0..n), nearest rank; 0 when n = 0. Reorders values.
+double Quantile(double* values, int n, double p);
+
+class LoopStats {
+ public:
+  /// Keeps at most `capacity` samples per period (older ones are overwritten).
+  explicit LoopStats(int capacity = 4096);
+
+  /// One step: its CPU cost (ns) and how late the thread woke for it (ns, >= 0).
+  void RecordStep(int64_t cost_ns, int64_t lateness_ns);
+  /// A step that ended after its deadline.
+  void RecordMiss() { ++deadline_misses_; }
+
+  /// Summary of the steps since the previous call over `elapsed_ns` of wall time; starts a
+  /// new period.
+  LoopSummary Summarize(int64_t elapsed_ns);
+
+  int64_t deadline_misses() const { return deadline_misses_; }
+
+ private:
+  int capacity_;
+  std::vector<double> cost_us_, jitter_us_, scratch_;
+  int64_t count_ = 0;  // steps this period
+  int64_t deadline_misses_ = 0;
+};
+
+}  // namespace viscera::session

@@ -1,0 +1,32 @@
+#pragma once
+/// Replay of a session record: rebuilds the model from the scene kept in the record and
+/// runs the recorded inputs (step_record_t, in order) through the same Stepper the live
+/// session used, so the trajectory comes out bit for bit the same. It checks itself
+/// against the skeleton states the session recorded.
+#include <cstdint>
+#include <string>
+
+#include "mechanics/state.h"
+
+namespace viscera::session {
+
+struct ReplayResult {
+  int64_t session_id = 0;
+  std::string scene;           ///< scene label
+  double rate_hz = 0.0;        ///< mechanics rate (Hz)
+  int64_t steps = 0;           ///< steps replayed
+  int64_t resets = 0;          ///< reset commands replayed
+  int64_t recoveries = 0;      ///< blow-ups recovered during replay
+  int64_t skeletons_compared = 0;  ///< recorded skeleton states checked
+  /// Largest distance between a replayed and a recorded control point (m), over every
+  /// recorded skeleton state; 0 for an exact replay.
+  double max_deviation = 0.0;
+  mechanics::State final_state;
+};
+
+/// Replays the record at `path`. Only the first session in the file is replayed.
+/// @throws InputError when the file cannot be read, holds no scene record, or a record
+///         is malformed.
+ReplayResult ReplayRecord(const std::string& path);
+
+}  // namespace viscera::session

@@ -1,0 +1,347 @@
+#include "session/session.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <utility>
+
+#include <viscera_proto/force_feedback_t.hpp>
+#include <viscera_proto/skeleton_state_t.hpp>
+#include <viscera_proto/step_record_t.hpp>
+
+#include "bus/channels.h"
+#include "bus/header.h"
+#include "common/check.h"
+#include "common/clock.h"
+#include "mechanics/forces.h"
+#include "session/loop_stats.h"
+#include "session/step_record.h"
+#include "session/stepper.h"
+#include "spline/arc_length.h"
+
+namespace viscera::session {
+
+using viscera_proto::session_status_t;
+
+namespace {
+
+void SleepUntil(int64_t monotonic_ns) {
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(monotonic_ns / 1'000'000'000);
+  ts.tv_nsec = static_cast<long>(monotonic_ns % 1'000'000'000);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+int64_t PeriodNs(double rate_hz) { return static_cast<int64_t>(std::llround(1e9 / rate_hz)); }
+
+}  // namespace
+
+/// Everything the mechanics thread owns: built on the thread, never touched by others.
+struct Session::LoopState {
+  explicit LoopState(const mechanics::Model& model, int num_tools)
+      : stepper(model), targets(static_cast<size_t>(num_tools)), was_active(num_tools, false) {}
+
+  Stepper stepper;
+  LoopStats stats;
+  std::vector<PoseInput> poses;
+  std::vector<Command> commands;
+  std::vector<mechanics::ToolTarget> targets;
+  std::vector<bool> was_active;
+  bool paused = false;
+  int64_t idle_events = 0;
+  int64_t force_seq = 0, skeleton_seq = 0, status_seq = 0, record_seq = 0;
+  viscera_proto::force_feedback_t force;
+  viscera_proto::skeleton_state_t skeleton;
+  viscera_proto::step_record_t record;
+  spline::ArcLengthTable arc_table;
+  int64_t last_summary_ns = 0;
+  std::string force_channel, skeleton_channel, status_channel, step_channel;
+};
+
+Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> model,
+                 bus::LcmBus* bus, std::unique_ptr<Recorder> recorder)
+    : config_(std::move(config)),
+      model_(std::move(model)),
+      bus_(bus),
+      recorder_(std::move(recorder)),
+      inbox_(static_cast<int>(model_->params().tools.size())) {
+  VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 && bus_ != nullptr);
+  status_.header = bus::MakeHeader(config_.id, 0);
+  status_.server_id = config_.server_id;
+  status_.scene = config_.scene;
+  status_.num_tools = num_tools();
+  status_.state = session_status_t::kRunning;
+  status_.rate_hz = model_->params().rate_hz;
+}
+
+Session::~Session() { Stop(); }
+
+void Session::Start() {
+  VISCERA_DEMAND(!thread_.joinable());
+  thread_ = std::thread([this] { Run(); });
+}
+
+void Session::Stop() {
+  if (stop_.exchange(true)) return;
+  if (thread_.joinable()) thread_.join();
+  state_ = session_status_t::kStopped;
+  viscera_proto::session_status_t final_status = Status();
+  final_status.state = session_status_t::kStopped;
+  final_status.header = bus::MakeHeader(config_.id, final_status.header.seq + 1);
+  bus_->Publish(bus::SessionChannel(bus::kStatusPrefix, config_.id), final_status);
+  if (recorder_ != nullptr) {
+    recorder_->Write(bus::SessionChannel(bus::kStatusPrefix, config_.id), final_status,
+                     final_status.header.utime);
+    recorder_->Flush();
+  }
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  status_ = final_status;
+}
+
+void Session::CountRejected(const std::string& why) {
+  ++rejected_;
+  SetError(why);
+}
+
+void Session::SetError(const std::string& why) {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  last_error_ = why;
+}
+
+session_status_t Session::Status() const {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  session_status_t s = status_;
+  s.state = state_.load();
+  s.poses = poses_.load();
+  s.rejected = rejected_.load();
+  s.last_error = last_error_;
+  return s;
+}
+
+CameraPose Session::camera() const {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  return camera_;
+}
+
+void Session::Run() {
+  // An exception never crosses a thread: the session is faulted, the daemon lives on.
+  try {
+    loop_ = std::make_unique<LoopState>(*model_, num_tools());
+    Loop();
+  } catch (const std::exception& e) {
+    SetError(Cat("mechanics thread failed: ", e.what()));
+    state_ = session_status_t::kFaulted;
+  } catch (...) {
+    SetError("mechanics thread failed with a non-std exception");
+    state_ = session_status_t::kFaulted;
+  }
+  if (state_.load() == session_status_t::kFaulted) {
+    try {
+      PublishStatus(MonotonicNanos(), /*summarize=*/false);
+    } catch (...) {
+      // nothing more can be said
+    }
+  }
+}
+
+void Session::Loop() {
+  LoopState& L = *loop_;
+  L.force_channel = bus::SessionChannel(bus::kForcePrefix, config_.id);
+  L.skeleton_channel = bus::SessionChannel(bus::kSkeletonPrefix, config_.id);
+  L.status_channel = bus::SessionChannel(bus::kStatusPrefix, config_.id);
+  L.step_channel = bus::SessionChannel(bus::kStepPrefix, config_.id);
+  L.commands.reserve(Inbox::kMaxCommands);
+
+  const int64_t period = PeriodNs(model_->params().rate_hz);
+  const int64_t status_period = PeriodNs(config_.status_rate_hz);
+  const int64_t skeleton_period =
+      config_.skeleton_rate_hz > 0.0 ? PeriodNs(config_.skeleton_rate_hz) : 0;
+  int64_t next = MonotonicNanos();
+  int64_t next_status = next;
+  int64_t next_skeleton = next;
+  L.last_summary_ns = next;
+
+  while (!stop_.load(std::memory_order_relaxed)) {
+    SleepUntil(next);
+    const int64_t wake = MonotonicNanos();
+    const int64_t deadline = next + period;
+
+    // commands first (in arrival order), then a step with the latest poses
+    inbox_.Take(&L.poses, &L.commands);
+    ApplyCommands();
+    if (!L.paused) {
+      // targets: latest pose per tool; a tool without a recent pose goes idle
+      for (size_t i = 0; i < L.targets.size(); ++i) {
+        const PoseInput& p = L.poses[i];
+        const double idle_s = model_->params().tools[i].idle_timeout;
+        const bool active =
+            p.seq >= 0 && static_cast<double>(wake - p.received_ns) * 1e-9 <= idle_s;
+        if (L.was_active[i] && !active) ++L.idle_events;
+        L.was_active[i] = active;
+        L.targets[i] = p.target;
+        L.targets[i].active = active;
+      }
+
+      if (recorder_ != nullptr) {
+        FillStepRecord(viscera_proto::step_record_t::kStep, L.stepper.state().steps, L.targets,
+                       L.poses, &L.record);
+        L.record.header = bus::MakeHeader(config_.id, L.record_seq++);
+        recorder_->Write(L.step_channel, L.record, L.record.header.utime);
+      }
+      const int64_t cpu0 = ThreadCpuNanos();
+      if (L.stepper.Advance(L.targets)) {
+        SetError(Cat("mechanics blew up at t = ", L.stepper.state().t,
+                     " s: restored the last good state"));
+      }
+      L.stats.RecordStep(ThreadCpuNanos() - cpu0, wake - next);
+      PublishForces(wake);
+    }
+
+    const int64_t now = MonotonicNanos();
+    if (skeleton_period > 0 && now >= next_skeleton) {
+      PublishSkeleton();
+      next_skeleton = std::max(next_skeleton + skeleton_period, now);
+    }
+    if (now >= next_status) {
+      PublishStatus(now, /*summarize=*/true);
+      next_status = std::max(next_status + status_period, now);
+    }
+
+    const int64_t done = MonotonicNanos();
+    if (!L.paused && done > deadline) L.stats.RecordMiss();
+    next += period;
+    // far behind (a stall, a paused machine): start again from now instead of a burst
+    if (done > next + period) next = done;
+  }
+}
+
+void Session::ApplyCommands() {
+  LoopState& L = *loop_;
+  for (const Command& c : L.commands) {
+    switch (c.kind) {
+      case Command::Kind::kReset:
+        L.stepper.Reset();
+        if (recorder_ != nullptr) {
+          FillStepRecord(viscera_proto::step_record_t::kReset, L.stepper.state().steps, {}, {},
+                         &L.record);
+          L.record.header = bus::MakeHeader(config_.id, L.record_seq++);
+          recorder_->Write(L.step_channel, L.record, L.record.header.utime);
+        }
+        break;
+      case Command::Kind::kPause:
+        L.paused = true;
+        state_ = session_status_t::kPaused;
+        break;
+      case Command::Kind::kResume:
+        L.paused = false;
+        state_ = session_status_t::kRunning;
+        break;
+      case Command::Kind::kCamera: {
+        std::lock_guard<std::mutex> lock(status_mutex_);
+        camera_ = CameraPose{c.camera_eye, c.camera_target, c.camera_up, c.camera_fov_deg};
+        break;
+      }
+    }
+  }
+  L.commands.clear();
+}
+
+void Session::PublishForces(int64_t now_ns) {
+  (void)now_ns;
+  LoopState& L = *loop_;
+  const mechanics::State& s = L.stepper.state();
+  for (size_t i = 0; i < s.tools.size(); ++i) {
+    const mechanics::ToolState& tool = s.tools[i];
+    viscera_proto::force_feedback_t& f = L.force;
+    f.header = bus::MakeHeader(config_.id, L.force_seq++);
+    f.tool = static_cast<int32_t>(i);
+    f.step = s.steps;
+    f.sim_time = s.t;
+    for (int a = 0; a < 3; ++a) {
+      f.force[a] = tool.force(a);
+      f.torque[a] = tool.torque(a);
+      f.tip[a] = tool.tip(a);
+      for (int b = 0; b < 3; ++b) f.stiffness[a][b] = tool.stiffness(a, b);
+    }
+    f.pose_seq = L.poses.size() > i ? L.poses[i].seq : -1;
+    f.pose_utime = L.poses.size() > i ? L.poses[i].client_utime : 0;
+    f.clamped = tool.clamped;
+    f.active = L.targets[i].active;
+    f.grasping = tool.grasping;
+    bus_->Publish(L.force_channel, f);
+    if (recorder_ != nullptr) recorder_->Write(L.force_channel, f, f.header.utime);
+  }
+}
+
+void Session::PublishSkeleton() {
+  LoopState& L = *loop_;
+  const mechanics::State& s = L.stepper.state();
+  const mechanics::Model& model = *model_;
+  viscera_proto::skeleton_state_t& k = L.skeleton;
+  k.header = bus::MakeHeader(config_.id, L.skeleton_seq++);
+  k.step = s.steps;
+  k.sim_time = s.t;
+  k.num_points = static_cast<int32_t>(s.q.rows());
+  k.points.resize(static_cast<size_t>(s.q.rows()));
+  for (int i = 0; i < s.q.rows(); ++i) {
+    for (int a = 0; a < 3; ++a) k.points[static_cast<size_t>(i)][a] = s.q(i, a);
+  }
+  // collision spheres: equal spheres spread uniformly by arc length (DESIGN.md 1.2)
+  const double radius = model.params().radius;
+  L.arc_table.Build(model.curve(), s.q);
+  const double length = L.arc_table.total_length();
+  const int n = std::max(2, static_cast<int>(std::floor(length / (2.0 * radius))) + 1);
+  k.num_spheres = n;
+  k.spheres.resize(static_cast<size_t>(n));
+  for (int j = 0; j < n; ++j) {
+    const double u = L.arc_table.ParameterAt(length * j / (n - 1));
+    const Vec3 c = model.curve().Position(s.q, u);
+    for (int a = 0; a < 3; ++a) k.spheres[static_cast<size_t>(j)][a] = c(a);
+  }
+  k.sphere_radius = radius;
+  // contact counts arrive with the contacts work in mechanics (State has none yet)
+  k.environment_contacts = 0;
+  k.self_contacts = 0;
+  k.tool_contacts = 0;
+  bus_->Publish(L.skeleton_channel, k);
+  if (recorder_ != nullptr) recorder_->Write(L.skeleton_channel, k, k.header.utime);
+}
+
+void Session::PublishStatus(int64_t now_ns, bool summarize) {
+  LoopState* L = loop_.get();
+  session_status_t s = Status();
+  s.header = bus::MakeHeader(config_.id, s.header.seq + 1);
+  if (L != nullptr) {
+    const mechanics::State& st = L->stepper.state();
+    s.sim_time = st.t;
+    s.steps = st.steps;
+    if (summarize) {
+      const LoopSummary sum = L->stats.Summarize(now_ns - L->last_summary_ns);
+      L->last_summary_ns = now_ns;
+      s.achieved_rate_hz = L->paused ? 0.0 : sum.achieved_rate_hz;
+      s.step_cost_p50_us = sum.step_cost_p50_us;
+      s.step_cost_p99_us = sum.step_cost_p99_us;
+      s.jitter_p99_us = sum.jitter_p99_us;
+    }
+    s.deadline_misses = L->stats.deadline_misses();
+    s.energy = mechanics::ComputeEnergies(*model_, st.q, st.qd).total();
+    s.contacts = 0;  // with the contacts work in mechanics
+    s.recoveries = L->stepper.recoveries();
+    s.idle_events = L->idle_events;
+  }
+  {
+    std::lock_guard<std::mutex> lock(status_mutex_);
+    status_ = s;
+  }
+  const std::string channel = bus::SessionChannel(bus::kStatusPrefix, config_.id);
+  bus_->Publish(channel, s);
+  if (recorder_ != nullptr) {
+    recorder_->Write(channel, s, s.header.utime);
+    recorder_->Flush();
+  }
+}
+
+}  // namespace viscera::session

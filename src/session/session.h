@@ -1,0 +1,110 @@
+#pragma once
+/// Session: one running simulation. It owns the immutable model, the mechanics thread (a
+/// fixed-rate loop with absolute deadlines), the inbox the I/O thread fills, and the
+/// session record. Every step it publishes force feedback; at configured rates, skeleton
+/// state and status. An exception never leaves the mechanics thread: the loop catches it,
+/// marks the session faulted and says why in its status; the server lives on.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <viscera_proto/session_status_t.hpp>
+
+#include "bus/lcm_bus.h"
+#include "mechanics/model.h"
+#include "session/inbox.h"
+#include "session/recorder.h"
+
+namespace viscera::session {
+
+struct SessionConfig {
+  int64_t id = 0;                  ///< session id (> 0)
+  std::vector<uint8_t> token;      ///< session token every message must carry
+  std::string server_id;           ///< for status messages
+  std::string scene;               ///< scene label for status ("fall", "<inline>")
+  double skeleton_rate_hz = 30.0;  ///< skeleton_state_t per second; <= 0: none
+  double status_rate_hz = 4.0;     ///< session_status_t per second (> 0)
+  std::string skin;                ///< kept for the render thread (rendering issue)
+  int frame_width = 640;           ///< pixels
+  int frame_height = 480;
+};
+
+/// Thread-safe view of a session's camera (set by kCamera, read by a render thread).
+struct CameraPose {
+  Vec3 eye{0.0, -0.3, 0.3};
+  Vec3 target = Vec3::Zero();
+  Vec3 up = Vec3::UnitZ();
+  double fov_deg = 60.0;
+};
+
+class Session {
+ public:
+  /// @pre config.id > 0, config.status_rate_hz > 0; model, bus outlive nothing here:
+  ///      the session keeps the model alive and `bus` must outlive the session.
+  /// @param recorder the session record, or nullptr for none.
+  Session(SessionConfig config, std::shared_ptr<const mechanics::Model> model, bus::LcmBus* bus,
+          std::unique_ptr<Recorder> recorder);
+  /// Stops the thread if it runs.
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  /// Starts the mechanics thread. @pre not started before.
+  void Start();
+  /// Stops the mechanics thread (within one period), publishes and records a final
+  /// kStopped status and flushes the record. Idempotent.
+  void Stop();
+
+  const SessionConfig& config() const { return config_; }
+  const mechanics::Model& model() const { return *model_; }
+  int num_tools() const { return static_cast<int>(model_->params().tools.size()); }
+  Inbox& inbox() { return inbox_; }
+  /// nullptr when the session keeps no record.
+  Recorder* recorder() { return recorder_.get(); }
+
+  /// Counts a message of this session dropped as invalid (any thread), keeping `why` as
+  /// the last error.
+  void CountRejected(const std::string& why);
+  /// Counts an accepted pose (I/O thread).
+  void CountPose() { ++poses_; }
+
+  /// The latest status (refreshed at status rate and on every state change).
+  viscera_proto::session_status_t Status() const;
+  CameraPose camera() const;
+  bool faulted() const { return state_.load() == viscera_proto::session_status_t::kFaulted; }
+
+ private:
+  void Run();
+  void Loop();
+  void ApplyCommands();
+  void PublishForces(int64_t now_ns);
+  void PublishSkeleton();
+  void PublishStatus(int64_t now_ns, bool summarize);
+  void SetError(const std::string& why);
+
+  SessionConfig config_;
+  std::shared_ptr<const mechanics::Model> model_;
+  bus::LcmBus* bus_;
+  std::unique_ptr<Recorder> recorder_;
+  Inbox inbox_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  std::atomic<int8_t> state_{viscera_proto::session_status_t::kRunning};
+  std::atomic<int64_t> poses_{0};
+  std::atomic<int64_t> rejected_{0};
+
+  mutable std::mutex status_mutex_;  // guards status_, last_error_, camera_
+  viscera_proto::session_status_t status_;
+  std::string last_error_;
+  CameraPose camera_;
+
+  // Mechanics thread only (the loop and what it calls).
+  struct LoopState;
+  std::unique_ptr<LoopState> loop_;
+};
+
+}  // namespace viscera::session

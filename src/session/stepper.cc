@@ -1,0 +1,50 @@
+#include "session/stepper.h"
+
+#include <cmath>
+
+namespace viscera::session {
+
+Stepper::Stepper(const mechanics::Model& model)
+    : model_(model),
+      workspace_(model),
+      state_(mechanics::InitialState(model)),
+      last_good_(state_) {}
+
+bool Stepper::Sane(const mechanics::State& s) const {
+  if (!s.q.allFinite() || !s.qd.allFinite()) return false;
+  if (s.q.rowwise().norm().maxCoeff() > kMaxDistance) return false;
+  return s.qd.rowwise().norm().maxCoeff() <= kMaxSpeed;
+}
+
+bool Stepper::Advance(std::span<const mechanics::ToolTarget> targets) {
+  const int64_t resets_before = state_.nonfinite_resets;
+  mechanics::Step(model_, mechanics::StepInputs{{}, targets}, &state_, &workspace_);
+  // mechanics::Step already replaces a non-finite state by the model's start; a session
+  // prefers its last good state, and also catches finite runaways.
+  if (state_.nonfinite_resets == resets_before && Sane(state_)) {
+    if (state_.steps % kGoodEvery == 0) last_good_ = state_;  // same sizes: no allocation
+    return false;
+  }
+  const double t = state_.t;
+  const int64_t steps = state_.steps;
+  const int64_t resets = state_.nonfinite_resets;
+  state_ = last_good_;
+  state_.t = t;
+  state_.steps = steps;
+  state_.nonfinite_resets = resets;
+  ++recoveries_;
+  return true;
+}
+
+void Stepper::Reset() {
+  const double t = state_.t;
+  const int64_t steps = state_.steps;
+  const int64_t resets = state_.nonfinite_resets;
+  state_ = mechanics::InitialState(model_);
+  state_.t = t;
+  state_.steps = steps;
+  state_.nonfinite_resets = resets;
+  last_good_ = state_;
+}
+
+}  // namespace viscera::session
