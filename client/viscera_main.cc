@@ -4,28 +4,91 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <fstream>
+#include <functional>
+#include <iterator>
 #include <iostream>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
+#include <viscera_proto/session_status_t.hpp>
 
 #include "bus/channels.h"
+#include "bus/header.h"
 #include "bus/lcm_bus.h"
+#include "bus/message_auth.h"
+#include "client/driver.h"
+#include "client/gesture.h"
 #include "client/server_directory.h"
+#include "client/session_client.h"
+#include "client/status_format.h"
+#include "client/token_store.h"
 
 namespace {
 
-// Exit codes: 0 success, 1 local error (bad URL, no multicast route), 2 no server
-// answered; CLI11 reports bad flags with its own codes (100 and up).
-constexpr int kNoServer = 2;
+using viscera_proto::session_reply_t;
+using viscera_proto::session_request_t;
+using Json = nlohmann::ordered_json;
 
-struct ServersOptions {
+// Exit codes: 0 success, 1 local error (bad URL, no multicast route, bad file), 2 no
+// server answered, 3 unknown session, 4 the server refused (or bad token, bad request);
+// CLI11 reports bad flags with its own codes (100 and up).
+constexpr int kLocalError = 1;
+constexpr int kNoServer = 2;
+constexpr int kUnknownSession = 3;
+constexpr int kRefused = 4;
+
+struct Common {
+  std::string lcm_url;
+  std::string key_file;
+  std::string sessions_file;
+  std::string token_hex;
   double timeout_s = 2.0;
   bool json = false;
 };
 
-int RunServers(const std::string& url, const ServersOptions& options) {
+struct ServersOptions {
+  double timeout_s = 2.0;
+};
+
+std::shared_ptr<const viscera::bus::MessageAuth> LoadAuth(const Common& c) {
+  if (c.key_file.empty()) return nullptr;
+  return std::make_shared<viscera::bus::MessageAuth>(
+      viscera::bus::MessageAuth::FromKeyFile(c.key_file));
+}
+
+int NoServer(const Common& c, const std::string& url, const char* what) {
+  std::fprintf(stderr,
+               "viscera: no server answered %s on %s within %g s (is viscerad running? for "
+               "udpm://, does this network have a multicast route?%s)\n",
+               what, url.c_str(), c.timeout_s,
+               c.key_file.empty() ? "" : " does the server use the same --key-file?");
+  return kNoServer;
+}
+
+// Exit code and message for a reply that is not kOk.
+int ReplyError(const session_reply_t& reply, int64_t id) {
+  switch (reply.result) {
+    case session_reply_t::kOk: return 0;
+    case session_reply_t::kUnknownSession:
+      std::fprintf(stderr, "viscera: unknown session %lld\n", static_cast<long long>(id));
+      return kUnknownSession;
+    case session_reply_t::kBadToken:
+      std::fprintf(stderr, "viscera: server %s refused: %s (this client has no valid token for session %lld)\n",
+                   reply.server_id.c_str(), reply.message.c_str(), static_cast<long long>(id));
+      return kRefused;
+    default:
+      std::fprintf(stderr, "viscera: server %s refused: %s\n", reply.server_id.c_str(),
+                   reply.message.c_str());
+      return kRefused;
+  }
+}
+
+int RunServers(const std::string& url, const Common& c, const ServersOptions& options) {
   viscera::bus::LcmBus bus(url);
+  bus.SetAuth(LoadAuth(c));
   viscera::client::ServerDirectory directory;
   bus.Subscribe<viscera_proto::heartbeat_t>(
       viscera::bus::kHeartbeatChannel,
@@ -57,10 +120,258 @@ int RunServers(const std::string& url, const ServersOptions& options) {
                  url.c_str(), options.timeout_s);
     return kNoServer;
   }
-  if (options.json) {
+  if (c.json) {
     std::cout << viscera::client::ServersToJson(servers).dump(2) << "\n";
   } else {
     std::cout << viscera::client::ServersToTable(servers);
+  }
+  return 0;
+}
+
+struct CreateOptions {
+  std::string scene;
+  std::string scene_file;
+  std::string server;
+  std::string skin;
+  double rate_hz = 0.0;
+  double skeleton_rate_hz = 0.0;
+  int width = 0, height = 0;
+};
+
+int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
+  if (o.scene.empty() == o.scene_file.empty()) {
+    std::fprintf(stderr, "viscera: create needs a SCENE name or --scene-file, not both\n");
+    return kLocalError;
+  }
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  const auto server = client.FindServer(o.server, c.timeout_s);
+  if (!server) return NoServer(c, url, o.server.empty() ? "(heartbeat)" : o.server.c_str());
+  session_request_t request = viscera::client::MakeRequest(session_request_t::kCreate, 0);
+  request.server_id = server->server_id;
+  if (!o.scene_file.empty()) {
+    std::ifstream in(o.scene_file);
+    if (!in.good()) {
+      std::fprintf(stderr, "viscera: cannot read scene file '%s'\n", o.scene_file.c_str());
+      return kLocalError;
+    }
+    request.scene_toml.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } else {
+    request.scene_name = o.scene;
+  }
+  request.rate_hz = o.rate_hz;
+  request.skeleton_rate_hz = o.skeleton_rate_hz;
+  request.skin = o.skin;
+  request.frame_width = o.width;
+  request.frame_height = o.height;
+  const auto replies = client.Request(request, c.timeout_s);
+  if (replies.empty()) return NoServer(c, url, "the create request");
+  const session_reply_t& reply = replies.front();
+  if (reply.result != session_reply_t::kOk) return ReplyError(reply, 0);
+  const int64_t id = reply.header.session_id;
+  viscera::client::TokenStore store(c.sessions_file);
+  store.Put(id, {reply.header.token, reply.server_id});
+  if (!reply.message.empty()) std::fprintf(stderr, "viscera: scene warnings: %s\n", reply.message.c_str());
+  if (c.json) {
+    Json j = {{"session", id},
+              {"server_id", reply.server_id},
+              {"token", viscera::client::ToHex(reply.header.token)},
+              {"scene", o.scene.empty() ? "<inline>" : o.scene},
+              {"warnings", reply.message}};
+    if (reply.num_sessions > 0) {
+      j["rate_hz"] = reply.sessions[0].rate_hz;
+      j["tools"] = reply.sessions[0].num_tools;
+    }
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("session %lld created on %s (token saved in %s)\n", static_cast<long long>(id),
+                reply.server_id.c_str(), c.sessions_file.c_str());
+  }
+  return 0;
+}
+
+int RunList(const std::string& url, const Common& c) {
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  const auto replies =
+      client.Request(viscera::client::MakeRequest(session_request_t::kList, 0), c.timeout_s,
+                     /*collect_all=*/true, /*grace_s=*/0.5);
+  if (replies.empty()) return NoServer(c, url, "the list request");
+  std::vector<viscera_proto::session_status_t> all;
+  for (const auto& r : replies) all.insert(all.end(), r.sessions.begin(), r.sessions.end());
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
+    return a.header.session_id < b.header.session_id;
+  });
+  if (c.json) {
+    Json array = Json::array();
+    for (const auto& s : all) array.push_back(viscera::client::StatusToJson(s));
+    std::cout << array.dump(2) << "\n";
+  } else {
+    std::cout << viscera::client::StatusTable(all);
+  }
+  return 0;
+}
+
+std::vector<uint8_t> TokenFor(const Common& c, int64_t id, std::string* server_id) {
+  if (!c.token_hex.empty()) return viscera::client::FromHex(c.token_hex);
+  viscera::client::TokenStore store(c.sessions_file);
+  const viscera::client::StoredSession* s = store.Find(id);
+  if (s == nullptr) return {};
+  if (server_id != nullptr) *server_id = s->server_id;
+  return s->token;
+}
+
+void PrintStatus(const Common& c, const viscera_proto::session_status_t& s) {
+  if (c.json) {
+    std::cout << viscera::client::StatusToJson(s).dump(c.json ? -1 : 2) << std::endl;
+  } else {
+    std::cout << viscera::client::StatusTable({s}) << std::flush;
+  }
+}
+
+struct StatusOptions {
+  int64_t id = 0;
+  bool watch = false;
+  int count = 0;
+};
+
+int RunStatus(const std::string& url, const Common& c, const StatusOptions& o) {
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  const auto replies =
+      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
+  if (replies.empty()) return NoServer(c, url, "the status request");
+  if (const int rc = ReplyError(replies.front(), o.id); rc != 0) return rc;
+  if (replies.front().num_sessions < 1) return kRefused;
+  if (!o.watch) {
+    const Json j = viscera::client::StatusToJson(replies.front().sessions[0]);
+    if (c.json) {
+      std::cout << j.dump(2) << "\n";
+    } else {
+      std::cout << viscera::client::StatusTable({replies.front().sessions[0]});
+    }
+    return 0;
+  }
+  // --watch: every status the session publishes, one line (or JSON object) each
+  PrintStatus(c, replies.front().sessions[0]);
+  int printed = 1;
+  bool stopped = false;
+  client.bus().Subscribe<viscera_proto::session_status_t>(
+      viscera::bus::SessionChannel(viscera::bus::kStatusPrefix, o.id),
+      [&](const viscera_proto::session_status_t& s, int64_t) {
+        PrintStatus(c, s);
+        ++printed;
+        if (s.state == viscera_proto::session_status_t::kStopped) stopped = true;
+      });
+  auto last = std::chrono::steady_clock::now();
+  int last_printed = printed;
+  while (!stopped && (o.count <= 0 || printed < o.count)) {
+    client.bus().Pump(100);
+    const auto now = std::chrono::steady_clock::now();
+    if (printed != last_printed) {
+      last = now;
+      last_printed = printed;
+    } else if (now - last > std::chrono::duration<double>(std::max(c.timeout_s, 2.0))) {
+      std::fprintf(stderr, "viscera: session %lld went silent\n", static_cast<long long>(o.id));
+      return kNoServer;
+    }
+  }
+  return 0;
+}
+
+// destroy, reset, pause, resume, camera: one request with the session's token
+int RunCommand(const std::string& url, const Common& c, int8_t command, int64_t id,
+               const std::function<void(session_request_t*)>& fill = nullptr) {
+  std::string server_id;
+  const std::vector<uint8_t> token = TokenFor(c, id, &server_id);
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  session_request_t request = viscera::client::MakeRequest(command, id);
+  request.header.token = token;
+  request.header.token_len = static_cast<int32_t>(token.size());
+  if (fill) fill(&request);
+  const auto replies = client.Request(request, c.timeout_s);
+  if (replies.empty()) return NoServer(c, url, "the request");
+  const session_reply_t& reply = replies.front();
+  if (const int rc = ReplyError(reply, id); rc != 0) return rc;
+  if (command == session_request_t::kDestroy) {
+    viscera::client::TokenStore store(c.sessions_file);
+    store.Erase(id);
+  }
+  if (c.json) {
+    Json j = {{"session", id}, {"server_id", reply.server_id}, {"ok", true}};
+    if (reply.num_sessions > 0) j["status"] = viscera::client::StatusToJson(reply.sessions[0]);
+    std::cout << j.dump(2) << "\n";
+  } else if (reply.num_sessions > 0) {
+    std::cout << viscera::client::StatusTable({reply.sessions[0]});
+  } else {
+    std::printf("ok\n");
+  }
+  return 0;
+}
+
+struct DriveCli {
+  int64_t id = 0;
+  std::string script;
+  std::string gesture;
+  int tool = 0;
+  double pose_rate_hz = 100.0;
+};
+
+int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
+  if (o.script.empty() == o.gesture.empty()) {
+    std::fprintf(stderr, "viscera: drive needs --script FILE or --gesture clearing\n");
+    return kLocalError;
+  }
+  if (!o.gesture.empty() && o.gesture != "clearing") {
+    std::fprintf(stderr, "viscera: unknown gesture '%s' (known: clearing)\n", o.gesture.c_str());
+    return kLocalError;
+  }
+  const std::vector<viscera::client::Waypoint> path =
+      o.script.empty() ? viscera::client::ClearingGesture() : viscera::client::LoadScript(o.script);
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  // the session must exist and have the tool
+  const auto replies =
+      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
+  if (replies.empty()) return NoServer(c, url, "the status request");
+  if (const int rc = ReplyError(replies.front(), o.id); rc != 0) return rc;
+  if (replies.front().num_sessions < 1 || o.tool >= replies.front().sessions[0].num_tools) {
+    std::fprintf(stderr, "viscera: session %lld has no tool %d (its scene declares %d [[tool]])\n",
+                 static_cast<long long>(o.id), o.tool,
+                 replies.front().num_sessions > 0 ? replies.front().sessions[0].num_tools : 0);
+    return kRefused;
+  }
+  viscera::client::DriveOptions options;
+  options.session_id = o.id;
+  options.token = TokenFor(c, o.id, nullptr);
+  options.tool = o.tool;
+  options.pose_rate_hz = o.pose_rate_hz;
+  const viscera::client::DriveResult r = viscera::client::Drive(client, path, options);
+  const auto after =
+      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
+  if (after.empty() || after.front().num_sessions < 1) return NoServer(c, url, "the status request");
+  const auto& s = after.front().sessions[0];
+  if (c.json) {
+    std::cout << Json{{"session", o.id},
+                      {"drive", viscera::client::DriveToJson(r)},
+                      {"status", viscera::client::StatusToJson(s)}}
+                     .dump(2)
+              << "\n";
+  } else {
+    std::printf("drove session %lld for %.2f s: %lld poses sent at %g Hz, %lld forces received\n",
+                static_cast<long long>(o.id), r.duration_s, static_cast<long long>(r.poses_sent),
+                o.pose_rate_hz, static_cast<long long>(r.forces_received));
+    std::printf("force      max |F| %.3f N (%.3f, %.3f, %.3f), mean |F| %.3f N, clamped %lld\n",
+                r.max_force_n, r.force_at_max.x(), r.force_at_max.y(), r.force_at_max.z(),
+                r.mean_force_n, static_cast<long long>(r.clamped));
+    std::printf("round trip pose -> force p50 %.0f us, p99 %.0f us, max %.0f us (%lld poses answered)\n",
+                r.round_trip_p50_us, r.round_trip_p99_us, r.round_trip_max_us,
+                static_cast<long long>(r.poses_answered));
+    std::printf("mechanics  %.0f of %.0f Hz, %lld deadline misses, step p50 %.0f us p99 %.0f us, "
+                "jitter p99 %.0f us, %lld rejected\n",
+                s.achieved_rate_hz, s.rate_hz, static_cast<long long>(s.deadline_misses),
+                s.step_cost_p50_us, s.step_cost_p99_us, s.jitter_p99_us,
+                static_cast<long long>(s.rejected));
+  }
+  if (r.forces_received == 0) {
+    std::fprintf(stderr, "viscera: no force feedback received\n");
+    return kNoServer;
   }
   return 0;
 }
@@ -70,26 +381,130 @@ int RunServers(const std::string& url, const ServersOptions& options) {
 int main(int argc, char** argv) {
   CLI::App app{"viscera: client of the viscera haptic server"};
   app.require_subcommand(1);
-  std::string lcm_url;
-  app.add_option("--lcm-url", lcm_url,
-                 "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(viscera::bus::kDefaultUrl) + ")");
+  Common common;
+  common.sessions_file = viscera::client::DefaultTokenStorePath();
+  auto add_common = [&](CLI::App* cmd) {
+    cmd->add_option("--lcm-url", common.lcm_url,
+                    "LCM URL (default: $LCM_DEFAULT_URL, else " +
+                        std::string(viscera::bus::kDefaultUrl) + ")");
+    cmd->add_option("--key-file", common.key_file, "Pre-shared key file (sign and check MACs)");
+    cmd->add_option("--sessions", common.sessions_file, "Where session tokens are kept")
+        ->capture_default_str();
+    cmd->add_option("--timeout", common.timeout_s, "Seconds to wait for a server")
+        ->check(CLI::Range(0.01, 3600.0))
+        ->capture_default_str();
+    cmd->add_flag("--json", common.json, "Print JSON");
+  };
+  add_common(&app);
 
   ServersOptions servers_options;
   CLI::App* servers = app.add_subcommand("servers", "List the servers heard on the heartbeat channel");
-  servers->add_option("--timeout", servers_options.timeout_s, "Seconds to listen")
-      ->check(CLI::Range(0.01, 3600.0))
+  add_common(servers);
+
+  CreateOptions create_options;
+  CLI::App* create = app.add_subcommand("create", "Start a session");
+  add_common(create);
+  create->add_option("scene", create_options.scene, "Scene name in the server's scene directory");
+  create->add_option("--scene-file", create_options.scene_file, "Send this scene file inline");
+  create->add_option("--server", create_options.server, "Server id (default: the first heard)");
+  create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
+      ->check(CLI::Range(1.0, 10000.0));
+  create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");
+  create->add_option("--skin", create_options.skin, "Skin for rendering");
+  create->add_option("--width", create_options.width, "Frame width (pixels)");
+  create->add_option("--height", create_options.height, "Frame height (pixels)");
+
+  CLI::App* list = app.add_subcommand("list", "Status of every session of every server");
+  add_common(list);
+
+  StatusOptions status_options;
+  CLI::App* status = app.add_subcommand("status", "Status of a session");
+  add_common(status);
+  status->add_option("id", status_options.id, "Session id")->required();
+  status->add_flag("--watch", status_options.watch, "Print every status until the session stops");
+  status->add_option("--count", status_options.count, "With --watch: stop after N statuses");
+
+  DriveCli drive_options;
+  CLI::App* drive = app.add_subcommand("drive", "Drive a session's tool along a path");
+  add_common(drive);
+  drive->add_option("id", drive_options.id, "Session id")->required();
+  drive->add_option("--script", drive_options.script, "Waypoints file: lines 't x y z [jaw]'");
+  drive->add_option("--gesture", drive_options.gesture, "Built-in gesture: clearing");
+  drive->add_option("--tool", drive_options.tool, "Tool index")->capture_default_str();
+  drive->add_option("--pose-rate", drive_options.pose_rate_hz, "Poses per second")
+      ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
-  servers->add_flag("--json", servers_options.json, "Print a JSON array");
-  // accept --lcm-url after the subcommand too, as scripts tend to put it there
-  servers->add_option("--lcm-url", lcm_url, "LCM URL");
+  drive->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
+
+  int64_t camera_id = 0;
+  std::vector<double> eye{0.0, -0.3, 0.3}, target{0.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
+  double fov = 60.0;
+  CLI::App* camera = app.add_subcommand("camera", "Set a session's laparoscope camera");
+  add_common(camera);
+  camera->add_option("id", camera_id, "Session id")->required();
+  camera->add_option("--eye", eye, "Eye x y z (m)")->expected(3)->required();
+  camera->add_option("--target", target, "Look-at point x y z (m)")->expected(3)->required();
+  camera->add_option("--up", up, "Up vector")->expected(3);
+  camera->add_option("--fov", fov, "Vertical field of view (degrees)");
+  camera->add_option("--token", common.token_hex, "Session token (hex)");
+
+  struct Simple {
+    const char* name;
+    const char* help;
+    int8_t command;
+    int64_t id = 0;
+    CLI::App* app = nullptr;
+  };
+  std::vector<Simple> simple = {
+      {"destroy", "Stop a session and close its record", session_request_t::kDestroy},
+      {"pause", "Stop stepping a session", session_request_t::kPause},
+      {"resume", "Step a paused session again", session_request_t::kResume},
+      {"reset", "Put a session back to its scene's start", session_request_t::kReset},
+  };
+  for (Simple& s : simple) {
+    s.app = app.add_subcommand(s.name, s.help);
+    add_common(s.app);
+    s.app->add_option("id", s.id, "Session id")->required();
+    s.app->add_option("--token", common.token_hex, "Session token (hex)");
+  }
+
+  std::string keygen_path;
+  CLI::App* keygen = app.add_subcommand("keygen", "Write a new pre-shared key file (mode 0600)");
+  keygen->add_option("file", keygen_path, "Key file to write")->required();
 
   CLI11_PARSE(app, argc, argv);
   try {
-    const std::string url = viscera::bus::ResolveUrl(lcm_url);
-    if (servers->parsed()) return RunServers(url, servers_options);
+    const std::string url = viscera::bus::ResolveUrl(common.lcm_url);
+    if (servers->parsed()) {
+      servers_options.timeout_s = common.timeout_s;
+      return RunServers(url, common, servers_options);
+    }
+    if (create->parsed()) return RunCreate(url, common, create_options);
+    if (list->parsed()) return RunList(url, common);
+    if (status->parsed()) return RunStatus(url, common, status_options);
+    if (drive->parsed()) return RunDrive(url, common, drive_options);
+    if (camera->parsed()) {
+      return RunCommand(url, common, session_request_t::kCamera, camera_id,
+                        [&](session_request_t* r) {
+                          for (int a = 0; a < 3; ++a) {
+                            r->camera_eye[a] = eye[static_cast<size_t>(a)];
+                            r->camera_target[a] = target[static_cast<size_t>(a)];
+                            r->camera_up[a] = up[static_cast<size_t>(a)];
+                          }
+                          r->camera_fov_deg = fov;
+                        });
+    }
+    for (const Simple& s : simple) {
+      if (s.app->parsed()) return RunCommand(url, common, s.command, s.id);
+    }
+    if (keygen->parsed()) {
+      viscera::bus::MessageAuth::WriteKeyFile(keygen_path);
+      std::printf("wrote a new key to %s\n", keygen_path.c_str());
+      return 0;
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "viscera: %s\n", e.what());
-    return 1;
+    return kLocalError;
   }
-  return 1;
+  return kLocalError;
 }

@@ -25,8 +25,8 @@ HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions)
   ThrowUnless(max_sessions_ >= 1, "max sessions must be >= 1, got ", max_sessions_);
 }
 
-viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions) {
-  VISCERA_DEMAND(num_sessions >= 0);
+viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions, int64_t rejected) {
+  VISCERA_DEMAND(num_sessions >= 0 && rejected >= 0);
   const int64_t wall_ns = MonotonicNanos();
   const int64_t cpu_ns = ProcessCpuNanos();
   const int64_t wall_elapsed = wall_ns - last_wall_ns_;
@@ -41,6 +41,7 @@ viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions) {
                  ? static_cast<float>(static_cast<double>(cpu_ns - last_cpu_ns_) / wall_elapsed)
                  : 0.0f;
   msg.uptime_us = (wall_ns - start_wall_ns_) / 1000;
+  msg.rejected = rejected;
 
   last_wall_ns_ = wall_ns;
   last_cpu_ns_ = cpu_ns;

@@ -17,8 +17,8 @@ class HeartbeatSource {
 
   /// The next heartbeat: sequence numbers count up from 0; load is the process's CPU
   /// time since the previous call (or since construction) over the wall time elapsed.
-  /// @pre 0 <= num_sessions.
-  viscera_proto::heartbeat_t Next(int num_sessions);
+  /// @pre 0 <= num_sessions, 0 <= rejected (messages dropped since start).
+  viscera_proto::heartbeat_t Next(int num_sessions, int64_t rejected = 0);
 
  private:
   std::string server_id_;

@@ -18,7 +18,27 @@ IoLoop::IoLoop(const ServerConfig& config)
     : config_(config), heartbeat_(config.server_id, config.max_sessions) {
   ThrowUnless(config_.heartbeat_period.count() > 0, "heartbeat period must be > 0 ms, got ",
               config_.heartbeat_period.count());
+  ThrowUnless(config_.status_rate_hz > 0.0 && config_.max_rate_hz >= 1.0,
+              "status rate and max rate must be positive");
   bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
+  if (!config_.key_file.empty()) {
+    bus_->SetAuth(std::make_shared<bus::MessageAuth>(bus::MessageAuth::FromKeyFile(config_.key_file)));
+  }
+  sessions_ = std::make_unique<SessionManager>(config_, bus_.get());
+  // subscribed here, before the thread pumps: LCM 1.3.1 must not subscribe while dispatching
+  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason) {
+    sessions_->OnDrop(channel, reason);
+  });
+  bus_->SubscribeWithInfo<viscera_proto::session_request_t>(
+      bus::kRequestChannel,
+      [this](const viscera_proto::session_request_t& msg, const bus::MessageInfo& info) {
+        sessions_->OnRequest(msg, info);
+      });
+  bus_->SubscribeWithInfo<viscera_proto::tool_pose_t>(
+      std::string(bus::kPosePrefix) + "[0-9]+",
+      [this](const viscera_proto::tool_pose_t& msg, const bus::MessageInfo& info) {
+        sessions_->OnPose(msg, info);
+      });
 }
 
 IoLoop::~IoLoop() { Stop(); }
@@ -31,6 +51,7 @@ void IoLoop::Start() {
 void IoLoop::Stop() {
   stop_ = true;
   if (thread_.joinable()) thread_.join();
+  sessions_->StopAll();
 }
 
 std::string IoLoop::error() const {
@@ -46,7 +67,7 @@ void IoLoop::Run() {
     while (!stop_.load()) {
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
-        if (bus_->Publish(bus::kHeartbeatChannel, heartbeat_.Next(/*num_sessions=*/0))) {
+        if (bus_->Publish(bus::kHeartbeatChannel, heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected()))) {
           ++heartbeats_sent_;
         }
         // absolute schedule, but never a burst of catch-up heartbeats after a stall

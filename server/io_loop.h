@@ -1,6 +1,6 @@
 #pragma once
 /// IoLoop: viscerad's one LCM I/O thread. It owns the bus's handling side, pumps it,
-/// and publishes the heartbeat. Later issues add session routing here.
+/// routes requests and poses to the SessionManager, and publishes the heartbeat.
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -10,20 +10,16 @@
 
 #include "bus/lcm_bus.h"
 #include "server/heartbeat_source.h"
+#include "server/server_config.h"
+#include "server/session_manager.h"
 
 namespace viscera::server {
 
-struct ServerConfig {
-  std::string lcm_url;        ///< LCM URL, already resolved (bus::ResolveUrl)
-  std::string server_id;      ///< name announced in heartbeats
-  int max_sessions = 4;       ///< sessions accepted at most
-  std::chrono::milliseconds heartbeat_period{1000};
-};
-
 class IoLoop {
  public:
-  /// Opens the bus (so a bad URL fails here, before any thread starts).
-  /// @throws InputError for a bad URL, server id, max_sessions or a period <= 0.
+  /// Opens the bus (so a bad URL fails here, before any thread starts) and subscribes.
+  /// @throws InputError for a bad URL, server id, max_sessions, a period <= 0, or an
+  ///         unreadable key file.
   explicit IoLoop(const ServerConfig& config);
   /// Stops the thread if it runs.
   ~IoLoop();
@@ -34,20 +30,23 @@ class IoLoop {
   /// @pre not started before.
   void Start();
 
-  /// Asks the thread to stop and joins it (within one pump timeout, 100 ms).
-  /// Idempotent.
+  /// Asks the thread to stop and joins it (within one pump timeout, 100 ms), then stops
+  /// every session (final status, records flushed). Idempotent.
   void Stop();
 
   /// True once the thread has died of an error; error() says which.
   bool failed() const { return failed_.load(); }
   std::string error() const;
   int64_t heartbeats_sent() const { return heartbeats_sent_.load(); }
+  int num_sessions() const { return sessions_->num_sessions(); }
+  int64_t rejected() const { return sessions_->rejected(); }
 
  private:
   void Run();
 
   ServerConfig config_;
   std::unique_ptr<bus::LcmBus> bus_;
+  std::unique_ptr<SessionManager> sessions_;  // after bus_: sessions publish on it
   HeartbeatSource heartbeat_;
   std::thread thread_;
   std::atomic<bool> stop_{false};

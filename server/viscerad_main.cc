@@ -1,5 +1,5 @@
-/// viscerad: the viscera haptic server. For now it announces itself with a heartbeat
-/// once a second; sessions come with the protocol issue.
+/// viscerad: the viscera haptic server. Runs training sessions (one mechanics thread each)
+/// for clients over LCM and announces itself with a heartbeat once a second.
 #include <pthread.h>
 #include <unistd.h>
 
@@ -37,9 +37,13 @@ int Run(const viscera::server::ServerConfig& config) {
 
   viscera::server::IoLoop loop(config);
   loop.Start();
-  std::fprintf(stderr, "viscerad: server '%s' up on %s (heartbeat on %s, max %d sessions)\n",
+  std::fprintf(stderr,
+               "viscerad: server '%s' up on %s (heartbeat on %s, max %d sessions, scenes in %s, "
+               "records in %s%s)\n",
                config.server_id.c_str(), config.lcm_url.c_str(), viscera::bus::kHeartbeatChannel,
-               config.max_sessions);
+               config.max_sessions, config.scene_dir.c_str(),
+               config.log_dir.empty() ? "(none)" : config.log_dir.c_str(),
+               config.key_file.empty() ? "" : ", MAC required");
 
   // Wake now and then to notice an I/O thread that died.
   const timespec poll{0, 200'000'000};
@@ -48,8 +52,9 @@ int Run(const viscera::server::ServerConfig& config) {
     if (signal == SIGINT || signal == SIGTERM) {
       std::fprintf(stderr, "viscerad: %s received, stopping\n", SignalName(signal));
       loop.Stop();
-      std::fprintf(stderr, "viscerad: stopped cleanly after %lld heartbeats\n",
-                   static_cast<long long>(loop.heartbeats_sent()));
+      std::fprintf(stderr, "viscerad: stopped cleanly after %lld heartbeats (%lld messages rejected)\n",
+                   static_cast<long long>(loop.heartbeats_sent()),
+                   static_cast<long long>(loop.rejected()));
       return 0;
     }
     if (loop.failed()) {
@@ -74,7 +79,32 @@ int main(int argc, char** argv) {
   app.add_option("--max-sessions", config.max_sessions, "Sessions accepted at most")
       ->check(CLI::Range(1, 1024))
       ->capture_default_str();
+  app.add_option("--scene-dir", config.scene_dir, "Directory of the scenes a create may name")
+      ->capture_default_str();
+  app.add_option("--log-dir", config.log_dir,
+                 "Directory for session records (session-ID.lcmlog); none when empty");
+  app.add_option("--rate", config.rate_hz,
+                 "Mechanics rate (Hz) when a create asks for none; 0 = the scene's rate")
+      ->check(CLI::Range(0.0, 10000.0))
+      ->capture_default_str();
+  app.add_option("--max-rate", config.max_rate_hz, "Highest mechanics rate a session may ask (Hz)")
+      ->check(CLI::Range(1.0, 10000.0))
+      ->capture_default_str();
+  app.add_option("--skeleton-rate", config.skeleton_rate_hz,
+                 "Default skeleton_state_t rate (Hz); 0 = none")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  app.add_option("--status-rate", config.status_rate_hz, "session_status_t rate (Hz)")
+      ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
+  app.add_option("--key-file", config.key_file,
+                 "Pre-shared key file: sign every message and accept only signed ones");
   CLI11_PARSE(app, argc, argv);
+  if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
+  if (config.rate_hz > config.max_rate_hz) {
+    std::fprintf(stderr, "viscerad: --rate %g is above --max-rate %g\n", config.rate_hz, config.max_rate_hz);
+    return 2;
+  }
   config.lcm_url = viscera::bus::ResolveUrl(lcm_url);
 
   try {

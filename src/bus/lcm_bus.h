@@ -133,8 +133,7 @@ class LcmBus {
     LcmBus* bus = nullptr;
     SubscriptionId id = 0;
     std::string channel;
-    // Decodes into a buffer owned by the closure (reused: no allocation per message
-    // once its arrays have grown) and calls the user's handler.
+    // Decodes into a fresh message (see SubscribeWithInfo) and calls the user's handler.
     std::function<Outcome(const lcm::ReceiveBuffer&, const std::string&)> dispatch;
     lcm::Subscription* lcm_subscription = nullptr;
   };
@@ -210,9 +209,12 @@ SubscriptionId LcmBus::Subscribe(const std::string& channel, Handler<Msg> handle
 template <typename Msg>
 SubscriptionId LcmBus::SubscribeWithInfo(const std::string& channel, InfoHandler<Msg> handler) {
   ThrowUnless(static_cast<bool>(handler), "LcmBus::Subscribe(", channel, "): empty handler");
-  auto dispatch = [handler = std::move(handler), msg = Msg{}](
-                      const lcm::ReceiveBuffer& rbuf, const std::string& on) mutable -> Outcome {
+  auto dispatch = [handler = std::move(handler)](const lcm::ReceiveBuffer& rbuf,
+                                                 const std::string& on) -> Outcome {
     const int size = static_cast<int>(rbuf.data_size);
+    // A fresh message each time: lcm-gen 1.3.1's decode leaves an array whose count is 0
+    // untouched, so a reused message would keep the previous datagram's bytes (a token!).
+    Msg msg;
     if (msg.decode(rbuf.data, 0, size) != size) return Outcome::kDecodeFailed;
     handler(msg, MessageInfo{&on, rbuf.recv_utime, size});
     return Outcome::kHandled;

@@ -37,6 +37,19 @@ void InitSodium() {
 
 }  // namespace
 
+std::vector<uint8_t> RandomBytes(size_t n) {
+  InitSodium();
+  std::vector<uint8_t> out(n);
+  randombytes_buf(out.data(), n);
+  return out;
+}
+
+bool SecureEquals(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  if (a.size() != b.size()) return false;
+  if (a.empty()) return true;
+  return sodium_memcmp(a.data(), b.data(), a.size()) == 0;
+}
+
 int MacLenOffset(const uint8_t* data, int size) {
   if (size < kTokenLenOffset + 4) return -1;
   const int32_t token_len = ReadBe32(data + kTokenLenOffset);

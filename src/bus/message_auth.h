@@ -43,6 +43,12 @@ class MessageAuth {
   Key key_;
 };
 
+/// `n` bytes from the operating system's CSPRNG (libsodium randombytes_buf).
+std::vector<uint8_t> RandomBytes(size_t n);
+
+/// Constant-time equality of two byte strings (different sizes are unequal).
+bool SecureEquals(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b);
+
 /// Offset of header.mac_len in an encoded top-level viscera message, or -1 when `data`
 /// is too short or its token_len is out of range.
 int MacLenOffset(const uint8_t* data, int size);

@@ -160,9 +160,11 @@ void Session::Loop() {
   const int64_t skeleton_period =
       config_.skeleton_rate_hz > 0.0 ? PeriodNs(config_.skeleton_rate_hz) : 0;
   int64_t next = MonotonicNanos();
-  int64_t next_status = next;
   int64_t next_skeleton = next;
   L.last_summary_ns = next;
+  // a first status at once (no rates yet), then one per status period
+  PublishStatus(next, /*summarize=*/false);
+  int64_t next_status = next + status_period;
 
   while (!stop_.load(std::memory_order_relaxed)) {
     SleepUntil(next);
@@ -285,7 +287,7 @@ void Session::PublishSkeleton() {
   k.step = s.steps;
   k.sim_time = s.t;
   k.num_points = static_cast<int32_t>(s.q.rows());
-  k.points.resize(static_cast<size_t>(s.q.rows()));
+  k.points.resize(static_cast<size_t>(s.q.rows()), std::vector<double>(3));
   for (int i = 0; i < s.q.rows(); ++i) {
     for (int a = 0; a < 3; ++a) k.points[static_cast<size_t>(i)][a] = s.q(i, a);
   }
@@ -295,7 +297,7 @@ void Session::PublishSkeleton() {
   const double length = L.arc_table.total_length();
   const int n = std::max(2, static_cast<int>(std::floor(length / (2.0 * radius))) + 1);
   k.num_spheres = n;
-  k.spheres.resize(static_cast<size_t>(n));
+  k.spheres.resize(static_cast<size_t>(n), std::vector<double>(3));
   for (int j = 0; j < n; ++j) {
     const double u = L.arc_table.ParameterAt(length * j / (n - 1));
     const Vec3 c = model.curve().Position(s.q, u);

@@ -1,0 +1,98 @@
+#include "client/session_client.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "bus/channels.h"
+#include "bus/header.h"
+#include "bus/message_auth.h"
+
+namespace viscera::client {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Clock::time_point After(double seconds) {
+  return Clock::now() +
+         std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+int MillisLeft(Clock::time_point deadline) {
+  const auto left =
+      std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+  return static_cast<int>(std::clamp<int64_t>(left, 0, 100));
+}
+
+}  // namespace
+
+viscera_proto::session_request_t MakeRequest(int8_t command, int64_t session_id) {
+  viscera_proto::session_request_t r{};
+  r.header = bus::MakeHeader(session_id, 0);
+  const std::vector<uint8_t> random = bus::RandomBytes(8);
+  uint64_t id = 0;
+  for (const uint8_t b : random) id = (id << 8) | b;
+  r.request_id = static_cast<int64_t>(id >> 1) | 1;  // positive, never 0
+  r.command = command;
+  r.camera_up[2] = 1.0;
+  r.camera_fov_deg = 60.0;
+  return r;
+}
+
+SessionClient::SessionClient(const std::string& url, std::shared_ptr<const bus::MessageAuth> auth)
+    : bus_(url) {
+  bus_.SetAuth(std::move(auth));
+}
+
+std::optional<viscera_proto::heartbeat_t> SessionClient::FindServer(const std::string& server_id,
+                                                                    double timeout_s) {
+  std::optional<viscera_proto::heartbeat_t> found;
+  const bus::SubscriptionId sub = bus_.Subscribe<viscera_proto::heartbeat_t>(
+      bus::kHeartbeatChannel, [&](const viscera_proto::heartbeat_t& hb, int64_t) {
+        if (!bus::HeaderProblem(hb.header).empty()) return;
+        if (!server_id.empty() && hb.server_id != server_id) return;
+        if (!found) found = hb;
+      });
+  const auto deadline = After(timeout_s);
+  while (!found && Clock::now() < deadline) bus_.Pump(MillisLeft(deadline));
+  bus_.Unsubscribe(sub);
+  return found;
+}
+
+std::vector<viscera_proto::session_reply_t> SessionClient::Request(
+    viscera_proto::session_request_t request, double timeout_s, bool collect_all, double grace_s) {
+  std::vector<viscera_proto::session_reply_t> replies;
+  bool owner_answered = false;
+  const bus::SubscriptionId sub = bus_.Subscribe<viscera_proto::session_reply_t>(
+      bus::kReplyChannel, [&](const viscera_proto::session_reply_t& reply, int64_t) {
+        if (reply.request_id != request.request_id || !bus::HeaderProblem(reply.header).empty()) {
+          return;
+        }
+        replies.push_back(reply);
+        if (reply.result != viscera_proto::session_reply_t::kUnknownSession) owner_answered = true;
+      });
+  request.header.seq = seq_++;
+  request.header.utime = bus::WallMicros();
+  bus_.Publish(bus::kRequestChannel, request);
+
+  auto deadline = After(timeout_s);
+  bool extended = false;
+  while (Clock::now() < deadline) {
+    bus_.Pump(MillisLeft(deadline));
+    if (replies.empty()) continue;
+    if (!collect_all && owner_answered) break;
+    if (!extended) {
+      // others may still answer: the owner of the session, or more servers for kList
+      deadline = std::min(deadline, After(grace_s));
+      extended = true;
+    }
+  }
+  bus_.Unsubscribe(sub);
+  // the owner's answer first
+  std::stable_sort(replies.begin(), replies.end(), [](const auto& a, const auto& b) {
+    return (a.result != viscera_proto::session_reply_t::kUnknownSession) >
+           (b.result != viscera_proto::session_reply_t::kUnknownSession);
+  });
+  return replies;
+}
+
+}  // namespace viscera::client

@@ -1,0 +1,63 @@
+#include "client/status_format.h"
+
+#include <cstdio>
+
+namespace viscera::client {
+
+using viscera_proto::session_status_t;
+
+std::string StateName(int8_t state) {
+  switch (state) {
+    case session_status_t::kRunning: return "running";
+    case session_status_t::kPaused: return "paused";
+    case session_status_t::kFaulted: return "faulted";
+    case session_status_t::kStopped: return "stopped";
+    default: return "unknown(" + std::to_string(state) + ")";
+  }
+}
+
+nlohmann::ordered_json StatusToJson(const session_status_t& s) {
+  return {{"session", s.header.session_id},
+          {"server_id", s.server_id},
+          {"scene", s.scene},
+          {"state", StateName(s.state)},
+          {"sim_time", s.sim_time},
+          {"steps", s.steps},
+          {"rate_hz", s.achieved_rate_hz},
+          {"configured_rate_hz", s.rate_hz},
+          {"deadline_misses", s.deadline_misses},
+          {"jitter_p99_us", s.jitter_p99_us},
+          {"step_cost_p50_us", s.step_cost_p50_us},
+          {"step_cost_p99_us", s.step_cost_p99_us},
+          {"contacts", s.contacts},
+          {"energy", s.energy},
+          {"tools", s.num_tools},
+          {"poses", s.poses},
+          {"rejected", s.rejected},
+          {"recoveries", s.recoveries},
+          {"idle_events", s.idle_events},
+          {"last_error", s.last_error}};
+}
+
+std::string StatusTable(const std::vector<session_status_t>& sessions) {
+  std::string out;
+  char line[768];
+  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %9s %8s  %s\n", "SESSION",
+                "SCENE", "STATE", "SIM_TIME", "RATE_HZ", "MISSES", "P99_US", "REJECTED",
+                "RECOVER", "LAST_ERROR");
+  out += line;
+  for (const session_status_t& s : sessions) {
+    const std::string rate = std::to_string(static_cast<int>(s.achieved_rate_hz + 0.5)) + "/" +
+                             std::to_string(static_cast<int>(s.rate_hz + 0.5));
+    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %9lld %8lld  %s\n",
+                  static_cast<long long>(s.header.session_id), s.scene.c_str(),
+                  StateName(s.state).c_str(), s.sim_time, rate.c_str(),
+                  static_cast<long long>(s.deadline_misses), s.step_cost_p99_us,
+                  static_cast<long long>(s.rejected), static_cast<long long>(s.recoveries),
+                  s.last_error.c_str());
+    out += line;
+  }
+  return out;
+}
+
+}  // namespace viscera::client

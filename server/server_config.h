@@ -1,0 +1,22 @@
+#pragma once
+/// What viscerad is told on its command line.
+#include <chrono>
+#include <string>
+
+namespace viscera::server {
+
+struct ServerConfig {
+  std::string lcm_url;        ///< LCM URL, already resolved (bus::ResolveUrl)
+  std::string server_id;      ///< name announced in heartbeats
+  int max_sessions = 4;       ///< sessions accepted at most
+  std::chrono::milliseconds heartbeat_period{1000};
+  std::string scene_dir = "scenes";  ///< where create finds NAME.toml
+  std::string log_dir;        ///< session records go here ("" = none)
+  double rate_hz = 0.0;       ///< mechanics rate when a create asks for none; 0 = the scene's
+  double max_rate_hz = 1000.0;       ///< highest mechanics rate a create may ask for (Hz)
+  double skeleton_rate_hz = 30.0;    ///< default skeleton_state_t rate (Hz); <= 0: none
+  double status_rate_hz = 4.0;       ///< session_status_t rate (Hz)
+  std::string key_file;       ///< pre-shared key: every message must carry its MAC ("" = none)
+};
+
+}  // namespace viscera::server

@@ -1,0 +1,359 @@
+#include "server/session_manager.h"
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <utility>
+
+#include "bus/channels.h"
+#include "bus/header.h"
+#include "bus/message_auth.h"
+#include "common/check.h"
+#include "common/clock.h"
+#include "session/session_scene.h"
+
+namespace viscera::server {
+
+using viscera_proto::session_reply_t;
+using viscera_proto::session_request_t;
+
+namespace {
+
+constexpr size_t kTokenBytes = 16;
+constexpr double kMaxPosition = 10.0;  // m: no operating room is larger
+
+// Session ids stay below 2^53 so that JSON numbers (doubles) carry them exactly.
+int64_t NewSessionId() {
+  const std::vector<uint8_t> r = bus::RandomBytes(8);
+  uint64_t v = 0;
+  for (const uint8_t b : r) v = (v << 8) | b;
+  return static_cast<int64_t>((v & ((uint64_t{1} << 53) - 1)) | 1);
+}
+
+// The session id of a per-session channel name (prefix + decimal id), or 0.
+int64_t SessionOfChannel(const std::string& channel, const char* prefix) {
+  const std::string p(prefix);
+  if (channel.rfind(p, 0) != 0 || channel.size() == p.size() || channel.size() > p.size() + 18) {
+    return 0;
+  }
+  int64_t id = 0;
+  for (size_t i = p.size(); i < channel.size(); ++i) {
+    if (channel[i] < '0' || channel[i] > '9') return 0;
+    id = id * 10 + (channel[i] - '0');
+  }
+  return id;
+}
+
+}  // namespace
+
+std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools) {
+  if (pose.tool < 0 || pose.tool >= num_tools) {
+    return Cat("tool ", pose.tool, " does not exist (the scene has ", num_tools, ")");
+  }
+  for (const double x : pose.position) {
+    if (!std::isfinite(x) || std::abs(x) > kMaxPosition) {
+      return Cat("position (", pose.position[0], ", ", pose.position[1], ", ", pose.position[2],
+                 ") m: not finite or beyond ", kMaxPosition, " m");
+    }
+  }
+  double norm2 = 0.0;
+  for (const double c : pose.orientation) norm2 += c * c;
+  if (!std::isfinite(norm2) || norm2 < 0.25 || norm2 > 4.0) {
+    return Cat("orientation quaternion of norm ", std::sqrt(norm2), ": not a rotation");
+  }
+  if (!std::isfinite(pose.jaw) || pose.jaw < 0.0 || pose.jaw > 1.0) {
+    return Cat("jaw ", pose.jaw, ": must be within [0, 1]");
+  }
+  return "";
+}
+
+SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus)
+    : config_(config), bus_(bus) {
+  VISCERA_DEMAND(bus_ != nullptr);
+}
+
+SessionManager::~SessionManager() { StopAll(); }
+
+void SessionManager::StopAll() {
+  for (auto& [id, session] : sessions_) session->Stop();
+  sessions_.clear();
+  num_sessions_ = 0;
+}
+
+session::Session* SessionManager::Find(int64_t id) {
+  const auto it = sessions_.find(id);
+  return it == sessions_.end() ? nullptr : it->second.get();
+}
+
+void SessionManager::Reject(session::Session* session, const std::string& why) {
+  ++rejected_;
+  if (session != nullptr) session->CountRejected(why);
+}
+
+void SessionManager::OnDrop(const std::string& channel, bus::DropReason reason) {
+  const char* what = reason == bus::DropReason::kBadMac ? "message without a valid MAC"
+                                                        : "malformed message";
+  Reject(Find(SessionOfChannel(channel, bus::kPosePrefix)), Cat(what, " on ", channel));
+}
+
+void SessionManager::Reply(const session_request_t& request, int8_t result,
+                           const std::string& message, int64_t session_id) {
+  reply_.header = bus::MakeHeader(session_id, reply_seq_++);
+  reply_.request_id = request.request_id;
+  reply_.command = request.command;
+  reply_.result = result;
+  reply_.message = message;
+  reply_.server_id = config_.server_id;
+  bus_->Publish(bus::kReplyChannel, reply_);
+  reply_.sessions.clear();
+  reply_.num_sessions = 0;
+}
+
+void SessionManager::OnRequest(const session_request_t& request, const bus::MessageInfo& info) {
+  (void)info;
+  // another server's business
+  if (!request.server_id.empty() && request.server_id != config_.server_id) return;
+  reply_.sessions.clear();
+  reply_.num_sessions = 0;
+
+  const std::string problem = bus::HeaderProblem(request.header);
+  if (!problem.empty() || request.request_id == 0) {
+    Reject(Find(request.header.session_id), Cat("bad request: ", problem.empty() ? "request_id 0" : problem));
+    // another protocol version may not understand the reply, but it is all we can say
+    Reply(request, session_reply_t::kBadRequest,
+          problem.empty() ? "request_id must not be 0" : problem, request.header.session_id);
+    return;
+  }
+
+  switch (request.command) {
+    case session_request_t::kCreate:
+      Create(request);
+      return;
+    case session_request_t::kList:
+      for (const auto& [id, session] : sessions_) reply_.sessions.push_back(session->Status());
+      reply_.num_sessions = static_cast<int32_t>(reply_.sessions.size());
+      Reply(request, session_reply_t::kOk, "");
+      return;
+    case session_request_t::kStatus:
+    case session_request_t::kDestroy:
+    case session_request_t::kReset:
+    case session_request_t::kPause:
+    case session_request_t::kResume:
+    case session_request_t::kCamera:
+      break;
+    default:
+      Reject(Find(request.header.session_id), Cat("unknown command ", int{request.command}));
+      Reply(request, session_reply_t::kBadRequest, Cat("unknown command ", int{request.command}),
+            request.header.session_id);
+      return;
+  }
+
+  const int64_t id = request.header.session_id;
+  session::Session* session = Find(id);
+  if (session == nullptr) {
+    ++rejected_;
+    Reply(request, session_reply_t::kUnknownSession,
+          Cat("no session ", id, " on server ", config_.server_id), id);
+    return;
+  }
+  if (request.command == session_request_t::kStatus) {
+    // status needs no token: the same status goes out on VISCERA_STATUS_<id> to everyone
+    reply_.sessions.push_back(session->Status());
+    reply_.num_sessions = 1;
+    Reply(request, session_reply_t::kOk, "", id);
+    return;
+  }
+  if (!bus::SecureEquals(request.header.token, session->config().token)) {
+    Reject(session, request.header.token.empty() ? "request without the session token"
+                                                  : "request with a wrong session token");
+    Reply(request, session_reply_t::kBadToken,
+          request.header.token.empty() ? "this command needs the session token"
+                                       : "wrong session token", id);
+    return;
+  }
+  if (session->recorder() != nullptr) {
+    session->recorder()->Write(bus::kRequestChannel, request, bus::WallMicros());
+  }
+
+  session::Command command;
+  switch (request.command) {
+    case session_request_t::kDestroy: {
+      session->Stop();
+      reply_.sessions.push_back(session->Status());
+      reply_.num_sessions = 1;
+      sessions_.erase(id);
+      num_sessions_ = static_cast<int>(sessions_.size());
+      Reply(request, session_reply_t::kOk, "", id);
+      return;
+    }
+    case session_request_t::kReset:
+      command.kind = session::Command::Kind::kReset;
+      break;
+    case session_request_t::kPause:
+      command.kind = session::Command::Kind::kPause;
+      break;
+    case session_request_t::kResume:
+      command.kind = session::Command::Kind::kResume;
+      break;
+    default: {  // kCamera
+      command.kind = session::Command::Kind::kCamera;
+      command.camera_eye = Vec3(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
+      command.camera_target =
+          Vec3(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
+      command.camera_up = Vec3(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
+      command.camera_fov_deg = request.camera_fov_deg;
+      const bool ok = command.camera_eye.allFinite() && command.camera_target.allFinite() &&
+                      command.camera_up.allFinite() && command.camera_up.norm() > 1e-9 &&
+                      (command.camera_eye - command.camera_target).norm() > 1e-6 &&
+                      std::isfinite(command.camera_fov_deg) && command.camera_fov_deg > 1.0 &&
+                      command.camera_fov_deg < 179.0;
+      if (!ok) {
+        Reject(session, "camera: non-finite or degenerate pose, or fov outside (1, 179) deg");
+        Reply(request, session_reply_t::kRefused,
+              "camera: eye and target must differ, up must be non-zero, fov within (1, 179) deg",
+              id);
+        return;
+      }
+    }
+  }
+  if (!session->inbox().PostCommand(command)) {
+    Reject(session, "command queue full");
+    Reply(request, session_reply_t::kRefused, "too many commands waiting", id);
+    return;
+  }
+  Reply(request, session_reply_t::kOk, "", id);
+}
+
+void SessionManager::Create(const session_request_t& request) {
+  if (request.server_id != config_.server_id) {
+    ++rejected_;
+    Reply(request, session_reply_t::kBadRequest,
+          "create must name its server (server_id from the heartbeat)");
+    return;
+  }
+  if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused,
+          Cat("server full: ", sessions_.size(), " of ", config_.max_sessions, " sessions"));
+    return;
+  }
+  const bool sizes_ok = request.frame_width >= 0 && request.frame_width <= 4096 &&
+                        request.frame_height >= 0 && request.frame_height <= 4096 &&
+                        std::isfinite(request.skeleton_rate_hz) && request.skeleton_rate_hz <= 1000.0;
+  if (!sizes_ok) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused,
+          "frame size must be within 0..4096 pixels and skeleton rate at most 1000 Hz");
+    return;
+  }
+
+  session::SessionScene scene;
+  try {
+    const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
+    scene = session::LoadSessionScene(config_.scene_dir, request.scene_name, request.scene_toml,
+                                      rate, config_.max_rate_hz);
+  } catch (const std::exception& e) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused, e.what());
+    return;
+  }
+
+  session::SessionConfig sc;
+  do {
+    sc.id = NewSessionId();
+  } while (sessions_.count(sc.id) != 0);
+  sc.token = bus::RandomBytes(kTokenBytes);
+  sc.server_id = config_.server_id;
+  sc.scene = scene.label;
+  sc.skeleton_rate_hz =
+      request.skeleton_rate_hz != 0.0 ? request.skeleton_rate_hz : config_.skeleton_rate_hz;
+  sc.status_rate_hz = config_.status_rate_hz;
+  sc.skin = request.skin;
+  if (request.frame_width > 0) sc.frame_width = request.frame_width;
+  if (request.frame_height > 0) sc.frame_height = request.frame_height;
+
+  std::unique_ptr<session::Recorder> recorder;
+  if (!config_.log_dir.empty()) {
+    try {
+      recorder = std::make_unique<session::Recorder>(
+          Cat(config_.log_dir, "/session-", sc.id, ".lcmlog"));
+    } catch (const std::exception& e) {
+      Reply(request, session_reply_t::kRefused, Cat("cannot record the session: ", e.what()));
+      return;
+    }
+    // the request as it came, and the scene as loaded with the rate in use: replay needs both
+    const int64_t now = bus::WallMicros();
+    recorder->Write(bus::kRequestChannel, request, now);
+    session_request_t scene_record = request;
+    scene_record.header = bus::MakeHeader(sc.id, 0);
+    scene_record.scene_toml = scene.toml;
+    scene_record.rate_hz = scene.model->params().rate_hz;
+    recorder->Write(bus::SessionChannel(bus::kScenePrefix, sc.id), scene_record, now);
+  }
+
+  auto session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
+  session->Start();
+  std::string message;
+  for (const std::string& w : scene.warnings) message += (message.empty() ? "" : "; ") + w;
+  reply_.sessions.push_back(session->Status());
+  reply_.num_sessions = 1;
+  reply_.header = bus::MakeHeader(sc.id, reply_seq_++);
+  reply_.header.token = sc.token;
+  reply_.header.token_len = static_cast<int32_t>(sc.token.size());
+  reply_.request_id = request.request_id;
+  reply_.command = request.command;
+  reply_.result = session_reply_t::kOk;
+  reply_.message = message;
+  reply_.server_id = config_.server_id;
+  sessions_.emplace(sc.id, std::move(session));
+  num_sessions_ = static_cast<int>(sessions_.size());
+  bus_->Publish(bus::kReplyChannel, reply_);
+  std::fprintf(stderr, "viscerad: session %lld created (scene %s, %g Hz)\n",
+               static_cast<long long>(sc.id), sc.scene.c_str(), scene.model->params().rate_hz);
+}
+
+void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::MessageInfo& info) {
+  const int64_t id = pose.header.session_id;
+  session::Session* session = Find(id);
+  if (session == nullptr) {
+    Reject(nullptr, "pose for an unknown session");
+    return;
+  }
+  if (SessionOfChannel(*info.channel, bus::kPosePrefix) != id) {
+    Reject(session, Cat("pose for session ", id, " on channel ", *info.channel));
+    return;
+  }
+  if (const std::string problem = bus::HeaderProblem(pose.header); !problem.empty()) {
+    Reject(session, Cat("pose: ", problem));
+    return;
+  }
+  if (!bus::SecureEquals(pose.header.token, session->config().token)) {
+    Reject(session, pose.header.token.empty() ? "pose without the session token"
+                                              : "pose with a wrong session token");
+    return;
+  }
+  if (const std::string problem = PoseProblem(pose, session->num_tools()); !problem.empty()) {
+    Reject(session, Cat("pose: ", problem));
+    return;
+  }
+  session::PoseInput input;
+  input.target.tip = Vec3(pose.position[0], pose.position[1], pose.position[2]);
+  input.target.orientation = Eigen::Quaterniond(pose.orientation[0], pose.orientation[1],
+                                                pose.orientation[2], pose.orientation[3])
+                                 .normalized();
+  input.target.jaw = pose.jaw;
+  input.target.active = true;
+  input.seq = pose.header.seq;
+  input.client_utime = pose.header.utime;
+  input.received_ns = MonotonicNanos();
+  if (!session->inbox().PostPose(pose.tool, input)) {
+    Reject(session, Cat("stale pose (seq ", pose.header.seq, " after a newer one)"));
+    return;
+  }
+  session->CountPose();
+  if (session->recorder() != nullptr) {
+    session->recorder()->Write(*info.channel, pose, info.recv_utime);
+  }
+}
+
+}  // namespace viscera::server

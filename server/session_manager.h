@@ -1,0 +1,64 @@
+#pragma once
+/// SessionManager: the server's sessions, driven by the I/O thread. It validates and
+/// routes every request and pose (bad input is dropped, counted and, for requests,
+/// answered; never thrown), creates and destroys sessions, and answers status and list.
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <viscera_proto/session_reply_t.hpp>
+#include <viscera_proto/session_request_t.hpp>
+#include <viscera_proto/tool_pose_t.hpp>
+
+#include "bus/lcm_bus.h"
+#include "server/server_config.h"
+#include "session/session.h"
+
+namespace viscera::server {
+
+/// Why a pose cannot drive tool `tool` of a session with `num_tools` tools ("" if it can):
+/// out-of-range tool index, non-finite or out-of-range position (|x| <= 10 m), orientation
+/// (norm within 0.5..2) or jaw (0..1).
+std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools);
+
+class SessionManager {
+ public:
+  /// @pre bus outlives the manager; only the I/O thread calls the On* members.
+  SessionManager(const ServerConfig& config, bus::LcmBus* bus);
+  /// Stops every session (StopAll).
+  ~SessionManager();
+  SessionManager(const SessionManager&) = delete;
+  SessionManager& operator=(const SessionManager&) = delete;
+
+  void OnRequest(const viscera_proto::session_request_t& request, const bus::MessageInfo& info);
+  void OnPose(const viscera_proto::tool_pose_t& pose, const bus::MessageInfo& info);
+  /// A datagram the bus dropped (malformed, bad MAC): counted, and charged to the session
+  /// when its channel names one.
+  void OnDrop(const std::string& channel, bus::DropReason reason);
+
+  /// Stops every session: final status, records flushed.
+  void StopAll();
+
+  int num_sessions() const { return num_sessions_.load(); }
+  /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
+  int64_t rejected() const { return rejected_.load(); }
+
+ private:
+  void Reply(const viscera_proto::session_request_t& request, int8_t result,
+             const std::string& message, int64_t session_id = 0);
+  void Create(const viscera_proto::session_request_t& request);
+  void Reject(session::Session* session, const std::string& why);
+  session::Session* Find(int64_t id);
+
+  ServerConfig config_;
+  bus::LcmBus* bus_;
+  std::map<int64_t, std::unique_ptr<session::Session>> sessions_;
+  std::atomic<int> num_sessions_{0};
+  std::atomic<int64_t> rejected_{0};
+  int64_t reply_seq_ = 0;
+  viscera_proto::session_reply_t reply_;
+};
+
+}  // namespace viscera::server
