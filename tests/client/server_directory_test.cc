@@ -36,7 +36,7 @@ TEST(ServerDirectory, KeepsTheLatestHeartbeatPerServerSortedById) {
 TEST(ServerDirectory, RejectsHeartbeatsItCannotTrust) {
   ServerDirectory directory;
   viscera_proto::heartbeat_t other_version = Beat("x", 0, 0.0f, 0);
-  other_version.header.version = 2;
+  other_version.header.version = viscera_proto::header_t::kProtocolVersion + 1;
   directory.Observe(other_version);
   directory.Observe(Beat("", 0, 0.0f, 0));
   EXPECT_TRUE(directory.Servers().empty());

@@ -27,8 +27,9 @@ TEST(PythonInterop, HeartbeatEncodedByPythonDecodesInCpp) {
       "import sys; from viscera_proto import heartbeat_t, header_t\n"
       "m = heartbeat_t(); h = header_t()\n"
       "h.version = header_t.kProtocolVersion; h.session_id = 0; h.seq = 41; h.utime = 1700000000000000\n"
-      "h.token = bytes([1, 2, 3]); h.token_len = 3; m.header = h\n"
+      "h.token = bytes([1, 2, 3]); h.token_len = 3; h.mac = b''; h.mac_len = 0; m.header = h\n"
       "m.server_id = 'py'; m.num_sessions = 2; m.max_sessions = 9; m.load = 0.5; m.uptime_us = 77\n"
+      "m.rejected = 5\n"
       "sys.stdout.buffer.write(m.encode())");
   viscera_proto::heartbeat_t msg;
   ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
@@ -41,6 +42,7 @@ TEST(PythonInterop, HeartbeatEncodedByPythonDecodesInCpp) {
   EXPECT_EQ(msg.max_sessions, 9);
   EXPECT_EQ(msg.load, 0.5f);
   EXPECT_EQ(msg.uptime_us, 77);
+  EXPECT_EQ(msg.rejected, 5);
 }
 
 }  // namespace

@@ -1,0 +1,46 @@
+#pragma once
+// Small scenes for session tests: fast to step, no network.
+#include <memory>
+#include <string>
+
+#include "mechanics/model.h"
+#include "scene/scene.h"
+
+namespace viscera::session::testing {
+
+/// A 0.5 m, 21-point tube held at both ends, implicit Euler at `rate_hz`.
+inline std::string SmallSceneToml(double rate_hz = 100.0) {
+  return "[simulation]\nrate_hz = " + std::to_string(rate_hz) +
+         "\nsubsteps = 1\nintegrator = \"implicit\"\ngravity = [0.0, 0.0, -9.81]\n"
+         "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\ncontrol_points = 21\n"
+         "stretch_stiffness = 100.0\nbend_stiffness = 1.0e-4\ncontinuous_stretch = 0.5\n"
+         "damping = 1.0\nspring_damping = 2.0\npinned = [\"start\", \"end\"]\n"
+         "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, 0.0]\n";
+}
+
+/// A scene whose explicit integrator is far beyond its stability limit: it blows up within
+/// a few steps (RK4, one sub-step, stiff springs).
+inline std::string UnstableSceneToml() {
+  return "[simulation]\nrate_hz = 100\nsubsteps = 1\nintegrator = \"rk4\"\n"
+         "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\ncontrol_points = 41\n"
+         "stretch_stiffness = 1.0e4\nbend_stiffness = 1.0e-4\n"
+         "[intestine.shape]\nkind = \"serpentine\"\nstart = [0.0, 0.0, 0.1]\n"
+         "amplitude = 0.05\nwavelength = 0.2\n";
+}
+
+/// The small scene's model with `num_tools` tools (added in code: the [[tool]] scene key
+/// belongs to the mechanics work), each idle after `idle_timeout` s.
+inline std::shared_ptr<const mechanics::Model> SmallModel(int num_tools, double rate_hz = 100.0,
+                                                          double idle_timeout = 0.25) {
+  scene::Scene scene = scene::ParseScene(SmallSceneToml(rate_hz), "small");
+  for (int i = 0; i < num_tools; ++i) {
+    mechanics::ToolParams tool;
+    tool.name = "grasper" + std::to_string(i);
+    tool.port = Vec3(0.0, 0.1 * i, 0.3);
+    tool.idle_timeout = idle_timeout;
+    scene.model.tools.push_back(tool);
+  }
+  return std::make_shared<const mechanics::Model>(std::move(scene.model));
+}
+
+}  // namespace viscera::session::testing
