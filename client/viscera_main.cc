@@ -470,6 +470,7 @@ int main(int argc, char** argv) {
 
   std::string keygen_path;
   CLI::App* keygen = app.add_subcommand("keygen", "Write a new pre-shared key file (mode 0600)");
+  add_common(keygen);
   keygen->add_option("file", keygen_path, "Key file to write")->required();
 
   CLI11_PARSE(app, argc, argv);
