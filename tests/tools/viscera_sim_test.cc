@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -29,9 +30,19 @@ Result Shell(const std::string& command) {
 
 std::string Scene(const char* name) { return std::string(VISCERA_SOURCE_DIR) + "/scenes/" + name; }
 
-TEST(VisceraSim, FallTraceAndSummaryAreConsistentAndPhysical) {
+// scenes/fall.toml without its plane and contacts: a free body.
+std::string FreeFallScene() {
+  std::ifstream in(Scene("fall.toml"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text = text.substr(0, text.find("[[obstacle]]")) + "[contacts]\nself = false\n";
+  const std::string path = testing::TempDir() + "free_fall.toml";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   const std::string trace = testing::TempDir() + "fall.jsonl";
-  const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") +
+  const Result r = Shell(std::string(VISCERA_SIM) + " " + FreeFallScene() +
                          " --duration 0.5 --trace " + trace + " --trace-every 7 --json 2>/dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const nlohmann::json summary = nlohmann::json::parse(r.out);

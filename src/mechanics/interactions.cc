@@ -1,0 +1,276 @@
+#include "mechanics/interactions.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace viscera::mechanics {
+namespace {
+
+using collision::ContactCandidate;
+using collision::ContactKind;
+
+constexpr double kCouplingTimeConstant = 0.05;  // s: coupling fades in / out (idle device)
+constexpr double kGraspClose = 0.3;             // jaw opening below which the jaws grasp
+constexpr double kGraspOpen = 0.6;              // ... and above which they release (hysteresis)
+
+double Margin(const Model& model) {
+  const double m = model.params().contacts.margin;
+  return m >= 0.0 ? m : 0.25 * model.params().radius;
+}
+
+// Spheres whose rest distance along the chain is below one diameter overlap at rest: skip them.
+int SelfSkip(const collision::SphereChain& chain) {
+  return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
+}
+
+// Series stiffness of the coupling and a contact: what the hand feels through the tool.
+double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
+
+}  // namespace
+
+bool Interactions::Needed(const Model& model) {
+  const ModelParams& p = model.params();
+  return p.contacts.self || !p.obstacles.empty() || !p.tools.empty();
+}
+
+Interactions::Interactions(const Model& model)
+    : model_(model),
+      radius_(model.params().radius),
+      margin_(Margin(model)),
+      chain_(model.curve(), model.params().length, model.params().radius),
+      detector_(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)) {
+  const size_t tools = model.params().tools.size();
+  capsules_.resize(tools);
+  tool_velocity_.assign(tools, Vec3::Zero());
+  grasping_.assign(tools, false);
+  grasp_at_.resize(tools);
+  candidates_.reserve(static_cast<size_t>(chain_.size()) * 16);
+  chain_.Place(model.params().initial_q);
+}
+
+Vec3 Interactions::SphereVelocity(int sphere, const Points& qd) const {
+  const collision::Sphere& sp = chain_.spheres()[sphere];
+  Vec3 v = Vec3::Zero();
+  for (int a = 0; a < 4; ++a) v += sp.w[a] * qd.row(sp.first + a).transpose();
+  return v;
+}
+
+void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
+  const collision::Sphere& sp = chain_.spheres()[sphere];
+  for (int a = 0; a < 4; ++a) F->row(sp.first + a) += sp.w[a] * f.transpose();
+}
+
+void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const {
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a; b < 4; ++b) {
+      const double wab = w[a] * w[b];
+      if (wab != 0.0) m->Add(first + a, first + b, wab * h);
+    }
+  }
+}
+
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Points& q, const Points& qd) const {
+  (void)q;  // centres were updated from q by the caller
+  const ContactParams& cp = model_.params().contacts;
+  const collision::Sphere& sa = chain_.spheres()[c.a];
+  Penalty p;
+  Vec3 other_velocity = Vec3::Zero();
+  double reach = radius_;
+  double distance = 0.0;
+  switch (c.kind) {
+    case ContactKind::kSelf: {
+      const Vec3 d = sa.centre - chain_.spheres()[c.b].centre;
+      distance = d.norm();
+      p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
+      reach = 2.0 * radius_;
+      other_velocity = SphereVelocity(c.b, qd);
+      break;
+    }
+    case ContactKind::kEnvironment:
+      distance = collision::SignedDistance(model_.params().obstacles[c.b], sa.centre, &p.normal);
+      break;
+    case ContactKind::kTool: {
+      const collision::ToolCapsule& cap = capsules_[c.b];
+      const Vec3 on_shaft = collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever);
+      const Vec3 d = sa.centre - on_shaft;
+      distance = d.norm();
+      p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
+      reach = radius_ + cap.radius;
+      other_velocity = p.lever * tool_velocity_[c.b];
+      break;
+    }
+  }
+  p.clearance = distance - reach;
+  p.depth = -p.clearance;
+  if (p.depth <= 0.0) return p;
+  // Penalty spring and damping along the normal (pushing only), regularized Coulomb friction.
+  const Vec3 relative = SphereVelocity(c.a, qd) - other_velocity;
+  const double vn = relative.dot(p.normal);
+  const double fn = cp.stiffness * p.depth - cp.damping * vn;
+  if (fn <= 0.0) return p;
+  const Vec3 vt = relative - vn * p.normal;
+  p.force = fn * p.normal - (cp.friction * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
+  p.active = true;
+  return p;
+}
+
+double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
+  const ContactParams& cp = model_.params().contacts;
+  chain_.UpdateCentres(q);
+  double energy = 0.0;
+  for (const ContactCandidate& c : candidates_) {
+    const Penalty p = Evaluate(c, q, qd);
+    if (p.depth <= 0.0) continue;
+    energy += 0.5 * cp.stiffness * p.depth * p.depth;
+    if (!p.active) continue;
+    AddToWindow(c.a, p.force, F);
+    if (c.kind == ContactKind::kSelf) AddToWindow(c.b, -p.force, F);
+    if (K) {
+      const Mat3 nn = p.normal * p.normal.transpose();
+      const double fn = p.force.dot(p.normal);
+      const Mat3 kn = cp.stiffness * nn;
+      const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+      for (int side = 0; side < (c.kind == ContactKind::kSelf ? 2 : 1); ++side) {
+        const collision::Sphere& sp = chain_.spheres()[side == 0 ? c.a : c.b];
+        AddWindowOuter(sp.first, sp.w, kn, K);
+        if (D) AddWindowOuter(sp.first, sp.w, dn, D);
+      }
+    }
+  }
+  // Grasps: a stiff zero-length spring from the jaws to the grasped curve point.
+  for (size_t t = 0; t < grasping_.size(); ++t) {
+    if (!grasping_[t]) continue;
+    const double k = model_.params().tools[t].grasp_stiffness;
+    const Vec3 x = capsules_[t].tip - Model::Evaluate(grasp_at_[t], q);
+    energy += 0.5 * k * x.squaredNorm();
+    for (int a = 0; a < 4; ++a) F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
+    if (K) {
+      const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2), grasp_at_[t].w(3)};
+      AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), K);
+    }
+  }
+  return energy;
+}
+
+void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {
+  const ToolParams& tp = model_.params().tools[index];
+  const ContactParams& cp = model_.params().contacts;
+  const ToolTarget& target = ts->target;
+  const bool active = target.active && target.tip.allFinite() && std::isfinite(target.jaw);
+  if (!ts->initialized) {
+    grasping_[index] = false;
+    capsules_[index].present = false;
+    if (!active) return;
+    ts->tip = target.tip;  // the tip starts at the first target
+    ts->tip_velocity.setZero();
+    ts->initialized = true;
+  }
+  // Coupling fades in and out rather than jumping (a device that stops sending goes limp).
+  const double goal = active ? 1.0 : 0.0;
+  ts->coupling_scale += (goal - ts->coupling_scale) * (1.0 - std::exp(-h / kCouplingTimeConstant));
+  ts->jaw = active ? std::clamp(target.jaw, 0.0, 1.0) : 1.0;
+  if (active) ts->orientation = target.orientation.normalized();
+
+  // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
+  // (the shaft pivots at the port), and their stiffness.
+  Vec3 force = Vec3::Zero();
+  Mat3 stiffness = Mat3::Zero();
+  for (const ContactCandidate& c : candidates_) {
+    if (c.kind != ContactKind::kTool || c.b != index) continue;
+    const Penalty p = Evaluate(c, q, qd);
+    if (!p.active) continue;
+    force -= p.lever * p.force;
+    stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();
+  }
+  if (grasping_[index]) {
+    const Vec3 x = ts->tip - Model::Evaluate(grasp_at_[index], q);
+    force -= tp.grasp_stiffness * x;
+    stiffness += tp.grasp_stiffness * Mat3::Identity();
+  }
+  // Virtual coupling to the target; the tool's own weight is not simulated (not felt).
+  const double kc = ts->coupling_scale * tp.coupling_stiffness;
+  if (target.tip.allFinite()) force += kc * (target.tip - ts->tip);
+  force -= tp.coupling_damping * ts->tip_velocity;
+  stiffness += kc * Mat3::Identity();
+  // Linearly implicit Euler on the tip: (m + h c + h^2 K) dv = h (F - h K v).
+  const Mat3 a = (tp.mass + h * tp.coupling_damping) * Mat3::Identity() + h * h * stiffness;
+  const Vec3 dv = a.ldlt().solve(h * (force - h * stiffness * ts->tip_velocity));
+  ts->tip_velocity += dv;
+  ts->tip += h * ts->tip_velocity;
+  tool_velocity_[index] = ts->tip_velocity;
+  capsules_[index] = {true, tp.port, ts->tip, tp.radius};
+
+  // Grasp when the jaws close on the tube; release when they open (hysteresis).
+  if (grasping_[index] && (ts->jaw > kGraspOpen || !active)) grasping_[index] = false;
+  if (!grasping_[index] && active && ts->jaw < kGraspClose) {
+    const double reach = tp.grasp_reach > 0.0 ? tp.grasp_reach : 2.0 * (radius_ + tp.radius);
+    double best = reach;
+    int nearest = -1;
+    for (int k = 0; k < chain_.size(); ++k) {
+      const double d = (chain_.spheres()[k].centre - ts->tip).norm();
+      if (d < best) {
+        best = d;
+        nearest = k;
+      }
+    }
+    if (nearest >= 0) {
+      grasping_[index] = true;
+      grasp_at_[index] = model_.MakeCurvePoint(chain_.spheres()[nearest].s);
+    }
+  }
+  ts->grasping = grasping_[index];
+  ts->grasp_s = grasping_[index] ? grasp_at_[index].s : 0.0;
+}
+
+void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, State* state) {
+  if (!targets.empty()) {
+    for (size_t t = 0; t < state->tools.size() && t < targets.size(); ++t) state->tools[t].target = targets[t];
+  }
+  chain_.Place(state->q);
+  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_);
+  if (state->tools.empty()) return;
+  // Tools move against the candidates of their current pose; then find those of the new one.
+  for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
+  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_);
+}
+
+void Interactions::EndStep(State* state) {
+  chain_.UpdateCentres(state->q);
+  ContactStats stats;
+  for (const ContactCandidate& c : candidates_) {
+    const Penalty p = Evaluate(c, state->q, state->qd);
+    if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) stats.min_clearance = p.clearance;
+    if (p.clearance >= margin_) continue;
+    switch (c.kind) {
+      case ContactKind::kSelf: ++stats.self; break;
+      case ContactKind::kEnvironment: ++stats.environment; break;
+      case ContactKind::kTool: ++stats.tool; break;
+    }
+  }
+  state->contacts = stats;
+
+  // Force on the user's hand: the coupling's reaction, k (tip - target) + c v, faded when idle.
+  for (size_t t = 0; t < state->tools.size(); ++t) {
+    const ToolParams& tp = model_.params().tools[t];
+    ToolState& ts = state->tools[t];
+    if (!ts.initialized) continue;
+    const double kc = ts.coupling_scale * tp.coupling_stiffness;
+    Vec3 f = ts.target.tip.allFinite() ? Vec3(kc * (ts.tip - ts.target.tip)) : Vec3::Zero();
+    f += ts.coupling_scale * tp.coupling_damping * ts.tip_velocity;
+    ts.clamped = f.norm() > tp.max_force;
+    if (ts.clamped) f *= tp.max_force / f.norm();
+    ts.force = f;
+    ts.torque = (ts.tip - tp.port).cross(f);
+    // Local stiffness: each touching contact (and the grasp) in series with the coupling.
+    Mat3 k = Mat3::Zero();
+    for (const ContactCandidate& c : candidates_) {
+      if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
+      const Penalty p = Evaluate(c, state->q, state->qd);
+      if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();
+    }
+    if (grasping_[t]) k += Series(kc, tp.grasp_stiffness) * Mat3::Identity();
+    ts.stiffness = k;
+  }
+}
+
+}  // namespace viscera::mechanics
