@@ -16,13 +16,16 @@ ContactDetector::ContactDetector(double radius, double margin, bool self_contact
     : radius_(radius), margin_(margin), self_(self_contacts), self_skip_(self_skip), grid_(2.0 * radius + margin) {}
 
 void ContactDetector::Detect(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
-                             const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out) {
+                             const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out,
+                             double margin) {
   out->clear();
+  const double extra = margin >= 0.0 ? margin : margin_;
+  grid_.set_cell(2.0 * radius_ + extra);
   const int n = static_cast<int>(spheres.size());
   if (self_) {
     centres_.resize(n);
     for (int i = 0; i < n; ++i) centres_[i] = spheres[i].centre;
-    const double reach = 2.0 * radius_ + margin_;
+    const double reach = 2.0 * radius_ + extra;
     grid_.ForEachCandidatePair(centres_, [&](int i, int j) {
       if (j - i < self_skip_) return;
       if ((centres_[i] - centres_[j]).squaredNorm() < reach * reach) out->push_back({ContactKind::kSelf, i, j});
@@ -31,7 +34,7 @@ void ContactDetector::Detect(const std::vector<Sphere>& spheres, const std::vect
   for (int i = 0; i < n; ++i) {
     for (size_t o = 0; o < obstacles.size(); ++o) {
       Vec3 normal;
-      if (SignedDistance(obstacles[o], spheres[i].centre, &normal) < radius_ + margin_) {
+      if (SignedDistance(obstacles[o], spheres[i].centre, &normal) < radius_ + extra) {
         out->push_back({ContactKind::kEnvironment, i, static_cast<int>(o)});
       }
     }
@@ -39,7 +42,7 @@ void ContactDetector::Detect(const std::vector<Sphere>& spheres, const std::vect
       if (!tools[t].present) continue;
       double fraction;
       const Vec3 p = ClosestOnSegment(tools[t].port, tools[t].tip, spheres[i].centre, &fraction);
-      if ((spheres[i].centre - p).norm() < radius_ + tools[t].radius + margin_) {
+      if ((spheres[i].centre - p).norm() < radius_ + tools[t].radius + extra) {
         out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
       }
     }

@@ -34,9 +34,10 @@ class ContactDetector {
   /// @param self_skip self pairs closer than this many spheres along the chain are ignored.
   ContactDetector(double radius, double margin, bool self_contacts, int self_skip);
 
-  /// Fills `out` (cleared first). Allocates nothing once its capacity has grown.
+  /// Fills `out` (cleared first) with everything within the contact distance plus `margin`
+  /// (the constructor's margin when negative). Allocates nothing once its capacity has grown.
   void Detect(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
-              const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out);
+              const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out, double margin = -1.0);
 
   int self_skip() const { return self_skip_; }
 

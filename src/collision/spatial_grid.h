@@ -3,6 +3,7 @@
 /// step in O(n). Each sphere is checked against its own cell and the 26 around it, so no pair
 /// closer than a cell width is missed across a cell boundary (the paper checked only the same
 /// voxel). Pairs come out in a deterministic order.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -14,9 +15,10 @@ class SpatialGrid {
  public:
   /// @param cell cell width (m), at least the largest interaction distance.
   explicit SpatialGrid(double cell) : cell_(cell) {}
+  void set_cell(double cell) { cell_ = cell; }
 
-  /// Calls pair(i, j), i < j, for every pair of points closer than the cell width (and some
-  /// farther ones: the caller checks distances). Allocates nothing once sized.
+  /// Calls pair(i, j), i < j, exactly once for every pair of points closer than the cell width
+  /// (and some farther ones: the caller checks distances). Allocates nothing once sized.
   template <typename PairFn>
   void ForEachCandidatePair(const std::vector<Vec3>& points, PairFn&& pair);
 
@@ -39,19 +41,19 @@ class SpatialGrid {
 template <typename PairFn>
 void SpatialGrid::ForEachCandidatePair(const std::vector<Vec3>& points, PairFn&& pair) {
   Build(points);
+  // Half of the 26 neighbour cells (those lexicographically after the cell) plus the cell
+  // itself: every pair of adjacent cells is visited once, from one side.
+  static constexpr int kHalf[13][3] = {{1, -1, -1}, {1, -1, 0}, {1, -1, 1}, {1, 0, -1}, {1, 0, 0},
+                                       {1, 0, 1},   {1, 1, -1}, {1, 1, 0},  {1, 1, 1},  {0, 1, -1},
+                                       {0, 1, 0},   {0, 1, 1},  {0, 0, 1}};
   const int n = static_cast<int>(points.size());
   for (int i = 0; i < n; ++i) {
     const int64_t cx = coords_[3 * i], cy = coords_[3 * i + 1], cz = coords_[3 * i + 2];
-    for (int64_t dx = -1; dx <= 1; ++dx) {
-      for (int64_t dy = -1; dy <= 1; ++dy) {
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          const int slot = Find(Key(cx + dx, cy + dy, cz + dz));
-          if (slot < 0) continue;
-          for (int j = slot_head_[slot]; j >= 0; j = next_[j]) {
-            if (j > i) pair(i, j);
-          }
-        }
-      }
+    for (int j = next_[i]; j >= 0; j = next_[j]) pair(i, j);  // same cell, j > i
+    for (const auto& d : kHalf) {
+      const int slot = Find(Key(cx + d[0], cy + d[1], cz + d[2]));
+      if (slot < 0) continue;
+      for (int j = slot_head_[slot]; j >= 0; j = next_[j]) pair(std::min(i, j), std::max(i, j));
     }
   }
 }

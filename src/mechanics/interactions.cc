@@ -69,12 +69,9 @@ void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, con
   }
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Points& q, const Points& qd) const {
-  (void)q;  // centres were updated from q by the caller
-  const ContactParams& cp = model_.params().contacts;
+Interactions::Penalty Interactions::Geometry(const ContactCandidate& c) const {
   const collision::Sphere& sa = chain_.spheres()[c.a];
   Penalty p;
-  Vec3 other_velocity = Vec3::Zero();
   double reach = radius_;
   double distance = 0.0;
   switch (c.kind) {
@@ -83,7 +80,6 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Po
       distance = d.norm();
       p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
       reach = 2.0 * radius_;
-      other_velocity = SphereVelocity(c.b, qd);
       break;
     }
     case ContactKind::kEnvironment:
@@ -96,20 +92,41 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Po
       distance = d.norm();
       p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
       reach = radius_ + cap.radius;
-      other_velocity = p.lever * tool_velocity_[c.b];
       break;
     }
   }
   p.clearance = distance - reach;
   p.depth = -p.clearance;
-  if (p.depth <= 0.0) return p;
-  // Penalty spring and damping along the normal (pushing only), regularized Coulomb friction.
-  const Vec3 relative = SphereVelocity(c.a, qd) - other_velocity;
+  return p;
+}
+
+Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever, const Points& qd) const {
+  switch (c.kind) {
+    case ContactKind::kSelf: return SphereVelocity(c.b, qd);
+    case ContactKind::kTool: return lever * tool_velocity_[c.b];
+    case ContactKind::kEnvironment: break;
+  }
+  return Vec3::Zero();
+}
+
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Points& qd) const {
+  const ContactParams& cp = model_.params().contacts;
+  Penalty p = Geometry(c);
+  // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
+  if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
+  const Vec3 relative = SphereVelocity(c.a, qd) - OtherVelocity(c, p.lever, qd);
   const double vn = relative.dot(p.normal);
+  // A pair that is apart but closing fast enough to touch within the implicit step acts now: its
+  // linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of the
+  // contact being found a step late and deep (which creates energy at every impact).
+  const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
+  if (p.depth <= 0.0 && !speculative) return p;
+  // Penalty spring and damping along the normal, regularized Coulomb friction.
   const double fn = cp.stiffness * p.depth - cp.damping * vn;
-  if (fn <= 0.0) return p;
+  if (fn <= 0.0 && !speculative) return p;
   const Vec3 vt = relative - vn * p.normal;
-  p.force = fn * p.normal - (cp.friction * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
+  const double friction = cp.friction * std::max(fn, 0.0);
+  p.force = fn * p.normal - (friction / std::max(vt.norm(), kFrictionSlip)) * vt;
   p.active = true;
   return p;
 }
@@ -119,17 +136,21 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   chain_.UpdateCentres(q);
   double energy = 0.0;
   for (const ContactCandidate& c : candidates_) {
-    const Penalty p = Evaluate(c, q, qd);
-    if (p.depth <= 0.0) continue;
-    energy += 0.5 * cp.stiffness * p.depth * p.depth;
+    const Penalty p = Evaluate(c, qd);
+    if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
     if (c.kind == ContactKind::kSelf) AddToWindow(c.b, -p.force, F);
     if (K) {
+      // A self pair couples two windows far apart in the chain, outside the band. Each side gets
+      // twice the pair's stiffness on its own window instead: that is exact for the pair's
+      // relative (penetrating) motion, which is what must stay stable; it overstates the
+      // stiffness of the pair's common motion along the normal (docs/contacts.md).
+      const double pair = c.kind == ContactKind::kSelf ? 2.0 : 1.0;
       const Mat3 nn = p.normal * p.normal.transpose();
-      const double fn = p.force.dot(p.normal);
-      const Mat3 kn = cp.stiffness * nn;
-      const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+      const double fn = std::max(0.0, p.force.dot(p.normal));
+      const Mat3 kn = pair * cp.stiffness * nn;
+      const Mat3 dn = pair * cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
       for (int side = 0; side < (c.kind == ContactKind::kSelf ? 2 : 1); ++side) {
         const collision::Sphere& sp = chain_.spheres()[side == 0 ? c.a : c.b];
         AddWindowOuter(sp.first, sp.w, kn, K);
@@ -177,7 +198,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   Mat3 stiffness = Mat3::Zero();
   for (const ContactCandidate& c : candidates_) {
     if (c.kind != ContactKind::kTool || c.b != index) continue;
-    const Penalty p = Evaluate(c, q, qd);
+    const Penalty p = Evaluate(c, qd);
     if (!p.active) continue;
     force -= p.lever * p.force;
     stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();
@@ -222,23 +243,55 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   ts->grasp_s = grasping_[index] ? grasp_at_[index].s : 0.0;
 }
 
+double Interactions::CandidateMargin(const State& state, double h) const {
+  // Twice the fastest travel in h: two spheres may close in on each other.
+  double speed = 0.0;
+  for (int k = 0; k < chain_.size(); ++k) speed = std::max(speed, SphereVelocity(k, state.qd).squaredNorm());
+  double tool_speed = 0.0;
+  for (const ToolState& t : state.tools) tool_speed = std::max(tool_speed, t.tip_velocity.norm());
+  return margin_ + 2.0 * h * (std::sqrt(speed) + tool_speed);
+}
+
+int Interactions::RequiredSubsteps(const State& state) {
+  const int base = model_.params().substeps;
+  const double h = model_.step_size();
+  chain_.Place(state.q);
+  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, CandidateMargin(state, h));
+  double closing = 0.0;
+  for (const ContactCandidate& c : candidates_) {
+    const Penalty p = Geometry(c);
+    const Vec3 relative = SphereVelocity(c.a, state.qd) - OtherVelocity(c, p.lever, state.qd);
+    closing = std::max(closing, -relative.dot(p.normal));
+  }
+  const int needed = static_cast<int>(std::ceil(closing * h / (0.2 * radius_)));
+  candidates_fresh_ = true;
+  return std::clamp(needed, base, std::max(base, kMaxSubsteps));
+}
+
 void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, State* state) {
   if (!targets.empty()) {
     for (size_t t = 0; t < state->tools.size() && t < targets.size(); ++t) state->tools[t].target = targets[t];
   }
-  chain_.Place(state->q);
-  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_);
+  speculative_h_ = model_.params().integrator == IntegratorKind::kImplicitEuler ? h : 0.0;
+  // Candidates must include every pair that can meet within the sub-step (those found for the
+  // whole step do, for its first sub-step).
+  const double margin = CandidateMargin(*state, h);
+  if (!candidates_fresh_) {
+    chain_.Place(state->q);
+    detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, margin);
+  }
+  candidates_fresh_ = false;
   if (state->tools.empty()) return;
   // Tools move against the candidates of their current pose; then find those of the new one.
   for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
-  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_);
+  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, margin);
 }
 
 void Interactions::EndStep(State* state) {
   chain_.UpdateCentres(state->q);
   ContactStats stats;
   for (const ContactCandidate& c : candidates_) {
-    const Penalty p = Evaluate(c, state->q, state->qd);
+    const Penalty p = Geometry(c);
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) stats.min_clearance = p.clearance;
     if (p.clearance >= margin_) continue;
     switch (c.kind) {
@@ -265,7 +318,7 @@ void Interactions::EndStep(State* state) {
     Mat3 k = Mat3::Zero();
     for (const ContactCandidate& c : candidates_) {
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const Penalty p = Evaluate(c, state->q, state->qd);
+      const Penalty p = Geometry(c);
       if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();
     }
     if (grasping_[t]) k += Series(kc, tp.grasp_stiffness) * Mat3::Identity();

@@ -22,6 +22,12 @@ class Interactions {
   /// Whether a model needs this at all (self-contacts, obstacles or tools).
   static bool Needed(const Model& model);
 
+  /// Sub-steps this step needs so that no pair closes in by more than a fifth of the radius per
+  /// sub-step (an impact found a sub-step late would start its penalty spring compressed,
+  /// creating energy): at least the model's, at most kMaxSubsteps.
+  int RequiredSubsteps(const State& state);
+  static constexpr int kMaxSubsteps = 32;
+
   /// At the start of a sub-step: takes new targets (empty: keep the last), advances the tools
   /// toward them (implicitly, against their contact and grasp reactions at the current pose),
   /// opens or closes grasps, re-places the spheres and finds the contact candidates.
@@ -48,15 +54,25 @@ class Interactions {
     double clearance = 0.0;     // signed distance beyond contact (m)
     double lever = 1.0;         // tool contacts: fraction along the shaft from the port
   };
-  // Narrow phase and force law of one candidate at the given sphere centres and velocities.
-  Penalty Evaluate(const collision::ContactCandidate& c, const Points& q, const Points& qd) const;
+  // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever.
+  Penalty Geometry(const collision::ContactCandidate& c) const;
+  // Velocity of the candidate's other side at the contact (zero for obstacles).
+  Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever, const Points& qd) const;
+  // Geometry plus the force law at velocities qd.
+  Penalty Evaluate(const collision::ContactCandidate& c, const Points& qd) const;
   Vec3 SphereVelocity(int sphere, const Points& qd) const;
+  double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
   void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
   void AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts);
 
   const Model& model_;
   double radius_, margin_;
+  // The implicit integrator's sub-step: pairs predicted to touch within it act already
+  // (speculative contacts); 0 for RK4, which evaluates the true penetration at every stage.
+  double speculative_h_ = 0.0;
+  // RequiredSubsteps left candidates for the whole step: the first sub-step reuses them.
+  bool candidates_fresh_ = false;
   collision::SphereChain chain_;
   collision::ContactDetector detector_;
   std::vector<collision::ContactCandidate> candidates_;

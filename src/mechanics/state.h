@@ -25,6 +25,7 @@ struct State {
   std::vector<ToolState> tools;  ///< one per model tool: pose, grasp, force feedback
   ContactStats contacts;
   int64_t steps = 0;       ///< steps taken
+  int substeps = 0;        ///< sub-steps the last step took (more during impacts)
   /// Steps whose result was not finite; each one reset the state to the model's start.
   int64_t nonfinite_resets = 0;
 };
@@ -35,7 +36,10 @@ inline State InitialState(const Model& model) {
   s.q = model.params().initial_q;
   s.qd = Points::Zero(model.num_points(), 3);
   s.tools.resize(model.params().tools.size());
-  for (size_t i = 0; i < s.tools.size(); ++i) s.tools[i].tip = model.params().tools[i].port;
+  for (size_t i = 0; i < s.tools.size(); ++i) {
+    s.tools[i].tip = model.params().tools[i].port;
+    s.tools[i].target.active = false;  // idle until a device or script gives a target
+  }
   return s;
 }
 

@@ -5,6 +5,7 @@
 #include <toml++/toml.h>
 
 #include "common/check.h"
+#include "mechanics/step.h"
 #include "scene/shapes.h"
 #include "scene/toml_reader.h"
 
@@ -29,8 +30,10 @@ const toml::table& SubTable(const toml::table& root, const std::string& name) {
   return *node->as_table();
 }
 
-void ReadSimulation(const toml::table& table, ModelParams* p) {
+void ReadSimulation(const toml::table& table, ModelParams* p, double* settle) {
   const TomlReader r(table, "simulation");
+  *settle = r.Double("settle", 0.0);
+  ThrowUnless(*settle >= 0.0 && *settle <= 60.0, "simulation.settle = ", *settle, ": expected 0..60 s");
   p->rate_hz = r.Double("rate_hz", 100.0);
   ThrowUnless(p->rate_hz > 0.0, "simulation.rate_hz = ", p->rate_hz, ": must be > 0");
   p->substeps = r.Int("substeps", 1);
@@ -265,6 +268,19 @@ void ReadTools(const toml::table& root, ModelParams* p) {
   }
 }
 
+// Lets the intestine fall and settle for `seconds` (no tools) and makes the result the start.
+// Anchors that default to the starting pose are fixed first, so they stay where the scene put them.
+void Settle(double seconds, ModelParams* p) {
+  const mechanics::Model before(*p);
+  for (size_t i = 0; i < p->attachments.size(); ++i) p->attachments[i].point = before.attachments()[i].anchor;
+  mechanics::State state = mechanics::InitialState(before);
+  mechanics::Workspace workspace(before);
+  const int steps = static_cast<int>(std::lround(seconds * p->rate_hz));
+  for (int k = 0; k < steps; ++k) mechanics::Step(before, {}, &state, &workspace);
+  ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
+  p->initial_q = state.q;
+}
+
 Scene Build(const toml::table& root, const std::string& source) {
   Scene scene;
   scene.source = source;
@@ -276,13 +292,15 @@ Scene Build(const toml::table& root, const std::string& source) {
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
   }
-  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), &scene.model);
+  double settle = 0.0;
+  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), &scene.model, &settle);
   ReadIntestine(SubTable(root, "intestine"), &scene.model);
   ReadAttachments(root, &scene.model);
   const size_t slash = source.find_last_of('/');
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), &scene.model);
   ReadContacts(root, &scene.model);
   ReadTools(root, &scene.model);
+  if (settle > 0.0) Settle(settle, &scene.model);
   return scene;
 }
 
