@@ -129,7 +129,7 @@ int Run(const Options& opt) {
   cost_us.reserve(static_cast<size_t>(steps));
   ProgressBar progress(steps);
   double min_clearance = std::numeric_limits<double>::infinity();
-  double max_tool_force = 0.0;
+  std::vector<double> max_tool_force(model.params().tools.size(), 0.0);
   for (int64_t k = 1; k <= steps; ++k) {
     const std::span<const mechanics::ToolTarget> targets = tools.At(state.t + model.step_size());
     const int64_t begin = ThreadCpuNanos();
@@ -137,7 +137,7 @@ int Run(const Options& opt) {
     const double us = (ThreadCpuNanos() - begin) * 1e-3;
     cost_us.push_back(us);
     if (!std::isnan(state.contacts.min_clearance)) min_clearance = std::min(min_clearance, state.contacts.min_clearance);
-    for (const mechanics::ToolState& t : state.tools) max_tool_force = std::max(max_tool_force, t.force.norm());
+    for (size_t t = 0; t < state.tools.size(); ++t) max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
     if (k % opt.trace_every == 0 || k == steps) record(us);
     progress.Update(k);
   }
@@ -168,7 +168,7 @@ int Run(const Options& opt) {
       {"contacts", {{"self", state.contacts.self}, {"environment", state.contacts.environment}, {"tool", state.contacts.tool}}},
       {"min_clearance", std::isfinite(min_clearance) ? nlohmann::json(min_clearance) : nlohmann::json(nullptr)},
       {"sphere_radius", interactions ? interactions->chain().radius() : 0.0},
-      {"max_tool_force", max_tool_force},
+      {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
   };
   summary["final_energy"]["contact"] = e.contact;
   if (opt.json) {
@@ -204,7 +204,7 @@ int Run(const Options& opt) {
   for (size_t t = 0; t < state.tools.size(); ++t) {
     const Vec3& f = state.tools[t].force;
     std::printf("tool %-11s force [%.3f, %.3f, %.3f] N, max over the run %.3f N%s\n", model.params().tools[t].name.c_str(),
-                f.x(), f.y(), f.z(), max_tool_force, state.tools[t].grasping ? ", grasping" : "");
+                f.x(), f.y(), f.z(), max_tool_force[t], state.tools[t].grasping ? ", grasping" : "");
   }
   if (state.nonfinite_resets > 0) {
     std::printf("WARNING          %lld non-finite steps were reset\n", static_cast<long long>(state.nonfinite_resets));
