@@ -12,6 +12,8 @@ using collision::ContactKind;
 constexpr double kCouplingTimeConstant = 0.05;  // s: coupling fades in / out (idle device)
 constexpr double kGraspClose = 0.3;             // jaw opening below which the jaws grasp
 constexpr double kGraspOpen = 0.6;              // ... and above which they release (hysteresis)
+constexpr double kGraspDraw = 0.15;             // s: time constant drawing the tube into the jaws
+constexpr double kGraspFade = 0.1;              // s: a released grasp fades out over this
 
 double Margin(const Model& model) {
   const double m = model.params().contacts.margin;
@@ -44,6 +46,8 @@ Interactions::Interactions(const Model& model)
   tool_velocity_.assign(tools, Vec3::Zero());
   grasping_.assign(tools, false);
   grasp_at_.resize(tools);
+  grasp_offset_.assign(tools, Vec3::Zero());
+  grasp_scale_.assign(tools, 0.0);
   candidates_.reserve(static_cast<size_t>(chain_.size()) * 16);
   chain_.Place(model.params().initial_q);
 }
@@ -158,11 +162,11 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       }
     }
   }
-  // Grasps: a stiff zero-length spring from the jaws to the grasped curve point.
+  // Grasps: a stiff spring from the jaws to the grasped curve point.
   for (size_t t = 0; t < grasping_.size(); ++t) {
     if (!grasping_[t]) continue;
-    const double k = model_.params().tools[t].grasp_stiffness;
-    const Vec3 x = capsules_[t].tip - Model::Evaluate(grasp_at_[t], q);
+    const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
+    const Vec3 x = GraspStretch(static_cast<int>(t), q);
     energy += 0.5 * k * x.squaredNorm();
     for (int a = 0; a < 4; ++a) F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
     if (K) {
@@ -204,9 +208,9 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();
   }
   if (grasping_[index]) {
-    const Vec3 x = ts->tip - Model::Evaluate(grasp_at_[index], q);
-    force -= tp.grasp_stiffness * x;
-    stiffness += tp.grasp_stiffness * Mat3::Identity();
+    const double k = grasp_scale_[index] * tp.grasp_stiffness;
+    force -= k * GraspStretch(index, q);
+    stiffness += k * Mat3::Identity();
   }
   // Virtual coupling to the target; the tool's own weight is not simulated (not felt).
   const double kc = ts->coupling_scale * tp.coupling_stiffness;
@@ -221,9 +225,24 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   tool_velocity_[index] = ts->tip_velocity;
   capsules_[index] = {true, tp.port, ts->tip, tp.radius};
 
-  // Grasp when the jaws close on the tube; release when they open (hysteresis).
-  if (grasping_[index] && (ts->jaw > kGraspOpen || !active)) grasping_[index] = false;
-  if (!grasping_[index] && active && ts->jaw < kGraspClose) {
+  UpdateGrasp(index, h, active, ts);
+}
+
+Vec3 Interactions::GraspStretch(int index, const Points& q) const {
+  return capsules_[index].tip - Model::Evaluate(grasp_at_[index], q) - grasp_offset_[index];
+}
+
+void Interactions::UpdateGrasp(int index, double h, bool active, ToolState* ts) {
+  const ToolParams& tp = model_.params().tools[index];
+  const bool closing = active && ts->jaw < kGraspClose;
+  const bool opening = !active || ts->jaw > kGraspOpen;
+  if (grasping_[index]) {
+    grasp_offset_[index] *= std::exp(-h / kGraspDraw);
+    if (opening) grasp_scale_[index] -= h / kGraspFade;
+    if (closing) grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
+    if (grasp_scale_[index] <= 0.0) grasping_[index] = false;
+  } else if (closing) {
+    // Grasp the nearest part of the tube within reach of the jaws.
     const double reach = tp.grasp_reach > 0.0 ? tp.grasp_reach : 2.0 * (radius_ + tp.radius);
     double best = reach;
     int nearest = -1;
@@ -236,7 +255,9 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     }
     if (nearest >= 0) {
       grasping_[index] = true;
+      grasp_scale_[index] = 1.0;
       grasp_at_[index] = model_.MakeCurvePoint(chain_.spheres()[nearest].s);
+      grasp_offset_[index] = ts->tip - chain_.spheres()[nearest].centre;
     }
   }
   ts->grasping = grasping_[index];
@@ -321,7 +342,7 @@ void Interactions::EndStep(State* state) {
       const Penalty p = Geometry(c);
       if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();
     }
-    if (grasping_[t]) k += Series(kc, tp.grasp_stiffness) * Mat3::Identity();
+    if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();
     ts.stiffness = k;
   }
 }

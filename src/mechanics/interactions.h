@@ -65,6 +65,9 @@ class Interactions {
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
   void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
   void AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts);
+  void UpdateGrasp(int index, double h, bool active, ToolState* ts);
+  // The grasp spring's stretch: jaws - tube - offset.
+  Vec3 GraspStretch(int index, const Points& q) const;
 
   const Model& model_;
   double radius_, margin_;
@@ -80,6 +83,10 @@ class Interactions {
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
   std::vector<CurvePoint> grasp_at_;
+  // A grasp engages at the jaws' current offset from the tube, which then shrinks (the tube is
+  // drawn into the jaws), and fades out on release: the force never jumps.
+  std::vector<Vec3> grasp_offset_;
+  std::vector<double> grasp_scale_;
 };
 
 }  // namespace viscera::mechanics
