@@ -94,6 +94,7 @@ int Run(const Options& opt) {
       Fail(opt.scene, ": ", e.what());
     }
   }();
+  for (const std::string& w : model.warnings()) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
   ThrowUnless(opt.duration > 0.0 && std::isfinite(opt.duration), "--duration ", opt.duration, ": must be > 0");
   ThrowUnless(opt.trace_every >= 1, "--trace-every ", opt.trace_every, ": must be >= 1");
 
