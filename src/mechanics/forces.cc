@@ -1,6 +1,7 @@
 #include "mechanics/forces.h"
 
 #include "mechanics/attachment_forces.h"
+#include "mechanics/interactions.h"
 #include "mechanics/spring_forces.h"
 
 namespace viscera::mechanics {
@@ -14,7 +15,7 @@ void ForceJacobians::Resize(int num_points) {
 
 void ComputeForces(const Model& model, const Points& q, const Points& qd,
                    std::span<const PointLoad> loads, StretchScratch* scratch, Points* F,
-                   Energies* energies, ForceJacobians* jac) {
+                   Energies* energies, ForceJacobians* jac, Interactions* interactions) {
   BlockBand* K = jac ? &jac->stiffness : nullptr;
   BlockBand* D = jac ? &jac->damping : nullptr;
   if (jac) {
@@ -49,12 +50,14 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
                                                   jac ? &jac->rank1_coeff : nullptr);
   const double e_attachment = AddAttachmentForces(model.attachments(), q, qd, F, K, D);
   for (const PointLoad& load : loads) model.curve().AddForce(load.s, load.force, F);
+  const double e_contact = interactions ? interactions->AddForces(q, qd, F, K, D) : 0.0;
 
   if (energies) {
     energies->stretch = e_stretch;
     energies->bend = e_bend;
     energies->continuous = e_continuous;
     energies->attachment = e_attachment;
+    energies->contact = e_contact;
   }
 }
 
@@ -63,12 +66,12 @@ double KineticEnergy(const Model& model, const Points& qd, Points* scratch) {
   return 0.5 * (qd.array() * scratch->array()).sum();
 }
 
-Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd) {
+Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd, Interactions* interactions) {
   StretchScratch scratch;
   scratch.Resize(model.num_points());
   Points f(model.num_points(), 3);
   Energies e;
-  ComputeForces(model, q, qd, {}, &scratch, &f, &e);
+  ComputeForces(model, q, qd, {}, &scratch, &f, &e, nullptr, interactions);
   e.kinetic = KineticEnergy(model, qd, &f);
   return e;
 }

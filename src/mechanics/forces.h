@@ -10,6 +10,8 @@
 
 namespace viscera::mechanics {
 
+class Interactions;
+
 /// An external force (N) applied at curve parameter s (a probe, a tool, a test).
 struct PointLoad {
   double s = 0.0;
@@ -24,7 +26,8 @@ struct Energies {
   double bend = 0.0;        ///< bend springs
   double continuous = 0.0;  ///< Terzopoulos stretching energy
   double attachment = 0.0;  ///< attachment springs
-  double potential() const { return gravity + stretch + bend + continuous + attachment; }
+  double contact = 0.0;     ///< penalty contacts and grasp springs
+  double potential() const { return gravity + stretch + bend + continuous + attachment + contact; }
   double total() const { return kinetic + potential(); }
 };
 
@@ -40,14 +43,18 @@ struct ForceJacobians {
 
 /// F (#N by 3) = generalized forces at (q, qd). Fills `energies` (potential terms only; see
 /// KineticEnergy) and `jacobians` when given. Allocates nothing once scratch is sized.
+/// `interactions` (contacts, tools) may be null.
 void ComputeForces(const Model& model, const Points& q, const Points& qd,
                    std::span<const PointLoad> loads, StretchScratch* scratch, Points* F,
-                   Energies* energies = nullptr, ForceJacobians* jacobians = nullptr);
+                   Energies* energies = nullptr, ForceJacobians* jacobians = nullptr,
+                   Interactions* interactions = nullptr);
 
 /// 1/2 sum over axes of qd^T M qd (J). `scratch` is #N by 3.
 double KineticEnergy(const Model& model, const Points& qd, Points* scratch);
 
-/// All energies of a state (allocates; for reporting, not for the hot path).
-Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd);
+/// All energies of a state (allocates; for reporting, not for the hot path). Contact energy is
+/// included when `interactions` is given (as left by the last step).
+Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd,
+                         Interactions* interactions = nullptr);
 
 }  // namespace viscera::mechanics

@@ -7,8 +7,9 @@
 
 namespace viscera::mechanics {
 
-ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model)
+ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interactions* interactions)
     : model_(model),
+      interactions_(interactions),
       n_(model.num_points()),
       num_pins_(static_cast<int>(model.pins().size())),
       use_cholmod_(model.params().linear_solver == LinearSolverKind::kCholmod),
@@ -88,7 +89,7 @@ void ImplicitEulerIntegrator::SolveColumns() {
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
   Points& q = state->q;
   Points& v = state->qd;
-  ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_);
+  ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_, interactions_);
 
   // r = h (F - h K v), K including the rank-one part c u (u . v).
   jac_.stiffness.Multiply(v, &kv_);
@@ -113,7 +114,7 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
     // step rather than produce garbage.
     ++factorization_failures_;
     MassSolver fallback(model_);
-    fallback.SolveConstrainedInPlace(&force_);
+    fallback.SolveConstrainedInPlace(&force_);  // allocates, but this path is an error
     v += h * force_;
     q += h * v;
     return;

@@ -18,7 +18,7 @@ namespace viscera::mechanics {
 
 class ImplicitEulerIntegrator final : public Integrator {
  public:
-  explicit ImplicitEulerIntegrator(const Model& model);
+  explicit ImplicitEulerIntegrator(const Model& model, Interactions* interactions = nullptr);
   void Advance(std::span<const PointLoad> loads, double h, State* state) override;
 
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
@@ -32,6 +32,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   void SolveColumns();             // rhs_ <- system_^-1 rhs_
 
   const Model& model_;
+  Interactions* interactions_;
   int n_;                        // control points
   int num_pins_;
   bool use_cholmod_;

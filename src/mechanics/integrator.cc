@@ -5,12 +5,12 @@
 
 namespace viscera::mechanics {
 
-std::unique_ptr<Integrator> MakeIntegrator(const Model& model) {
+std::unique_ptr<Integrator> MakeIntegrator(const Model& model, Interactions* interactions) {
   switch (model.params().integrator) {
-    case IntegratorKind::kImplicitEuler: return std::make_unique<ImplicitEulerIntegrator>(model);
+    case IntegratorKind::kImplicitEuler: return std::make_unique<ImplicitEulerIntegrator>(model, interactions);
     case IntegratorKind::kRk4: break;
   }
-  return std::make_unique<Rk4Integrator>(model);
+  return std::make_unique<Rk4Integrator>(model, interactions);
 }
 
 }  // namespace viscera::mechanics

@@ -16,7 +16,8 @@ class Integrator {
   virtual void Advance(std::span<const PointLoad> loads, double h, State* state) = 0;
 };
 
-/// The integrator the model asks for, with its own scratch. The model must outlive it.
-std::unique_ptr<Integrator> MakeIntegrator(const Model& model);
+/// The integrator the model asks for, with its own scratch. The model (and `interactions`, which
+/// may be null) must outlive it.
+std::unique_ptr<Integrator> MakeIntegrator(const Model& model, Interactions* interactions = nullptr);
 
 }  // namespace viscera::mechanics

@@ -96,6 +96,12 @@ void Model::BuildSprings() {
   // Bend springs also resist stretching (axial stiffness 4 k_b l0); the stretch springs take
   // the rest so that the chain's total axial stiffness stays EA.
   const double k_stretch = std::max(params_.stretch_stiffness / l0 - 4.0 * k_bend, 0.0);
+  if (4.0 * k_bend * l0 > params_.stretch_stiffness) {
+    warnings_.push_back(Cat("at ", n, " control points the bend springs alone give an axial stiffness of ",
+                            4.0 * k_bend * l0, " N, more than stretch_stiffness = ", params_.stretch_stiffness,
+                            " N: the tube is stiffer in stretch than asked. Use fewer control points, a larger "
+                            "bend_reference_curvature or a smaller bend_stiffness (docs/mechanics.md)"));
+  }
   const double c = params_.spring_damping * segment_mass();
   for (int i = 0; i + 1 < n; ++i) stretch_springs_.push_back({i, i + 1, l0, k_stretch, c});
   if (k_bend > 0.0 || c > 0.0) {

@@ -2,6 +2,7 @@
 /// The immutable, validated intestine model: geometry, masses, springs, pins, attachments and
 /// the factorized mass matrix. Built once; shared read-only by any number of threads (the
 /// MuJoCo mjModel habit). Everything a step writes lives in State and Workspace.
+#include <string>
 #include <vector>
 
 #include "mechanics/banded_cholesky.h"
@@ -72,6 +73,10 @@ class Model {
   const MatX& pin_y() const { return pin_y_; }
   const MatX& pin_schur_inverse() const { return pin_schur_inverse_; }
 
+  /// What the user should know about how the parameters were realized (e.g. a resolution at
+  /// which the bend springs alone exceed the axial stiffness asked for).
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
   /// Evaluates a curve point from its weights.
   static Vec3 Evaluate(const CurvePoint& p, const Points& q);
   CurvePoint MakeCurvePoint(double s) const;
@@ -90,6 +95,7 @@ class Model {
   std::vector<Pin> pins_;
   Eigen::Matrix4d node_dw_first_, node_dw_interior_, node_dw_last_;
   MatX pin_y_, pin_schur_inverse_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace viscera::mechanics

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "collision/obstacle.h"
 #include "common/types.h"
 #include "mechanics/tool.h"
 
@@ -25,6 +26,18 @@ struct AttachmentParams {
   double damping = 0.0;           ///< N s/m, on the curve point's velocity
   double rest_length = 0.0;       ///< m; 0 = zero-length spring
 };
+
+/// Penalty contacts of the sphere chain ([contacts]; France et al. 2005, section 3.5).
+struct ContactParams {
+  bool self = false;        ///< self-contacts (scenes default to true)
+  double stiffness = 500.0; ///< N/m per unit penetration
+  double damping = 1.0;     ///< N s/m along the normal
+  double friction = 0.3;    ///< Coulomb coefficient, regularized below kFrictionSlip
+  double margin = -1.0;     ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
+};
+
+/// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.
+inline constexpr double kFrictionSlip = 0.01;
 
 struct ModelParams {
   // [simulation]
@@ -50,6 +63,9 @@ struct ModelParams {
   double spring_damping = 0.0;    ///< along each spring (1/s), times the segment mass
   std::vector<double> pinned;     ///< curve parameters held where they start
   std::vector<AttachmentParams> attachments;
+
+  ContactParams contacts;
+  std::vector<collision::Obstacle> obstacles;
 
   /// [[tool]]: laparoscopic tools, in this order in StepInputs::tools and State::tools.
   std::vector<ToolParams> tools;

@@ -8,7 +8,7 @@ namespace viscera::mechanics {
 
 class Rk4Integrator final : public Integrator {
  public:
-  explicit Rk4Integrator(const Model& model);
+  explicit Rk4Integrator(const Model& model, Interactions* interactions = nullptr);
   void Advance(std::span<const PointLoad> loads, double h, State* state) override;
 
  private:
@@ -16,6 +16,7 @@ class Rk4Integrator final : public Integrator {
   void Acceleration(std::span<const PointLoad> loads, const Points& q, const Points& qd, Points* a);
 
   const Model& model_;
+  Interactions* interactions_;
   MassSolver mass_solver_;
   StretchScratch scratch_;
   Points q_stage_, v_stage_;

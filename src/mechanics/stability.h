@@ -19,7 +19,7 @@ struct StabilityEstimate {
   bool stable() const { return h_times_rate < kRk4StabilityLimit; }
 };
 
-/// Power iteration on the forces' linearization at `state` (allocates; call at load time).
+/// Lanczos on the forces' linearization at `state` (allocates; call at load time).
 StabilityEstimate EstimateStability(const Model& model, const State& state);
 
 }  // namespace viscera::mechanics

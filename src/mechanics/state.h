@@ -2,18 +2,30 @@
 /// The mutable state of one simulation: plain, copyable, snapshot-able (the MuJoCo mjData
 /// habit, minus the scratch, which lives in Workspace).
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "mechanics/model.h"
 
 namespace viscera::mechanics {
 
+/// Contacts after the last step: pairs in contact (penetrating or within the margin) and the
+/// smallest signed clearance over the pairs examined (NaN when there were none).
+struct ContactStats {
+  int self = 0;
+  int environment = 0;
+  int tool = 0;
+  double min_clearance = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct State {
   double t = 0.0;          ///< simulated time (s)
   Points q;                ///< control points (m), #N by 3
   Points qd;               ///< their velocities (m/s), #N by 3
   std::vector<ToolState> tools;  ///< one per model tool: pose, grasp, force feedback
+  ContactStats contacts;
   int64_t steps = 0;       ///< steps taken
+  int substeps = 0;        ///< sub-steps the last step took (more during impacts)
   /// Steps whose result was not finite; each one reset the state to the model's start.
   int64_t nonfinite_resets = 0;
 };
@@ -24,7 +36,10 @@ inline State InitialState(const Model& model) {
   s.q = model.params().initial_q;
   s.qd = Points::Zero(model.num_points(), 3);
   s.tools.resize(model.params().tools.size());
-  for (size_t i = 0; i < s.tools.size(); ++i) s.tools[i].tip = model.params().tools[i].port;
+  for (size_t i = 0; i < s.tools.size(); ++i) {
+    s.tools[i].tip = model.params().tools[i].port;
+    s.tools[i].target.active = false;  // idle until a device or script gives a target
+  }
   return s;
 }
 

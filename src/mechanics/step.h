@@ -6,6 +6,7 @@
 #include <span>
 
 #include "mechanics/integrator.h"
+#include "mechanics/interactions.h"
 
 namespace viscera::mechanics {
 
@@ -20,18 +21,24 @@ struct StepInputs {
 class Workspace {
  public:
   /// @pre model outlives the workspace.
-  explicit Workspace(const Model& model) : integrator_(MakeIntegrator(model)) {}
+  explicit Workspace(const Model& model)
+      : interactions_(Interactions::Needed(model) ? std::make_unique<Interactions>(model) : nullptr),
+        integrator_(MakeIntegrator(model, interactions_.get())) {}
   Workspace(const Workspace&) = delete;
   Workspace& operator=(const Workspace&) = delete;
   Integrator& integrator() { return *integrator_; }
+  /// Contacts and tools; null when the model has neither.
+  Interactions* interactions() { return interactions_.get(); }
 
  private:
+  std::unique_ptr<Interactions> interactions_;
   std::unique_ptr<Integrator> integrator_;
 };
 
-/// Advances state by one step (1 / rate_hz seconds). A step whose result is not finite resets
-/// q and qd to the model's start (t continues) and counts it in state->nonfinite_resets, so a
-/// session survives a blow-up instead of propagating NaN.
+/// Advances state by one step (1 / rate_hz seconds). Each sub-step re-places the sphere chain,
+/// moves the tools and finds contacts before the integrator runs. A step whose result is not
+/// finite resets q, qd and the tools to the model's start (t continues) and counts it in
+/// state->nonfinite_resets, so a session survives a blow-up instead of propagating NaN.
 void Step(const Model& model, const StepInputs& inputs, State* state, Workspace* workspace);
 
 }  // namespace viscera::mechanics

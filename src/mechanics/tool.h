@@ -38,6 +38,8 @@ struct ToolTarget {
 
 /// The simulated tool and its haptic output after a step.
 struct ToolState {
+  bool initialized = false;          ///< false until the first target: the tip then starts there
+  ToolTarget target;                 ///< the latest target (held when a step brings none)
   Vec3 tip = Vec3::Zero();           ///< simulated tip position (m)
   Vec3 tip_velocity = Vec3::Zero();  ///< m/s
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();

@@ -5,8 +5,14 @@
 #include <toml++/toml.h>
 
 #include "common/check.h"
+#include "mechanics/step.h"
 #include "scene/shapes.h"
 #include "scene/toml_reader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <memory>
 
 namespace viscera::scene {
 namespace {
@@ -24,8 +30,10 @@ const toml::table& SubTable(const toml::table& root, const std::string& name) {
   return *node->as_table();
 }
 
-void ReadSimulation(const toml::table& table, ModelParams* p) {
+void ReadSimulation(const toml::table& table, ModelParams* p, double* settle) {
   const TomlReader r(table, "simulation");
+  *settle = r.Double("settle", 0.0);
+  ThrowUnless(*settle >= 0.0 && *settle <= 60.0, "simulation.settle = ", *settle, ": expected 0..60 s");
   p->rate_hz = r.Double("rate_hz", 100.0);
   ThrowUnless(p->rate_hz > 0.0, "simulation.rate_hz = ", p->rate_hz, ": must be > 0");
   p->substeps = r.Int("substeps", 1);
@@ -68,6 +76,10 @@ double Positive(const TomlReader& r, const std::string& key) {
   const double v = r.Double(key);
   ThrowUnless(v > 0.0, r.Name(key), " = ", v, ": must be > 0");
   return v;
+}
+
+double Positive(const TomlReader& r, const std::string& key, double fallback) {
+  return r.Has(key) ? Positive(r, key) : r.Double(key, fallback);
 }
 
 std::vector<double> ReadPinned(const TomlReader& r) {
@@ -142,25 +154,131 @@ void ReadAttachments(const toml::table& root, ModelParams* p) {
   }
 }
 
-void ReadObstacles(const toml::table& root, Scene* scene) {
-  int index = 0;
-  for (const toml::table* t : TableArray(root, "obstacle")) {
-    const TomlReader r(*t, "obstacle[" + std::to_string(index++) + "]");
-    Obstacle o;
-    o.kind = r.String("kind");
-    ThrowUnless(o.kind == "plane", r.Name("kind"), " = \"", o.kind, "\": only \"plane\" is known to this version");
+collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_dir) {
+  using collision::ObstacleKind;
+  collision::Obstacle o;
+  const std::string kind = r.String("kind");
+  o.name = r.String("name", kind);
+  o.inside = r.Bool("inside", false);
+  auto orientation = [&]() -> Eigen::Quaterniond {
+    const toml::node* node = r.Node("orientation");
+    if (!node) return Eigen::Quaterniond::Identity();
+    const toml::array* a = node->as_array();
+    ThrowUnless(a && a->size() == 4, r.Name("orientation"), " = ", Describe(*node), ": expected [w, x, y, z]");
+    double v[4];
+    for (int i = 0; i < 4; ++i) {
+      const toml::node& e = *a->get(i);
+      ThrowUnless(e.is_number(), r.Name("orientation"), ": expected numbers");
+      v[i] = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
+    }
+    const Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
+    ThrowUnless(std::isfinite(q.norm()) && q.norm() > 1e-9, r.Name("orientation"), ": must be a non-zero quaternion");
+    return q.normalized();
+  };
+  if (kind == "plane") {
+    o.kind = ObstacleKind::kPlane;
     o.point = r.Vector("point");
     o.normal = r.Vector("normal");
     ThrowUnless(o.normal.norm() > 1e-12, r.Name("normal"), ": must not be zero");
     o.normal.normalize();
+  } else if (kind == "sphere") {
+    o.kind = ObstacleKind::kSphere;
+    o.centre = r.Vector("centre");
+    o.radius = Positive(r, "radius");
+  } else if (kind == "capsule") {
+    o.kind = ObstacleKind::kCapsule;
+    o.a = r.Vector("a");
+    o.b = r.Vector("b");
+    o.radius = Positive(r, "radius");
+  } else if (kind == "box") {
+    o.kind = ObstacleKind::kBox;
+    o.centre = r.Vector("centre");
+    o.half_extents = r.Vector("half_extents");
+    ThrowUnless(o.half_extents.minCoeff() > 0.0, r.Name("half_extents"), ": must be > 0");
+    o.orientation = orientation();
+  } else if (kind == "ellipsoid") {
+    o.kind = ObstacleKind::kEllipsoid;
+    o.centre = r.Vector("centre");
+    o.radii = r.Vector("radii");
+    ThrowUnless(o.radii.minCoeff() > 0.0, r.Name("radii"), ": must be > 0");
+    o.orientation = orientation();
+  } else if (kind == "mesh") {
+    o.kind = ObstacleKind::kMesh;
+    std::string file = r.String("file");
+    if (!file.empty() && file[0] != '/') file = base_dir + file;
+    const double scale = r.Double("scale", 1.0);
+    ThrowUnless(scale > 0.0, r.Name("scale"), " = ", scale, ": must be > 0");
+    const int resolution = r.Int("resolution", 40);
+    ThrowUnless(resolution >= 8 && resolution <= 200, r.Name("resolution"), " = ", resolution, ": expected 8..200");
+    o.sdf = std::make_shared<collision::MeshSdf>(
+        collision::MeshSdf::FromObj(file, scale, r.Vector("offset", Vec3::Zero()), resolution));
+  } else {
+    Fail(r.Name("kind"), " = \"", kind, "\": expected plane, sphere, capsule, box, ellipsoid or mesh");
+  }
+  r.Finish();
+  return o;
+}
+
+void ReadObstacles(const toml::table& root, const std::string& base_dir, ModelParams* p) {
+  int index = 0;
+  for (const toml::table* t : TableArray(root, "obstacle")) {
+    p->obstacles.push_back(ReadObstacle(TomlReader(*t, "obstacle[" + std::to_string(index++) + "]"), base_dir));
+  }
+}
+
+void ReadContacts(const toml::table& root, ModelParams* p) {
+  mechanics::ContactParams& c = p->contacts;
+  c.self = true;  // a scene never lets the tube pass through itself unless it says so
+  const toml::node* node = root.get("contacts");
+  if (!node) return;
+  ThrowUnless(node->is_table(), "contacts: expected a table [contacts]");
+  const TomlReader r(*node->as_table(), "contacts");
+  c.self = r.Bool("self", true);
+  c.stiffness = Positive(r, "stiffness", c.stiffness);
+  c.damping = NonNegative(r, "damping", c.damping);
+  c.friction = NonNegative(r, "friction", c.friction);
+  c.margin = NonNegative(r, "margin", 0.25 * p->radius);
+  r.Finish();
+}
+
+void ReadTools(const toml::table& root, ModelParams* p) {
+  int index = 0;
+  for (const toml::table* t : TableArray(root, "tool")) {
+    const TomlReader r(*t, "tool[" + std::to_string(index++) + "]");
+    mechanics::ToolParams tool;
+    tool.name = r.String("name");
+    ThrowUnless(!tool.name.empty() && tool.name.size() <= 32 &&
+                    std::all_of(tool.name.begin(), tool.name.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-'; }),
+                r.Name("name"), " = \"", tool.name, "\": use 1 to 32 letters, digits, '_' or '-'");
+    for (const mechanics::ToolParams& other : p->tools) {
+      ThrowUnless(other.name != tool.name, r.Name("name"), " = \"", tool.name, "\": two tools share this name");
+    }
+    tool.port = r.Vector("port");
+    tool.radius = Positive(r, "radius", tool.radius);
+    tool.length = Positive(r, "length", tool.length);
+    tool.max_force = Positive(r, "max_force", tool.max_force);
+    tool.coupling_stiffness = Positive(r, "coupling_stiffness", tool.coupling_stiffness);
+    tool.coupling_damping = NonNegative(r, "coupling_damping", tool.coupling_damping);
+    tool.mass = Positive(r, "mass", tool.mass);
+    tool.grasp_stiffness = Positive(r, "grasp_stiffness", tool.grasp_stiffness);
+    tool.grasp_reach = NonNegative(r, "grasp_reach", tool.grasp_reach);
+    tool.idle_timeout = Positive(r, "idle_timeout", tool.idle_timeout);
     r.Finish();
-    scene->obstacles.push_back(o);
+    p->tools.push_back(tool);
   }
-  if (!scene->obstacles.empty()) {
-    scene->warnings.push_back(Cat(scene->obstacles.size(),
-                                  " obstacle(s) parsed but not simulated: contacts are not part of this "
-                                  "build yet, so the intestine passes through them"));
-  }
+}
+
+// Lets the intestine fall and settle for `seconds` (no tools) and makes the result the start.
+// Anchors that default to the starting pose are fixed first, so they stay where the scene put them.
+void Settle(double seconds, ModelParams* p) {
+  const mechanics::Model before(*p);
+  for (size_t i = 0; i < p->attachments.size(); ++i) p->attachments[i].point = before.attachments()[i].anchor;
+  mechanics::State state = mechanics::InitialState(before);
+  mechanics::Workspace workspace(before);
+  const int steps = static_cast<int>(std::lround(seconds * p->rate_hz));
+  for (int k = 0; k < steps; ++k) mechanics::Step(before, {}, &state, &workspace);
+  ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
+  p->initial_q = state.q;
 }
 
 Scene Build(const toml::table& root, const std::string& source) {
@@ -168,13 +286,21 @@ Scene Build(const toml::table& root, const std::string& source) {
   scene.source = source;
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
-    if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle") continue;
+    if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
+        k == "tool") {
+      continue;
+    }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
   }
-  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), &scene.model);
+  double settle = 0.0;
+  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), &scene.model, &settle);
   ReadIntestine(SubTable(root, "intestine"), &scene.model);
   ReadAttachments(root, &scene.model);
-  ReadObstacles(root, &scene);
+  const size_t slash = source.find_last_of('/');
+  ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), &scene.model);
+  ReadContacts(root, &scene.model);
+  ReadTools(root, &scene.model);
+  if (settle > 0.0) Settle(settle, &scene.model);
   return scene;
 }
 

@@ -8,18 +8,10 @@
 
 namespace viscera::scene {
 
-/// [[obstacle]] kind = "plane": the half-space above `point` along `normal`.
-struct Obstacle {
-  std::string kind;
-  Vec3 point = Vec3::Zero();
-  Vec3 normal = Vec3::UnitZ();
-};
-
 struct Scene {
   std::string source;                ///< file path or "<string>"
-  mechanics::ModelParams model;
-  std::vector<Obstacle> obstacles;
-  /// Things the user should know: unknown top-level tables, parsed but unsimulated parts.
+  mechanics::ModelParams model;  ///< includes contacts, obstacles and tools
+  /// Things the user should know: unknown top-level tables.
   std::vector<std::string> warnings;
 };
 

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
 #include "mechanics/forces.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
@@ -80,6 +83,49 @@ TEST(Integrators, Rk4ConservesEnergyOfUndampedStretchedSpline) {
   }
   EXPECT_GT(ComputeEnergies(model, s.q, s.qd).kinetic, 0.01 * e0);  // it really moves
   EXPECT_LT(worst, 1e-5 * e0) << "substeps " << p.substeps;       // stated tolerance: 1e-5
+}
+
+TEST(Integrators, StabilityEstimateMatchesADenseEigensolver) {
+  for (int n : {30, 120}) {
+    ModelParams p = StraightChain(n, 1.0, 1.05);
+    p.initial_q = Perturbed(p.initial_q, 0.002, 9);
+    p.stretch_stiffness = 200.0;
+    p.bend_stiffness = 1e-4;
+    p.continuous_stretch = 1.0;
+    p.damping = 0.5;
+    p.pinned = {0.0, 0.7};
+    const Model model(p);
+    // Dense generalized eigenproblem K x = lambda M x on the pins' null space.
+    StretchScratch scratch;
+    scratch.Resize(n);
+    ForceJacobians jac;
+    jac.Resize(n);
+    Points f(n, 3);
+    ComputeForces(model, p.initial_q, Points::Zero(n, 3), {}, &scratch, &f, nullptr, &jac);
+    MatX k = MatX::Zero(3 * n, 3 * n), m = MatX::Zero(3 * n, 3 * n);
+    for (int i = 0; i < n; ++i) {
+      for (int d = 0; d < 4 && i + d < n; ++d) {
+        k.block<3, 3>(3 * i, 3 * (i + d)) += jac.stiffness.block(i, d);
+        m.block<3, 3>(3 * i, 3 * (i + d)) += model.mass_band()(i, d) * Mat3::Identity();
+        if (d) {
+          k.block<3, 3>(3 * (i + d), 3 * i) += jac.stiffness.block(i, d).transpose();
+          m.block<3, 3>(3 * (i + d), 3 * i) += model.mass_band()(i, d) * Mat3::Identity();
+        }
+      }
+    }
+    const Eigen::Map<const VecX> u(jac.rank1_u.data(), 3 * n);
+    k += jac.rank1_coeff * u * u.transpose();
+    MatX g = MatX::Zero(3 * model.pins().size(), 3 * n);
+    for (size_t r = 0; r < model.pins().size(); ++r) {
+      for (int a = 0; a < 4; ++a) {
+        for (int axis = 0; axis < 3; ++axis) g(3 * r + axis, 3 * (model.pins()[r].at.first + a) + axis) = model.pins()[r].at.w(a);
+      }
+    }
+    const MatX z = Eigen::FullPivLU<MatX>(g).kernel();
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatX> eig(z.transpose() * k * z, z.transpose() * m * z);
+    const double omega = std::sqrt(eig.eigenvalues().maxCoeff());
+    EXPECT_NEAR(EstimateStability(model, InitialState(model)).omega_max, omega, 0.01 * omega) << n;
+  }
 }
 
 TEST(Integrators, StabilityEstimatePredictsRk4BlowUp) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 
@@ -88,6 +89,38 @@ INSTANTIATE_TEST_SUITE_P(
     AllIntegrators, StepAllocation,
     ::testing::Combine(::testing::Values(IntegratorKind::kRk4, IntegratorKind::kImplicitEuler),
                        ::testing::Values(MassSolverKind::kBanded, MassSolverKind::kCholmod)));
+
+TEST(StepAllocationWithContacts, ContactsAndToolsAllocateNothingInSteadyState) {
+  SuiteSparse_config.malloc_func = CountedMalloc;
+  ModelParams p = testing::StraightChain(60, 1.0);
+  for (int i = 0; i < 60; ++i) p.initial_q.row(i) << 0.2 * std::cos(0.1 * i), 0.2 * std::sin(0.1 * i), 0.05 + 0.0005 * i;
+  p.gravity = Vec3(0.0, 0.0, -9.81);
+  p.stretch_stiffness = 50.0;
+  p.damping = 1.0;
+  p.integrator = IntegratorKind::kImplicitEuler;
+  p.contacts.self = true;
+  collision::Obstacle plane;
+  p.obstacles.push_back(plane);
+  ToolParams tool;
+  tool.name = "t";
+  tool.port = Vec3(0.0, 0.0, 0.4);
+  p.tools.push_back(tool);
+  const Model model(p);
+  State state = InitialState(model);
+  Workspace ws(model);
+  ToolTarget target;
+  target.tip = Vec3(0.2, 0.0, 0.03);
+  target.jaw = 0.0;  // grasp on the way down
+  const StepInputs inputs{{}, std::span<const ToolTarget>(&target, 1)};
+  for (int k = 0; k < 100; ++k) Step(model, inputs, &state, &ws);  // fall, land, grasp: sizes settle
+
+  g_allocations = 0;
+  g_counting = true;
+  for (int k = 0; k < 50; ++k) Step(model, inputs, &state, &ws);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(state.contacts.environment, 0);
+}
 
 TEST(Step, NonFiniteStateResetsToStartAndIsCounted) {
   ModelParams p = testing::StraightChain(10);

@@ -12,6 +12,9 @@ namespace viscera::scene {
 namespace {
 
 const std::string kIntestine = R"(
+[contacts]
+self = false
+
 [intestine]
 length = 2.0
 radius = 0.0125
@@ -90,18 +93,70 @@ TEST(Scene, UnknownKeyInKnownTableIsAnError) {
 }
 
 TEST(Scene, UnknownTopLevelTableIsAWarning) {
-  const Scene s = ParseScene(kIntestine + "\n[contacts]\nstiffness = 1000\n");
+  const Scene s = ParseScene(kIntestine + "\n[skin]\nmethod = \"parametric\"\n");
   ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_NE(s.warnings[0].find("[contacts]"), std::string::npos);
+  EXPECT_NE(s.warnings[0].find("[skin]"), std::string::npos);
 }
 
-TEST(Scene, PlaneObstacleIsParsedAndSaidToBeIgnored) {
-  const Scene s = ParseScene(kIntestine + "\n[[obstacle]]\nkind = \"plane\"\npoint = [0,0,0]\nnormal = [0,0,2]\n");
-  ASSERT_EQ(s.obstacles.size(), 1u);
-  EXPECT_EQ(s.obstacles[0].normal, Vec3(0, 0, 1));
-  ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_NE(s.warnings[0].find("not simulated"), std::string::npos);
+TEST(Scene, ObstaclesOfEveryKindAreParsed) {
+  const Scene s = ParseScene(kIntestine + R"(
+[[obstacle]]
+kind = "plane"
+point = [0, 0, 0]
+normal = [0, 0, 2]
+[[obstacle]]
+kind = "sphere"
+centre = [0, 0, 1]
+radius = 0.1
+[[obstacle]]
+kind = "capsule"
+a = [0, 0, 0]
+b = [0, 0, 1]
+radius = 0.05
+[[obstacle]]
+kind = "box"
+centre = [1, 0, 0]
+half_extents = [0.1, 0.2, 0.3]
+orientation = [1, 0, 0, 0]
+[[obstacle]]
+name = "cavity"
+kind = "ellipsoid"
+centre = [0, 0, 0.1]
+radii = [0.2, 0.15, 0.1]
+inside = true
+)");
+  ASSERT_EQ(s.model.obstacles.size(), 5u);
+  EXPECT_EQ(s.model.obstacles[0].normal, Vec3(0, 0, 1));
+  EXPECT_EQ(s.model.obstacles[4].name, "cavity");
+  EXPECT_TRUE(s.model.obstacles[4].inside);
+  EXPECT_TRUE(s.warnings.empty());
   ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"torus\"\n", {"obstacle[0].kind", "torus"});
+  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"sphere\"\ncentre = [0,0,0]\nradius = -1\n", {"obstacle[0].radius", "-1"});
+  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"mesh\"\nfile = \"nope.obj\"\n", {"nope.obj", "cannot open"});
+}
+
+TEST(Scene, ContactsAndToolsAreParsed) {
+  const std::string bare = Replace(kIntestine, "[contacts]\nself = false\n", "");
+  EXPECT_TRUE(ParseScene(bare).model.contacts.self);  // on by default in scenes
+  const Scene s = ParseScene(bare + R"(
+[contacts]
+self = false
+stiffness = 800
+damping = 2
+friction = 0.5
+[[tool]]
+name = "left"
+port = [0.1, 0.0, 0.3]
+max_force = 4
+)");
+  EXPECT_FALSE(s.model.contacts.self);
+  EXPECT_EQ(s.model.contacts.stiffness, 800.0);
+  ASSERT_EQ(s.model.tools.size(), 1u);
+  EXPECT_EQ(s.model.tools[0].name, "left");
+  EXPECT_EQ(s.model.tools[0].max_force, 4.0);
+  ExpectError(kIntestine + "\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n",
+              {"tool[1].name", "share"});
+  ExpectError(bare + "\n[contacts]\nstiffness = 0\n", {"contacts.stiffness", "> 0"});
 }
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {

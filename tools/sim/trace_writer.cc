@@ -1,6 +1,7 @@
 #include "sim/trace_writer.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 
 #include "common/check.h"
@@ -42,7 +43,8 @@ void TraceWriter::Points(const char* key, const viscera::Points& p) {
   line_ += ']';
 }
 
-void TraceWriter::Write(const mechanics::State& state, double length, const mechanics::Energies& e,
+void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& state,
+                        const mechanics::Interactions* interactions, double length, const mechanics::Energies& e,
                         double step_us) {
   line_.clear();
   line_ += "{\"t\":";
@@ -55,7 +57,7 @@ void TraceWriter::Write(const mechanics::State& state, double length, const mech
   const std::pair<const char*, double> terms[] = {
       {"kinetic", e.kinetic}, {"gravity", e.gravity},       {"stretch", e.stretch},
       {"bend", e.bend},       {"continuous", e.continuous}, {"attachment", e.attachment},
-      {"total", e.total()}};
+      {"contact", e.contact}, {"total", e.total()}};
   bool first = true;
   for (const auto& [name, value] : terms) {
     if (!first) line_ += ',';
@@ -67,6 +69,33 @@ void TraceWriter::Write(const mechanics::State& state, double length, const mech
   }
   line_ += "},\"step_us\":";
   Number(&line_, step_us);
+  if (interactions) {
+    const auto& spheres = interactions->chain().spheres();
+    centres_.resize(static_cast<Eigen::Index>(spheres.size()), 3);
+    for (size_t k = 0; k < spheres.size(); ++k) centres_.row(static_cast<Eigen::Index>(k)) = spheres[k].centre.transpose();
+    Points("spheres", centres_);
+    line_ += ",\"sphere_radius\":";
+    Number(&line_, interactions->chain().radius());
+    const mechanics::ContactStats& c = state.contacts;
+    line_ += ",\"contacts\":{\"self\":" + std::to_string(c.self) + ",\"environment\":" +
+             std::to_string(c.environment) + ",\"tool\":" + std::to_string(c.tool) + "},\"min_clearance\":";
+    if (std::isnan(c.min_clearance)) {
+      line_ += "null";
+    } else {
+      Number(&line_, c.min_clearance);
+    }
+    line_ += ",\"tool_force\":{";
+    for (size_t t = 0; t < state.tools.size(); ++t) {
+      if (t) line_ += ',';
+      line_ += '"' + model.params().tools[t].name + "\":[";
+      for (int a = 0; a < 3; ++a) {
+        if (a) line_ += ',';
+        Number(&line_, state.tools[t].force(a));
+      }
+      line_ += ']';
+    }
+    line_ += '}';
+  }
   line_ += "}\n";
   std::fwrite(line_.data(), 1, line_.size(), file_);
   ++frames_;

@@ -2,11 +2,14 @@
 /// Writes a simulation trace as JSON Lines: one object per recorded frame with
 ///   t (s), q and qd (#N lists of [x, y, z], m and m/s), length (m), energy {kinetic, gravity,
 ///   stretch, bend, continuous, attachment, total} (J), step_us (CPU time of the step that
-///   produced the frame, microseconds).
+///   produced the frame, microseconds); with contacts: spheres (centres, [x, y, z]),
+///   sphere_radius (m), contacts {self, environment, tool}, min_clearance (m, null if none),
+///   tool_force {name: [fx, fy, fz]} (N, the force on the user's hand).
 #include <cstdio>
 #include <string>
 
 #include "mechanics/forces.h"
+#include "mechanics/interactions.h"
 #include "mechanics/state.h"
 
 namespace viscera::tools {
@@ -19,13 +22,16 @@ class TraceWriter {
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
 
-  void Write(const mechanics::State& state, double length, const mechanics::Energies& energy, double step_us);
+  /// `interactions` may be null (no contacts and no tools).
+  void Write(const mechanics::Model& model, const mechanics::State& state, const mechanics::Interactions* interactions,
+             double length, const mechanics::Energies& energy, double step_us);
   int frames() const { return frames_; }
 
  private:
   void Points(const char* key, const viscera::Points& p);
   std::FILE* file_;
   std::string line_;
+  viscera::Points centres_;
   int frames_ = 0;
 };
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
+#include <span>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -13,6 +15,7 @@
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
+#include "script/tool_script.h"
 #include "sim/progress_bar.h"
 #include "sim/trace_writer.h"
 
@@ -28,6 +31,41 @@ struct Options {
   std::string trace;
   int trace_every = 1;
   bool json = false;
+  std::string tool_script;
+};
+
+// Targets of the scene's tools from a script: tools the script does not name stay idle.
+class ScriptedTools {
+ public:
+  ScriptedTools(const mechanics::Model& model, const std::string& path) : model_(model) {
+    if (path.empty()) return;
+    script_ = script::ToolScript::Load(path);
+    for (const std::string& name : script_.tools()) {
+      bool known = false;
+      for (const mechanics::ToolParams& t : model.params().tools) known = known || t.name == name;
+      ThrowUnless(known, path, ": tool \"", name, "\" is not in the scene (its [[tool]] names it)");
+    }
+    targets_.resize(model.params().tools.size());
+  }
+  /// Targets at time t, or an empty span without a script.
+  std::span<const mechanics::ToolTarget> At(double t) {
+    for (size_t i = 0; i < targets_.size(); ++i) {
+      const std::string& name = model_.params().tools[i].name;
+      mechanics::ToolTarget& target = targets_[i];
+      target.active = script_.Has(name);
+      if (!target.active) continue;
+      const script::ToolKeyframe k = script_.At(name, t);
+      target.tip = k.tip;
+      target.orientation = k.orientation;
+      target.jaw = k.jaw;
+    }
+    return targets_;
+  }
+
+ private:
+  const mechanics::Model& model_;
+  script::ToolScript script_;
+  std::vector<mechanics::ToolTarget> targets_;
 };
 
 Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
@@ -56,6 +94,7 @@ int Run(const Options& opt) {
       Fail(opt.scene, ": ", e.what());
     }
   }();
+  for (const std::string& w : model.warnings()) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
   ThrowUnless(opt.duration > 0.0 && std::isfinite(opt.duration), "--duration ", opt.duration, ": must be > 0");
   ThrowUnless(opt.trace_every >= 1, "--trace-every ", opt.trace_every, ": must be >= 1");
 
@@ -73,28 +112,38 @@ int Run(const Options& opt) {
   std::unique_ptr<TraceWriter> trace;
   if (!opt.trace.empty()) trace = std::make_unique<TraceWriter>(opt.trace);
   const spline::CatmullRom& curve = model.curve();
+  mechanics::Workspace workspace(model);
+  mechanics::Interactions* interactions = workspace.interactions();
+  auto energies = [&] { return mechanics::ComputeEnergies(model, state.q, state.qd, interactions); };
   auto record = [&](double step_us) {
-    if (trace) trace->Write(state, curve.Length(state.q), mechanics::ComputeEnergies(model, state.q, state.qd), step_us);
+    if (trace) trace->Write(model, state, interactions, curve.Length(state.q), energies(), step_us);
   };
+  ScriptedTools tools(model, opt.tool_script);
+  // The sphere chain of the start, for the first frame.
+  if (interactions) interactions->BeginSubstep(tools.At(0.0), 0.0, &state);
 
-  const Energies e0 = mechanics::ComputeEnergies(model, state.q, state.qd);
+  const Energies e0 = energies();
   const Vec3 com0 = CentreOfMass(model, state.q);
   record(0.0);
   const int64_t steps = std::max<int64_t>(1, std::llround(opt.duration * model.params().rate_hz));
   std::vector<double> cost_us;
   cost_us.reserve(static_cast<size_t>(steps));
-  mechanics::Workspace workspace(model);
   ProgressBar progress(steps);
+  double min_clearance = std::numeric_limits<double>::infinity();
+  std::vector<double> max_tool_force(model.params().tools.size(), 0.0);
   for (int64_t k = 1; k <= steps; ++k) {
+    const std::span<const mechanics::ToolTarget> targets = tools.At(state.t + model.step_size());
     const int64_t begin = ThreadCpuNanos();
-    mechanics::Step(model, {}, &state, &workspace);
+    mechanics::Step(model, {{}, targets}, &state, &workspace);
     const double us = (ThreadCpuNanos() - begin) * 1e-3;
     cost_us.push_back(us);
+    if (!std::isnan(state.contacts.min_clearance)) min_clearance = std::min(min_clearance, state.contacts.min_clearance);
+    for (size_t t = 0; t < state.tools.size(); ++t) max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
     if (k % opt.trace_every == 0 || k == steps) record(us);
     progress.Update(k);
   }
 
-  const Energies e = mechanics::ComputeEnergies(model, state.q, state.qd);
+  const Energies e = energies();
   const Vec3 com = CentreOfMass(model, state.q);
   double total_us = 0.0;
   for (double c : cost_us) total_us += c;
@@ -117,7 +166,12 @@ int Run(const Options& opt) {
       {"centre_of_mass_start", {com0.x(), com0.y(), com0.z()}},
       {"centre_of_mass_end", {com.x(), com.y(), com.z()}},
       {"nonfinite_resets", state.nonfinite_resets},
+      {"contacts", {{"self", state.contacts.self}, {"environment", state.contacts.environment}, {"tool", state.contacts.tool}}},
+      {"min_clearance", std::isfinite(min_clearance) ? nlohmann::json(min_clearance) : nlohmann::json(nullptr)},
+      {"sphere_radius", interactions ? interactions->chain().radius() : 0.0},
+      {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
   };
+  summary["final_energy"]["contact"] = e.contact;
   if (opt.json) {
     std::cout << summary.dump(2) << "\n";
     return 0;
@@ -131,7 +185,7 @@ int Run(const Options& opt) {
   std::printf("step cost        mean %.1f us, p99 %.1f us  (%.0fx real time on one core)\n",
               total_us / steps, Percentile(cost_us, 0.99), simulated / (total_us * 1e-6));
   std::printf("centre of mass   z %.4f m -> %.4f m", com0.z(), com.z());
-  if (model.pins().empty() && model.attachments().empty()) {
+  if (!interactions && model.pins().empty() && model.attachments().empty()) {
     // A free body: its centre of mass falls like a point with viscous friction gamma.
     const double gamma = model.params().damping, g = model.params().gravity.z(), t = simulated;
     const double expected = gamma > 0.0 ? g / gamma * (t - (1.0 - std::exp(-gamma * t)) / gamma) : 0.5 * g * t * t;
@@ -142,6 +196,17 @@ int Run(const Options& opt) {
               curve.Length(state.q), 100.0 * (curve.Length(state.q) / model.params().length - 1.0));
   std::printf("energy           %.4f J -> %.4f J (kinetic %.4f, gravity %.4f, stretch %.4f, bend %.4f, continuous %.4f)\n",
               e0.total(), e.total(), e.kinetic, e.gravity, e.stretch, e.bend, e.continuous);
+  if (interactions) {
+    std::printf("contacts         self %d, environment %d, tool %d; deepest penetration over the run %.2f mm (%.0f %% of the radius)\n",
+                state.contacts.self, state.contacts.environment, state.contacts.tool,
+                std::isfinite(min_clearance) ? std::max(0.0, -min_clearance) * 1e3 : 0.0,
+                std::isfinite(min_clearance) ? 100.0 * std::max(0.0, -min_clearance) / interactions->chain().radius() : 0.0);
+  }
+  for (size_t t = 0; t < state.tools.size(); ++t) {
+    const Vec3& f = state.tools[t].force;
+    std::printf("tool %-11s force [%.3f, %.3f, %.3f] N, max over the run %.3f N%s\n", model.params().tools[t].name.c_str(),
+                f.x(), f.y(), f.z(), max_tool_force[t], state.tools[t].grasping ? ", grasping" : "");
+  }
   if (state.nonfinite_resets > 0) {
     std::printf("WARNING          %lld non-finite steps were reset\n", static_cast<long long>(state.nonfinite_resets));
   }
@@ -159,6 +224,7 @@ int main(int argc, char** argv) {
   app.add_option("--trace", opt.trace, "write a JSON Lines trace to this file");
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
   app.add_flag("--json", opt.json, "print the final summary as JSON");
+  app.add_option("--tool-script", opt.tool_script, "CSV of tool targets: t,tool,x,y,z,qw,qx,qy,qz,jaw");
   CLI11_PARSE(app, argc, argv);
   try {
     return viscera::tools::Run(opt);

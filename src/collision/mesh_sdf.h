@@ -1,0 +1,41 @@
+#pragma once
+/// A closed triangle mesh (OBJ) turned into a signed distance field at load time: distances on a
+/// regular grid around the mesh (point-triangle distance; sign from the generalized winding
+/// number, robust to small holes), trilinearly interpolated at query time.
+#include <string>
+#include <vector>
+
+#include "common/types.h"
+
+namespace viscera::collision {
+
+class MeshSdf {
+ public:
+  /// Loads `path` (v and f lines; polygons are fanned into triangles), scales then translates
+  /// it, and samples the field on a grid of `resolution` cells along the longest side, padded.
+  /// @throws InputError for a missing or malformed file or an empty mesh.
+  static MeshSdf FromObj(const std::string& path, double scale, const Vec3& offset, int resolution = 40);
+
+  /// Builds the field from triangles directly (#V by 3 vertices, #F by 3 indices).
+  MeshSdf(const Points& vertices, const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
+          int resolution);
+
+  /// Signed distance (positive outside the solid) and outward normal (the field's gradient).
+  /// Far outside the grid, the distance to the grid box is added.
+  double Distance(const Vec3& p, Vec3* normal) const;
+
+  int triangles() const { return static_cast<int>(faces_.rows()); }
+
+ private:
+  double Sample(int i, int j, int k) const { return values_[(static_cast<size_t>(k) * ny_ + j) * nx_ + i]; }
+  double Interpolate(const Vec3& p) const;
+
+  Points vertices_;
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces_;
+  Vec3 origin_ = Vec3::Zero();
+  double cell_ = 0.0;
+  int nx_ = 0, ny_ = 0, nz_ = 0;
+  std::vector<double> values_;
+};
+
+}  // namespace viscera::collision

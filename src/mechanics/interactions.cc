@@ -1,0 +1,350 @@
+#include "mechanics/interactions.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace viscera::mechanics {
+namespace {
+
+using collision::ContactCandidate;
+using collision::ContactKind;
+
+constexpr double kCouplingTimeConstant = 0.05;  // s: coupling fades in / out (idle device)
+constexpr double kGraspClose = 0.3;             // jaw opening below which the jaws grasp
+constexpr double kGraspOpen = 0.6;              // ... and above which they release (hysteresis)
+constexpr double kGraspDraw = 0.15;             // s: time constant drawing the tube into the jaws
+constexpr double kGraspFade = 0.1;              // s: a released grasp fades out over this
+
+double Margin(const Model& model) {
+  const double m = model.params().contacts.margin;
+  return m >= 0.0 ? m : 0.25 * model.params().radius;
+}
+
+// Spheres whose rest distance along the chain is below one diameter overlap at rest: skip them.
+int SelfSkip(const collision::SphereChain& chain) {
+  return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
+}
+
+// Series stiffness of the coupling and a contact: what the hand feels through the tool.
+double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
+
+}  // namespace
+
+bool Interactions::Needed(const Model& model) {
+  const ModelParams& p = model.params();
+  return p.contacts.self || !p.obstacles.empty() || !p.tools.empty();
+}
+
+Interactions::Interactions(const Model& model)
+    : model_(model),
+      radius_(model.params().radius),
+      margin_(Margin(model)),
+      chain_(model.curve(), model.params().length, model.params().radius),
+      detector_(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)) {
+  const size_t tools = model.params().tools.size();
+  capsules_.resize(tools);
+  tool_velocity_.assign(tools, Vec3::Zero());
+  grasping_.assign(tools, false);
+  grasp_at_.resize(tools);
+  grasp_offset_.assign(tools, Vec3::Zero());
+  grasp_scale_.assign(tools, 0.0);
+  candidates_.reserve(static_cast<size_t>(chain_.size()) * 16);
+  chain_.Place(model.params().initial_q);
+}
+
+Vec3 Interactions::SphereVelocity(int sphere, const Points& qd) const {
+  const collision::Sphere& sp = chain_.spheres()[sphere];
+  Vec3 v = Vec3::Zero();
+  for (int a = 0; a < 4; ++a) v += sp.w[a] * qd.row(sp.first + a).transpose();
+  return v;
+}
+
+void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
+  const collision::Sphere& sp = chain_.spheres()[sphere];
+  for (int a = 0; a < 4; ++a) F->row(sp.first + a) += sp.w[a] * f.transpose();
+}
+
+void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const {
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a; b < 4; ++b) {
+      const double wab = w[a] * w[b];
+      if (wab != 0.0) m->Add(first + a, first + b, wab * h);
+    }
+  }
+}
+
+Interactions::Penalty Interactions::Geometry(const ContactCandidate& c) const {
+  const collision::Sphere& sa = chain_.spheres()[c.a];
+  Penalty p;
+  double reach = radius_;
+  double distance = 0.0;
+  switch (c.kind) {
+    case ContactKind::kSelf: {
+      const Vec3 d = sa.centre - chain_.spheres()[c.b].centre;
+      distance = d.norm();
+      p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
+      reach = 2.0 * radius_;
+      break;
+    }
+    case ContactKind::kEnvironment:
+      distance = collision::SignedDistance(model_.params().obstacles[c.b], sa.centre, &p.normal);
+      break;
+    case ContactKind::kTool: {
+      const collision::ToolCapsule& cap = capsules_[c.b];
+      const Vec3 on_shaft = collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever);
+      const Vec3 d = sa.centre - on_shaft;
+      distance = d.norm();
+      p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
+      reach = radius_ + cap.radius;
+      break;
+    }
+  }
+  p.clearance = distance - reach;
+  p.depth = -p.clearance;
+  return p;
+}
+
+Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever, const Points& qd) const {
+  switch (c.kind) {
+    case ContactKind::kSelf: return SphereVelocity(c.b, qd);
+    case ContactKind::kTool: return lever * tool_velocity_[c.b];
+    case ContactKind::kEnvironment: break;
+  }
+  return Vec3::Zero();
+}
+
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Points& qd) const {
+  const ContactParams& cp = model_.params().contacts;
+  Penalty p = Geometry(c);
+  // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
+  if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
+  const Vec3 relative = SphereVelocity(c.a, qd) - OtherVelocity(c, p.lever, qd);
+  const double vn = relative.dot(p.normal);
+  // A pair that is apart but closing fast enough to touch within the implicit step acts now: its
+  // linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of the
+  // contact being found a step late and deep (which creates energy at every impact).
+  const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
+  if (p.depth <= 0.0 && !speculative) return p;
+  // Penalty spring and damping along the normal, regularized Coulomb friction.
+  const double fn = cp.stiffness * p.depth - cp.damping * vn;
+  if (fn <= 0.0 && !speculative) return p;
+  const Vec3 vt = relative - vn * p.normal;
+  const double friction = cp.friction * std::max(fn, 0.0);
+  p.force = fn * p.normal - (friction / std::max(vt.norm(), kFrictionSlip)) * vt;
+  p.active = true;
+  return p;
+}
+
+double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
+  const ContactParams& cp = model_.params().contacts;
+  chain_.UpdateCentres(q);
+  double energy = 0.0;
+  for (const ContactCandidate& c : candidates_) {
+    const Penalty p = Evaluate(c, qd);
+    if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
+    if (!p.active) continue;
+    AddToWindow(c.a, p.force, F);
+    if (c.kind == ContactKind::kSelf) AddToWindow(c.b, -p.force, F);
+    if (K) {
+      // A self pair couples two windows far apart in the chain, outside the band. Each side gets
+      // twice the pair's stiffness on its own window instead: that is exact for the pair's
+      // relative (penetrating) motion, which is what must stay stable; it overstates the
+      // stiffness of the pair's common motion along the normal (docs/contacts.md).
+      const double pair = c.kind == ContactKind::kSelf ? 2.0 : 1.0;
+      const Mat3 nn = p.normal * p.normal.transpose();
+      const double fn = std::max(0.0, p.force.dot(p.normal));
+      const Mat3 kn = pair * cp.stiffness * nn;
+      const Mat3 dn = pair * cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+      for (int side = 0; side < (c.kind == ContactKind::kSelf ? 2 : 1); ++side) {
+        const collision::Sphere& sp = chain_.spheres()[side == 0 ? c.a : c.b];
+        AddWindowOuter(sp.first, sp.w, kn, K);
+        if (D) AddWindowOuter(sp.first, sp.w, dn, D);
+      }
+    }
+  }
+  // Grasps: a stiff spring from the jaws to the grasped curve point.
+  for (size_t t = 0; t < grasping_.size(); ++t) {
+    if (!grasping_[t]) continue;
+    const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
+    const Vec3 x = GraspStretch(static_cast<int>(t), q);
+    energy += 0.5 * k * x.squaredNorm();
+    for (int a = 0; a < 4; ++a) F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
+    if (K) {
+      const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2), grasp_at_[t].w(3)};
+      AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), K);
+    }
+  }
+  return energy;
+}
+
+void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {
+  const ToolParams& tp = model_.params().tools[index];
+  const ContactParams& cp = model_.params().contacts;
+  const ToolTarget& target = ts->target;
+  const bool active = target.active && target.tip.allFinite() && std::isfinite(target.jaw);
+  if (!ts->initialized) {
+    grasping_[index] = false;
+    capsules_[index].present = false;
+    if (!active) return;
+    ts->tip = target.tip;  // the tip starts at the first target
+    ts->tip_velocity.setZero();
+    ts->initialized = true;
+  }
+  // Coupling fades in and out rather than jumping (a device that stops sending goes limp).
+  const double goal = active ? 1.0 : 0.0;
+  ts->coupling_scale += (goal - ts->coupling_scale) * (1.0 - std::exp(-h / kCouplingTimeConstant));
+  ts->jaw = active ? std::clamp(target.jaw, 0.0, 1.0) : 1.0;
+  if (active) ts->orientation = target.orientation.normalized();
+
+  // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
+  // (the shaft pivots at the port), and their stiffness.
+  Vec3 force = Vec3::Zero();
+  Mat3 stiffness = Mat3::Zero();
+  for (const ContactCandidate& c : candidates_) {
+    if (c.kind != ContactKind::kTool || c.b != index) continue;
+    const Penalty p = Evaluate(c, qd);
+    if (!p.active) continue;
+    force -= p.lever * p.force;
+    stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();
+  }
+  if (grasping_[index]) {
+    const double k = grasp_scale_[index] * tp.grasp_stiffness;
+    force -= k * GraspStretch(index, q);
+    stiffness += k * Mat3::Identity();
+  }
+  // Virtual coupling to the target; the tool's own weight is not simulated (not felt).
+  const double kc = ts->coupling_scale * tp.coupling_stiffness;
+  if (target.tip.allFinite()) force += kc * (target.tip - ts->tip);
+  force -= tp.coupling_damping * ts->tip_velocity;
+  stiffness += kc * Mat3::Identity();
+  // Linearly implicit Euler on the tip: (m + h c + h^2 K) dv = h (F - h K v).
+  const Mat3 a = (tp.mass + h * tp.coupling_damping) * Mat3::Identity() + h * h * stiffness;
+  const Vec3 dv = a.ldlt().solve(h * (force - h * stiffness * ts->tip_velocity));
+  ts->tip_velocity += dv;
+  ts->tip += h * ts->tip_velocity;
+  tool_velocity_[index] = ts->tip_velocity;
+  capsules_[index] = {true, tp.port, ts->tip, tp.radius};
+
+  UpdateGrasp(index, h, active, ts);
+}
+
+Vec3 Interactions::GraspStretch(int index, const Points& q) const {
+  return capsules_[index].tip - Model::Evaluate(grasp_at_[index], q) - grasp_offset_[index];
+}
+
+void Interactions::UpdateGrasp(int index, double h, bool active, ToolState* ts) {
+  const ToolParams& tp = model_.params().tools[index];
+  const bool closing = active && ts->jaw < kGraspClose;
+  const bool opening = !active || ts->jaw > kGraspOpen;
+  if (grasping_[index]) {
+    grasp_offset_[index] *= std::exp(-h / kGraspDraw);
+    if (opening) grasp_scale_[index] -= h / kGraspFade;
+    if (closing) grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
+    if (grasp_scale_[index] <= 0.0) grasping_[index] = false;
+  } else if (closing) {
+    // Grasp the nearest part of the tube within reach of the jaws.
+    const double reach = tp.grasp_reach > 0.0 ? tp.grasp_reach : 2.0 * (radius_ + tp.radius);
+    double best = reach;
+    int nearest = -1;
+    for (int k = 0; k < chain_.size(); ++k) {
+      const double d = (chain_.spheres()[k].centre - ts->tip).norm();
+      if (d < best) {
+        best = d;
+        nearest = k;
+      }
+    }
+    if (nearest >= 0) {
+      grasping_[index] = true;
+      grasp_scale_[index] = 1.0;
+      grasp_at_[index] = model_.MakeCurvePoint(chain_.spheres()[nearest].s);
+      grasp_offset_[index] = ts->tip - chain_.spheres()[nearest].centre;
+    }
+  }
+  ts->grasping = grasping_[index];
+  ts->grasp_s = grasping_[index] ? grasp_at_[index].s : 0.0;
+}
+
+double Interactions::CandidateMargin(const State& state, double h) const {
+  // Twice the fastest travel in h: two spheres may close in on each other.
+  double speed = 0.0;
+  for (int k = 0; k < chain_.size(); ++k) speed = std::max(speed, SphereVelocity(k, state.qd).squaredNorm());
+  double tool_speed = 0.0;
+  for (const ToolState& t : state.tools) tool_speed = std::max(tool_speed, t.tip_velocity.norm());
+  return margin_ + 2.0 * h * (std::sqrt(speed) + tool_speed);
+}
+
+int Interactions::RequiredSubsteps(const State& state) {
+  const int base = model_.params().substeps;
+  const double h = model_.step_size();
+  chain_.Place(state.q);
+  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, CandidateMargin(state, h));
+  double closing = 0.0;
+  for (const ContactCandidate& c : candidates_) {
+    const Penalty p = Geometry(c);
+    const Vec3 relative = SphereVelocity(c.a, state.qd) - OtherVelocity(c, p.lever, state.qd);
+    closing = std::max(closing, -relative.dot(p.normal));
+  }
+  const int needed = static_cast<int>(std::ceil(closing * h / (0.2 * radius_)));
+  candidates_fresh_ = true;
+  return std::clamp(needed, base, std::max(base, kMaxSubsteps));
+}
+
+void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, State* state) {
+  if (!targets.empty()) {
+    for (size_t t = 0; t < state->tools.size() && t < targets.size(); ++t) state->tools[t].target = targets[t];
+  }
+  speculative_h_ = model_.params().integrator == IntegratorKind::kImplicitEuler ? h : 0.0;
+  // Candidates must include every pair that can meet within the sub-step (those found for the
+  // whole step do, for its first sub-step).
+  const double margin = CandidateMargin(*state, h);
+  if (!candidates_fresh_) {
+    chain_.Place(state->q);
+    detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, margin);
+  }
+  candidates_fresh_ = false;
+  if (state->tools.empty()) return;
+  // Tools move against the candidates of their current pose; then find those of the new one.
+  for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
+  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, margin);
+}
+
+void Interactions::EndStep(State* state) {
+  chain_.UpdateCentres(state->q);
+  ContactStats stats;
+  for (const ContactCandidate& c : candidates_) {
+    const Penalty p = Geometry(c);
+    if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) stats.min_clearance = p.clearance;
+    if (p.clearance >= margin_) continue;
+    switch (c.kind) {
+      case ContactKind::kSelf: ++stats.self; break;
+      case ContactKind::kEnvironment: ++stats.environment; break;
+      case ContactKind::kTool: ++stats.tool; break;
+    }
+  }
+  state->contacts = stats;
+
+  // Force on the user's hand: the coupling's reaction, k (tip - target) + c v, faded when idle.
+  for (size_t t = 0; t < state->tools.size(); ++t) {
+    const ToolParams& tp = model_.params().tools[t];
+    ToolState& ts = state->tools[t];
+    if (!ts.initialized) continue;
+    const double kc = ts.coupling_scale * tp.coupling_stiffness;
+    Vec3 f = ts.target.tip.allFinite() ? Vec3(kc * (ts.tip - ts.target.tip)) : Vec3::Zero();
+    f += ts.coupling_scale * tp.coupling_damping * ts.tip_velocity;
+    ts.clamped = f.norm() > tp.max_force;
+    if (ts.clamped) f *= tp.max_force / f.norm();
+    ts.force = f;
+    ts.torque = (ts.tip - tp.port).cross(f);
+    // Local stiffness: each touching contact (and the grasp) in series with the coupling.
+    Mat3 k = Mat3::Zero();
+    for (const ContactCandidate& c : candidates_) {
+      if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
+      const Penalty p = Geometry(c);
+      if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();
+    }
+    if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();
+    ts.stiffness = k;
+  }
+}
+
+}  // namespace viscera::mechanics

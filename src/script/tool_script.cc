@@ -1,0 +1,103 @@
+#include "script/tool_script.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/check.h"
+
+namespace viscera::script {
+namespace {
+
+std::string Trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t\r");
+  const size_t e = s.find_last_not_of(" \t\r");
+  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
+}  // namespace
+
+ToolScript ToolScript::Load(const std::string& path) {
+  std::ifstream in(path);
+  ThrowUnless(in.good(), path, ": cannot open tool script");
+  std::stringstream text;
+  text << in.rdbuf();
+  return Parse(text.str(), path);
+}
+
+ToolScript ToolScript::Parse(const std::string& text, const std::string& source) {
+  static const char* kColumns[] = {"t", "tool", "x", "y", "z", "qw", "qx", "qy", "qz", "jaw"};
+  ToolScript script;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  bool header = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (Trim(line).empty() || Trim(line)[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(Trim(cell));
+    if (!header) {
+      ThrowUnless(cells.size() == 10, source, ":", line_no, ": header must be t,tool,x,y,z,qw,qx,qy,qz,jaw");
+      for (int i = 0; i < 10; ++i) {
+        ThrowUnless(cells[i] == kColumns[i], source, ":", line_no, ": column ", i + 1, " is \"", cells[i],
+                    "\", expected \"", kColumns[i], "\"");
+      }
+      header = true;
+      continue;
+    }
+    ThrowUnless(cells.size() == 10, source, ":", line_no, ": expected 10 columns, got ", cells.size());
+    double v[10] = {};
+    for (int i = 0; i < 10; ++i) {
+      if (i == 1) continue;
+      char* end = nullptr;
+      v[i] = std::strtod(cells[i].c_str(), &end);
+      ThrowUnless(!cells[i].empty() && end && *end == '\0' && std::isfinite(v[i]), source, ":", line_no,
+                  ": ", kColumns[i], " = \"", cells[i], "\": expected a finite number");
+    }
+    const std::string& tool = cells[1];
+    ThrowUnless(!tool.empty(), source, ":", line_no, ": empty tool name");
+    ToolKeyframe k;
+    k.t = v[0];
+    k.tip = Vec3(v[2], v[3], v[4]);
+    k.orientation = Eigen::Quaterniond(v[5], v[6], v[7], v[8]);
+    ThrowUnless(k.orientation.norm() > 1e-9, source, ":", line_no, ": orientation must be a non-zero quaternion");
+    k.orientation.normalize();
+    k.jaw = v[9];
+    ThrowUnless(k.jaw >= 0.0 && k.jaw <= 1.0, source, ":", line_no, ": jaw = ", k.jaw, ": expected 0..1");
+    std::vector<ToolKeyframe>& frames = script.frames_[tool];
+    ThrowUnless(frames.empty() || k.t >= frames.back().t, source, ":", line_no, ": t = ", k.t,
+                " goes back in time for tool \"", tool, "\"");
+    frames.push_back(k);
+    script.duration_ = std::max(script.duration_, k.t);
+  }
+  ThrowUnless(header, source, ": empty tool script (no header)");
+  return script;
+}
+
+std::vector<std::string> ToolScript::tools() const {
+  std::vector<std::string> names;
+  for (const auto& [name, frames] : frames_) names.push_back(name);
+  return names;
+}
+
+ToolKeyframe ToolScript::At(const std::string& tool, double t) const {
+  const std::vector<ToolKeyframe>& f = frames_.at(tool);
+  if (t <= f.front().t) return f.front();
+  if (t >= f.back().t) return f.back();
+  const auto next = std::upper_bound(f.begin(), f.end(), t, [](double x, const ToolKeyframe& k) { return x < k.t; });
+  const ToolKeyframe& b = *next;
+  const ToolKeyframe& a = *(next - 1);
+  const double span = b.t - a.t;
+  const double u = span > 0.0 ? (t - a.t) / span : 1.0;
+  ToolKeyframe k;
+  k.t = t;
+  k.tip = a.tip + u * (b.tip - a.tip);
+  k.orientation = a.orientation.slerp(u, b.orientation);
+  k.jaw = a.jaw + u * (b.jaw - a.jaw);
+  return k;
+}
+
+}  // namespace viscera::script

@@ -1,0 +1,99 @@
+#include "collision/obstacle.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "common/check.h"
+
+namespace viscera::collision {
+namespace {
+
+double D(const Obstacle& o, const Vec3& p, Vec3* n = nullptr) {
+  Vec3 normal;
+  const double d = SignedDistance(o, p, &normal);
+  if (n) *n = normal;
+  return d;
+}
+
+TEST(Obstacle, PlaneSphereCapsuleBox) {
+  Obstacle plane;
+  plane.normal = Vec3::UnitZ();
+  Vec3 n;
+  EXPECT_DOUBLE_EQ(D(plane, Vec3(3, 4, 0.2), &n), 0.2);
+  EXPECT_EQ(n, Vec3::UnitZ());
+
+  Obstacle sphere;
+  sphere.kind = ObstacleKind::kSphere;
+  sphere.centre = Vec3(1, 0, 0);
+  sphere.radius = 0.5;
+  EXPECT_NEAR(D(sphere, Vec3(1, 2, 0), &n), 1.5, 1e-15);
+  EXPECT_TRUE(n.isApprox(Vec3::UnitY()));
+  EXPECT_NEAR(D(sphere, Vec3(1.1, 0, 0)), -0.4, 1e-15);
+
+  Obstacle capsule;
+  capsule.kind = ObstacleKind::kCapsule;
+  capsule.a = Vec3(0, 0, 0);
+  capsule.b = Vec3(0, 0, 1);
+  capsule.radius = 0.1;
+  EXPECT_NEAR(D(capsule, Vec3(0.5, 0, 0.5)), 0.4, 1e-15);
+  EXPECT_NEAR(D(capsule, Vec3(0, 0, 1.5)), 0.4, 1e-15);
+
+  Obstacle box;
+  box.kind = ObstacleKind::kBox;
+  box.half_extents = Vec3(1, 2, 3);
+  EXPECT_NEAR(D(box, Vec3(2, 0, 0), &n), 1.0, 1e-15);
+  EXPECT_TRUE(n.isApprox(Vec3::UnitX()));
+  EXPECT_NEAR(D(box, Vec3(2, 3, 0)), std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(D(box, Vec3(0, 1.5, 0), &n), -0.5, 1e-15);
+  EXPECT_TRUE(n.isApprox(Vec3::UnitY()));
+  box.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()));
+  EXPECT_NEAR(D(box, Vec3(0, 2, 0)), 1.0, 1e-12);  // the x half-extent now points along y
+}
+
+TEST(Obstacle, EllipsoidIsExactOnItsSurfaceAndSignedInside) {
+  Obstacle e;
+  e.kind = ObstacleKind::kEllipsoid;
+  e.radii = Vec3(0.3, 0.2, 0.1);
+  for (double a = 0.0; a < 2 * M_PI; a += 0.3) {
+    const Vec3 on(0.3 * std::cos(a), 0.2 * std::sin(a), 0.0);
+    EXPECT_NEAR(D(e, on), 0.0, 1e-12);
+  }
+  EXPECT_LT(D(e, Vec3(0.1, 0, 0)), 0.0);
+  EXPECT_NEAR(D(e, Vec3(0, 0, 0.15)), 0.05, 1e-12);  // along a principal axis it is exact
+}
+
+TEST(Obstacle, InsideFlipsTheSideOfFreeSpace) {
+  Obstacle cavity;
+  cavity.kind = ObstacleKind::kSphere;
+  cavity.radius = 1.0;
+  cavity.inside = true;
+  Vec3 n;
+  EXPECT_NEAR(D(cavity, Vec3(0.25, 0, 0), &n), 0.75, 1e-15);
+  EXPECT_TRUE(n.isApprox(-Vec3::UnitX()));  // toward the centre: into free space
+  EXPECT_LT(D(cavity, Vec3(1.5, 0, 0)), 0.0);
+}
+
+TEST(Obstacle, MeshSdfOfAnOctahedronMatchesItsExactDistance) {
+  // The octahedron |x| + |y| + |z| <= 1: signed distance (|x|+|y|+|z| - 1) / sqrt(3) near faces.
+  const std::string path = testing::TempDir() + "octahedron.obj";
+  std::ofstream(path) << "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+                         "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+  Obstacle mesh;
+  mesh.kind = ObstacleKind::kMesh;
+  mesh.sdf = std::make_shared<MeshSdf>(MeshSdf::FromObj(path, 1.0, Vec3::Zero(), 48));
+  Vec3 n;
+  for (double s : {0.2, 0.3, 0.4}) {
+    const Vec3 p = Vec3::Constant(s);  // along the face normal (1,1,1)
+    const double exact = (3 * s - 1) / std::sqrt(3.0);
+    EXPECT_NEAR(D(mesh, p, &n), exact, 0.02) << s;
+    EXPECT_GT(n.dot(Vec3::Ones().normalized()), 0.95);
+  }
+  EXPECT_LT(D(mesh, Vec3::Zero()), -0.5);      // deep inside: -1/sqrt(3)
+  EXPECT_NEAR(D(mesh, Vec3(3, 0, 0)), 2.0, 0.05);  // outside the grid box: distance grows on
+  EXPECT_THROW(MeshSdf::FromObj("/nonexistent.obj", 1.0, Vec3::Zero()), InputError);
+}
+
+}  // namespace
+}  // namespace viscera::collision
