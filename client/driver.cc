@@ -11,6 +11,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "common/check.h"
 #include "common/clock.h"
 
 namespace viscera::client {
@@ -33,17 +34,27 @@ double Percentile(std::vector<double> v, double p) {
 
 }  // namespace
 
-DriveResult Drive(SessionClient& client, const std::vector<Waypoint>& path,
+DriveResult Drive(SessionClient& client, const script::ToolScript& script,
                   const DriveOptions& options) {
+  // scripted tool name -> the session's tool index
+  std::vector<std::pair<std::string, int>> tools;
+  for (const std::string& name : script.tools()) {
+    const auto it = std::find(options.tool_names.begin(), options.tool_names.end(), name);
+    ThrowUnless(it != options.tool_names.end(), "the script drives tool \"", name,
+                "\", which the session's scene does not have");
+    tools.emplace_back(name, static_cast<int>(it - options.tool_names.begin()));
+  }
+  ThrowUnless(!tools.empty(), "the script drives no tool");
+
   DriveResult r;
   std::vector<double> round_trips;
-  std::map<int64_t, Vec3> targets;  // pose seq -> target, for the peak report
-  int64_t last_answered = -1;
+  std::map<int, int64_t> last_answered;  // tool -> last pose seq answered
+  std::map<int64_t, Vec3> targets;       // pose seq -> target, for the peak report
   double force_sum = 0.0;
   const std::string force_channel = bus::SessionChannel(bus::kForcePrefix, options.session_id);
   const bus::SubscriptionId sub = client.bus().Subscribe<viscera_proto::force_feedback_t>(
       force_channel, [&](const viscera_proto::force_feedback_t& f, int64_t recv_utime) {
-        if (f.tool != options.tool || !bus::HeaderProblem(f.header).empty()) return;
+        if (f.header.session_id != options.session_id || !bus::HeaderProblem(f.header).empty()) return;
         ++r.forces_received;
         const Vec3 force(f.force[0], f.force[1], f.force[2]);
         force_sum += force.norm();
@@ -51,14 +62,18 @@ DriveResult Drive(SessionClient& client, const std::vector<Waypoint>& path,
           r.max_force_n = force.norm();
           r.force_at_max = force;
           r.tip_at_max = Vec3(f.tip[0], f.tip[1], f.tip[2]);
+          if (f.tool >= 0 && static_cast<size_t>(f.tool) < options.tool_names.size()) {
+            r.tool_at_max = options.tool_names[static_cast<size_t>(f.tool)];
+          }
           const auto it = targets.find(f.pose_seq);
           if (it != targets.end()) r.target_at_max = it->second;
         }
         if (f.clamped) ++r.clamped;
         r.last_step = std::max<int64_t>(r.last_step, f.step);
         // the first force message that answers a pose gives its round trip
-        if (f.pose_seq > last_answered && f.pose_utime > 0) {
-          last_answered = f.pose_seq;
+        auto [it, fresh] = last_answered.try_emplace(f.tool, -1);
+        if (f.pose_seq > it->second && f.pose_utime > 0) {
+          it->second = f.pose_seq;
           ++r.poses_answered;
           round_trips.push_back(static_cast<double>(recv_utime - f.pose_utime));
         }
@@ -66,22 +81,30 @@ DriveResult Drive(SessionClient& client, const std::vector<Waypoint>& path,
 
   const std::string pose_channel = bus::SessionChannel(bus::kPosePrefix, options.session_id);
   viscera_proto::tool_pose_t pose{};
-  pose.tool = options.tool;
-  pose.orientation[0] = 1.0;
-  const double span = path.back().t - path.front().t;
   const int64_t period_ns = static_cast<int64_t>(1e9 / options.pose_rate_hz);
-  const int64_t n = std::max<int64_t>(1, static_cast<int64_t>(span * options.pose_rate_hz) + 1);
+  const int64_t n =
+      std::max<int64_t>(1, static_cast<int64_t>(script.duration() * options.pose_rate_hz) + 1);
   const int64_t start = MonotonicNanos();
+  int64_t seq = 0;
   for (int64_t k = 0; k < n; ++k) {
     SleepUntil(start + k * period_ns);
-    const Waypoint w = Sample(path, path.front().t + static_cast<double>(k) / options.pose_rate_hz);
-    pose.header = bus::MakeHeader(options.session_id, k);
-    pose.header.token = options.token;
-    pose.header.token_len = static_cast<int32_t>(options.token.size());
-    for (int a = 0; a < 3; ++a) pose.position[a] = w.position(a);
-    pose.jaw = w.jaw;
-    targets[k] = w.position;
-    if (client.bus().Publish(pose_channel, pose)) ++r.poses_sent;
+    const double t = static_cast<double>(k) / options.pose_rate_hz;
+    for (const auto& [name, index] : tools) {
+      const script::ToolKeyframe key = script.At(name, t);
+      pose.header = bus::MakeHeader(options.session_id, seq);
+      pose.header.token = options.token;
+      pose.header.token_len = static_cast<int32_t>(options.token.size());
+      pose.tool = index;
+      for (int a = 0; a < 3; ++a) pose.position[a] = key.tip(a);
+      pose.orientation[0] = key.orientation.w();
+      pose.orientation[1] = key.orientation.x();
+      pose.orientation[2] = key.orientation.y();
+      pose.orientation[3] = key.orientation.z();
+      pose.jaw = key.jaw;
+      if (targets.size() < 1'000'000) targets[seq] = key.tip;
+      ++seq;
+      if (client.bus().Publish(pose_channel, pose)) ++r.poses_sent;
+    }
     client.bus().Drain();
   }
   const int64_t settle_end = MonotonicNanos() + static_cast<int64_t>(options.settle_s * 1e9);
@@ -103,6 +126,7 @@ nlohmann::ordered_json DriveToJson(const DriveResult& r) {
           {"forces_received", r.forces_received},
           {"poses_answered", r.poses_answered},
           {"max_force_n", r.max_force_n},
+          {"tool_at_max", r.tool_at_max},
           {"mean_force_n", r.mean_force_n},
           {"force_at_max", vec(r.force_at_max)},
           {"tip_at_max", vec(r.tip_at_max)},

@@ -1,11 +1,14 @@
 #pragma once
-/// Driver: streams a tool path to a session at a fixed pose rate and collects the force
-/// feedback: force figures and the pose -> force round trip (from the pose's send time to
-/// LCM's receive time of the first force message that answers it).
+/// Driver: streams a tool script to a session at a fixed pose rate (every scripted tool,
+/// each tick) and collects the force feedback: force figures and the pose -> force round
+/// trip (from the pose's send time to LCM's receive time of the first force message that
+/// answers it).
 #include <cstdint>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include <string>
 
 #include "client/gesture.h"
 #include "client/session_client.h"
@@ -15,7 +18,9 @@ namespace viscera::client {
 struct DriveOptions {
   int64_t session_id = 0;
   std::vector<uint8_t> token;
-  int tool = 0;
+  /// The session's tools in index order (session_status_t.tool_names); every tool of the
+  /// script must be one of them.
+  std::vector<std::string> tool_names;
   double pose_rate_hz = 100.0;  ///< poses per second
   double settle_s = 0.2;        ///< listen this long after the last pose
 };
@@ -24,7 +29,8 @@ struct DriveResult {
   int64_t poses_sent = 0;
   int64_t forces_received = 0;
   int64_t poses_answered = 0;       ///< poses some force message echoed
-  double max_force_n = 0.0;         ///< largest |F| (N)
+  double max_force_n = 0.0;         ///< largest |F| over the tools (N)
+  std::string tool_at_max;          ///< the tool that felt it
   double mean_force_n = 0.0;        ///< mean |F| over every force message (N)
   Vec3 force_at_max = Vec3::Zero(); ///< the force vector when |F| peaked (N)
   Vec3 tip_at_max = Vec3::Zero();   ///< simulated tip then (m)
@@ -37,8 +43,9 @@ struct DriveResult {
   double duration_s = 0.0;          ///< wall time driving (s)
 };
 
-/// Drives `path` over its span. @pre the session exists; path not empty.
-DriveResult Drive(SessionClient& client, const std::vector<Waypoint>& path,
+/// Drives `script` over its duration.
+/// @throws InputError when the script names a tool the session does not have.
+DriveResult Drive(SessionClient& client, const script::ToolScript& script,
                   const DriveOptions& options);
 
 nlohmann::ordered_json DriveToJson(const DriveResult& r);

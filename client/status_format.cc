@@ -31,7 +31,7 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"step_cost_p99_us", s.step_cost_p99_us},
           {"contacts", s.contacts},
           {"energy", s.energy},
-          {"tools", s.num_tools},
+          {"tools", s.tool_names},
           {"poses", s.poses},
           {"rejected", s.rejected},
           {"recoveries", s.recoveries},

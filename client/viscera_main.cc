@@ -179,7 +179,7 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
               {"warnings", reply.message}};
     if (reply.num_sessions > 0) {
       j["rate_hz"] = reply.sessions[0].rate_hz;
-      j["tools"] = reply.sessions[0].num_tools;
+      j["tools"] = reply.sessions[0].tool_names;
     }
     std::cout << j.dump(2) << "\n";
   } else {
@@ -310,7 +310,6 @@ struct DriveCli {
   int64_t id = 0;
   std::string script;
   std::string gesture;
-  int tool = 0;
   double pose_rate_hz = 100.0;
 };
 
@@ -323,7 +322,7 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
     std::fprintf(stderr, "viscera: unknown gesture '%s' (known: clearing)\n", o.gesture.c_str());
     return kLocalError;
   }
-  const std::vector<viscera::client::Waypoint> path =
+  const viscera::script::ToolScript script =
       o.script.empty() ? viscera::client::ClearingGesture() : viscera::client::LoadScript(o.script);
   viscera::client::SessionClient client(url, LoadAuth(c));
   // the session must exist and have the tool
@@ -331,18 +330,23 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
       client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
   if (replies.empty()) return NoServer(c, url, "the status request");
   if (const int rc = ReplyError(replies.front(), o.id); rc != 0) return rc;
-  if (replies.front().num_sessions < 1 || o.tool >= replies.front().sessions[0].num_tools) {
-    std::fprintf(stderr, "viscera: session %lld has no tool %d (its scene declares %d [[tool]])\n",
-                 static_cast<long long>(o.id), o.tool,
-                 replies.front().num_sessions > 0 ? replies.front().sessions[0].num_tools : 0);
-    return kRefused;
-  }
+  if (replies.front().num_sessions < 1) return kRefused;
   viscera::client::DriveOptions options;
   options.session_id = o.id;
   options.token = TokenFor(c, o.id, nullptr);
-  options.tool = o.tool;
+  options.tool_names = replies.front().sessions[0].tool_names;
   options.pose_rate_hz = o.pose_rate_hz;
-  const viscera::client::DriveResult r = viscera::client::Drive(client, path, options);
+  for (const std::string& name : script.tools()) {
+    if (std::find(options.tool_names.begin(), options.tool_names.end(), name) ==
+        options.tool_names.end()) {
+      std::fprintf(stderr, "viscera: the script drives tool \"%s\" but session %lld has %s\n",
+                   name.c_str(), static_cast<long long>(o.id),
+                   options.tool_names.empty() ? "no tools (its scene has no [[tool]])"
+                                              : "other tools");
+      return kRefused;
+    }
+  }
+  const viscera::client::DriveResult r = viscera::client::Drive(client, script, options);
   const auto after =
       client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
   if (after.empty() || after.front().num_sessions < 1) return NoServer(c, url, "the status request");
@@ -357,8 +361,8 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
     std::printf("drove session %lld for %.2f s: %lld poses sent at %g Hz, %lld forces received\n",
                 static_cast<long long>(o.id), r.duration_s, static_cast<long long>(r.poses_sent),
                 o.pose_rate_hz, static_cast<long long>(r.forces_received));
-    std::printf("force      max |F| %.3f N (%.3f, %.3f, %.3f), mean |F| %.3f N, clamped %lld\n",
-                r.max_force_n, r.force_at_max.x(), r.force_at_max.y(), r.force_at_max.z(),
+    std::printf("force      max |F| %.3f N on %s (%.3f, %.3f, %.3f), mean |F| %.3f N, clamped %lld\n",
+                r.max_force_n, r.tool_at_max.c_str(), r.force_at_max.x(), r.force_at_max.y(), r.force_at_max.z(),
                 r.mean_force_n, static_cast<long long>(r.clamped));
     std::printf("round trip pose -> force p50 %.0f us, p99 %.0f us, max %.0f us (%lld poses answered)\n",
                 r.round_trip_p50_us, r.round_trip_p99_us, r.round_trip_max_us,
@@ -428,9 +432,9 @@ int main(int argc, char** argv) {
   CLI::App* drive = app.add_subcommand("drive", "Drive a session's tool along a path");
   add_common(drive);
   drive->add_option("id", drive_options.id, "Session id")->required();
-  drive->add_option("--script", drive_options.script, "Waypoints file: lines 't x y z [jaw]'");
+  drive->add_option("--script", drive_options.script,
+                    "Tool script (CSV t,tool,x,y,z,qw,qx,qy,qz,jaw; scenes/clearing.csv)");
   drive->add_option("--gesture", drive_options.gesture, "Built-in gesture: clearing");
-  drive->add_option("--tool", drive_options.tool, "Tool index")->capture_default_str();
   drive->add_option("--pose-rate", drive_options.pose_rate_hz, "Poses per second")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();

@@ -73,6 +73,7 @@ Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> m
   status_.server_id = config_.server_id;
   status_.scene = config_.scene;
   status_.num_tools = num_tools();
+  for (const mechanics::ToolParams& t : model_->params().tools) status_.tool_names.push_back(t.name);
   status_.state = session_status_t::kRunning;
   status_.rate_hz = model_->params().rate_hz;
 }
@@ -87,18 +88,14 @@ void Session::Start() {
 void Session::Stop() {
   if (stop_.exchange(true)) return;
   if (thread_.joinable()) thread_.join();
+  // the loop is over: its state is ours now. A last status, recorded, and the record flushed.
   state_ = session_status_t::kStopped;
-  viscera_proto::session_status_t final_status = Status();
-  final_status.state = session_status_t::kStopped;
-  final_status.header = bus::MakeHeader(config_.id, final_status.header.seq + 1);
-  bus_->Publish(bus::SessionChannel(bus::kStatusPrefix, config_.id), final_status);
-  if (recorder_ != nullptr) {
-    recorder_->Write(bus::SessionChannel(bus::kStatusPrefix, config_.id), final_status,
-                     final_status.header.utime);
-    recorder_->Flush();
+  try {
+    PublishStatus(MonotonicNanos(), /*summarize=*/false);
+  } catch (const std::exception& e) {
+    SetError(Cat("final status failed: ", e.what()));
   }
-  std::lock_guard<std::mutex> lock(status_mutex_);
-  status_ = final_status;
+  if (recorder_ != nullptr) recorder_->Flush();
 }
 
 void Session::CountRejected(const std::string& why) {
@@ -159,11 +156,11 @@ void Session::Loop() {
   const int64_t status_period = PeriodNs(config_.status_rate_hz);
   const int64_t skeleton_period =
       config_.skeleton_rate_hz > 0.0 ? PeriodNs(config_.skeleton_rate_hz) : 0;
+  // a first status at once (no rates yet), then one per status period
+  PublishStatus(MonotonicNanos(), /*summarize=*/false);
   int64_t next = MonotonicNanos();
   int64_t next_skeleton = next;
   L.last_summary_ns = next;
-  // a first status at once (no rates yet), then one per status period
-  PublishStatus(next, /*summarize=*/false);
   int64_t next_status = next + status_period;
 
   while (!stop_.load(std::memory_order_relaxed)) {
@@ -304,10 +301,9 @@ void Session::PublishSkeleton() {
     for (int a = 0; a < 3; ++a) k.spheres[static_cast<size_t>(j)][a] = c(a);
   }
   k.sphere_radius = radius;
-  // contact counts arrive with the contacts work in mechanics (State has none yet)
-  k.environment_contacts = 0;
-  k.self_contacts = 0;
-  k.tool_contacts = 0;
+  k.environment_contacts = s.contacts.environment;
+  k.self_contacts = s.contacts.self;
+  k.tool_contacts = s.contacts.tool;
   bus_->Publish(L.skeleton_channel, k);
   if (recorder_ != nullptr) recorder_->Write(L.skeleton_channel, k, k.header.utime);
 }
@@ -330,7 +326,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize) {
     }
     s.deadline_misses = L->stats.deadline_misses();
     s.energy = mechanics::ComputeEnergies(*model_, st.q, st.qd).total();
-    s.contacts = 0;  // with the contacts work in mechanics
+    s.contacts = st.contacts.self + st.contacts.environment + st.contacts.tool;
     s.recoveries = L->stepper.recoveries();
     s.idle_events = L->idle_events;
   }

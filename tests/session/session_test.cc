@@ -86,6 +86,7 @@ TEST(Session, KeepsItsRateAndPublishesForceEveryStepForEachTool) {
   // 200 Hz for a second: about 200 steps, two force messages each
   EXPECT_NEAR(mid.steps, 200, 20);
   EXPECT_EQ(mid.state, session_status_t::kRunning);
+  EXPECT_EQ(mid.tool_names, (std::vector<std::string>{"grasper0", "grasper1"}));
   EXPECT_NEAR(mid.achieved_rate_hz, 200.0, 10.0);
   // 5 ms deadlines for ~0.1 ms steps; a few misses are allowed because this 2-core
   // machine also builds and tests other things while ctest runs
