@@ -287,6 +287,7 @@ void SessionManager::Create(const session_request_t& request) {
     session_request_t scene_record = request;
     scene_record.header = bus::MakeHeader(sc.id, 0);
     scene_record.scene_toml = scene.toml;
+    scene_record.scene_name = scene.source;  // meshes resolve against it on replay
     scene_record.rate_hz = scene.model->params().rate_hz;
     recorder->Write(bus::SessionChannel(bus::kScenePrefix, sc.id), scene_record, now);
   }

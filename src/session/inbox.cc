@@ -15,8 +15,11 @@ bool Inbox::PostPose(int tool, const PoseInput& pose) {
   VISCERA_DEMAND(tool >= 0 && tool < num_tools());
   std::lock_guard<std::mutex> lock(mutex_);
   PoseInput& slot = poses_[static_cast<size_t>(tool)];
-  // a reordered or replayed datagram must not move the tool back in time
-  if (slot.seq >= 0 && pose.seq <= slot.seq) return false;
+  // a reordered or replayed datagram must not move the tool back in time; a new client
+  // (its sequence starts again at 0) sends newer send times
+  if (slot.seq >= 0 && pose.seq <= slot.seq && pose.client_utime <= slot.client_utime) {
+    return false;
+  }
   slot = pose;
   return true;
 }

@@ -39,7 +39,9 @@ class Inbox {
 
   int num_tools() const { return static_cast<int>(poses_.size()); }
 
-  /// Keeps `pose` as tool's latest unless it is older (lower seq) than the one held.
+  /// Keeps `pose` as tool's latest unless it is stale: neither its seq nor its client send
+  /// time is newer than the pose held (a reordered or replayed datagram). A client that
+  /// starts again from seq 0 is recognised by its newer send times.
   /// @pre 0 <= tool < num_tools(). @return false when stale (dropped).
   bool PostPose(int tool, const PoseInput& pose);
 

@@ -68,8 +68,10 @@ ReplayResult ReplayRecord(const std::string& path) {
     if (scene == nullptr) {
       if (!StartsWith(e->channel, bus::kScenePrefix)) continue;
       const auto request = DecodeOrThrow<viscera_proto::session_request_t>(*e, path);
+      // the scene record keeps the scene's text and, in scene_name, the file it came from
       scene = std::make_unique<SessionScene>(LoadSessionScene(
-          "", "", request.scene_toml, request.rate_hz, std::numeric_limits<double>::infinity()));
+          "", "", request.scene_toml, request.rate_hz, std::numeric_limits<double>::infinity(),
+          request.scene_name.empty() ? "<inline>" : request.scene_name));
       result.session_id = request.header.session_id;
       result.scene = request.scene_name.empty() ? "<inline>" : request.scene_name;
       result.rate_hz = scene->model->params().rate_hz;

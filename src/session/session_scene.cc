@@ -1,6 +1,7 @@
 #include "session/session_scene.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -20,7 +21,8 @@ bool ValidSceneName(const std::string& name) {
 }
 
 SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& scene_name,
-                              const std::string& scene_toml, double rate_hz, double max_rate_hz) {
+                              const std::string& scene_toml, double rate_hz, double max_rate_hz,
+                              const std::string& inline_source) {
   ThrowUnless(scene_name.empty() != scene_toml.empty(),
               "give either a scene name or an inline scene, not ",
               scene_name.empty() ? "neither" : "both");
@@ -39,11 +41,15 @@ SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& s
     text << in.rdbuf();
     out.toml = text.str();
     out.label = scene_name;
+    char* absolute = realpath(path.c_str(), nullptr);
+    out.source = absolute != nullptr ? absolute : path;
+    std::free(absolute);
   } else {
     out.toml = scene_toml;
     out.label = "<inline>";
+    out.source = inline_source;
   }
-  scene::Scene scene = scene::ParseScene(out.toml, out.label);
+  scene::Scene scene = scene::ParseScene(out.toml, out.source);
   out.warnings = scene.warnings;
   if (rate_hz != 0.0) scene.model.rate_hz = rate_hz;
   ThrowUnless(scene.model.rate_hz <= max_rate_hz, "scene rate ", scene.model.rate_hz,

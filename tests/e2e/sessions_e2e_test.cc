@@ -287,5 +287,50 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   EXPECT_GT(d["force_at_max"][2].get<double>(), 0.0) << "pushing down must push the hand up";
 }
 
+TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
+  const std::string dir = ScratchDir();
+  Daemon daemon("e2e-h", {}, dir);
+  const int64_t other = Create(dir, "fall")["session"].get<int64_t>();
+  const json created = Create(dir, "--scene-file " + PushScene());
+  ASSERT_EQ(created["tools"], json::array({"grasper"}));
+  const int64_t id = created["session"].get<int64_t>();
+  const std::vector<uint8_t> token = client::FromHex(created["token"].get<std::string>());
+  bus::LcmBus probe(kUrl);
+  std::vector<viscera_proto::force_feedback_t> forces;
+  probe.Subscribe<viscera_proto::force_feedback_t>(
+      bus::SessionChannel(bus::kForcePrefix, id),
+      [&](const viscera_proto::force_feedback_t& f, int64_t) { forces.push_back(f); });
+  const std::string channel = bus::SessionChannel(bus::kPosePrefix, id);
+  // press into the tube for 1.5 s at 200 Hz, plus a flood of 5000 identical poses at once
+  int64_t seq = 0;
+  for (int k = 0; k < 300; ++k) {
+    const double z = std::max(0.015, 0.1 - 0.0015 * k);
+    probe.Publish(channel, Pose(id, token, seq++, Vec3(0.0, 0.0, z)));
+    if (k == 200) {
+      for (int j = 0; j < 5000; ++j) probe.Publish(channel, Pose(id, token, seq++, Vec3(0.0, 0.0, z)));
+    }
+    probe.Pump(5);
+  }
+  const size_t pressing = forces.size();
+  // then silence
+  const int64_t end = MonotonicNanos() + 1'500'000'000;
+  while (MonotonicNanos() < end) probe.Pump(20);
+  ASSERT_GT(pressing, 100u);
+  double max_pressing = 0.0;
+  for (size_t i = 0; i < pressing; ++i) {
+    if (forces[i].active) max_pressing = std::max(max_pressing, std::abs(forces[i].force[2]));
+  }
+  EXPECT_GT(max_pressing, 0.05);
+  const auto& last = forces.back();
+  EXPECT_FALSE(last.active);
+  EXPECT_LT(std::hypot(last.force[0], last.force[1], last.force[2]), 1e-3) << "the force must fade to zero";
+  // no jump: the force fades over steps instead of dropping at once
+  const json s = Status(dir, id);
+  EXPECT_EQ(s["idle_events"], 1);
+  EXPECT_GT(s["poses"].get<int64_t>(), 1000);
+  EXPECT_NEAR(Status(dir, other)["rate_hz"].get<double>(), 100.0, 10.0);  // unaffected
+  EXPECT_NEAR(s["rate_hz"].get<double>(), 100.0, 10.0);
+}
+
 }  // namespace
 }  // namespace viscera::e2e

@@ -9,6 +9,7 @@ PoseInput Pose(int64_t seq, double x) {
   PoseInput p;
   p.seq = seq;
   p.target.tip = Vec3(x, 0.0, 0.0);
+  p.client_utime = 1'000'000 + seq;
   p.received_ns = 1000 + seq;
   return p;
 }
@@ -32,6 +33,13 @@ TEST(Inbox, LatestPoseWinsPerToolAndStalePosesAreDropped) {
   EXPECT_DOUBLE_EQ(poses[0].target.tip.x(), 0.5);
   EXPECT_EQ(poses[1].seq, 0);
   EXPECT_DOUBLE_EQ(poses[1].target.tip.x(), -0.2);
+
+  // a new client starts again from seq 0, with later send times: accepted
+  PoseInput restarted = Pose(0, 0.7);
+  restarted.client_utime = 2'000'000;
+  EXPECT_TRUE(inbox.PostPose(0, restarted));
+  inbox.Take(&poses, &commands);
+  EXPECT_DOUBLE_EQ(poses[0].target.tip.x(), 0.7);
 }
 
 TEST(Inbox, CommandsQueueInOrderUpToABound) {
