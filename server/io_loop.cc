@@ -1,6 +1,10 @@
 #include "server/io_loop.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <exception>
 
 #include "bus/channels.h"
@@ -61,6 +65,14 @@ std::string IoLoop::error() const {
 
 void IoLoop::Run() {
   using Clock = std::chrono::steady_clock;
+  if (config_.realtime_priority > 0) {
+    // poses wait for this thread: it runs at the mechanics threads' priority
+    sched_param param{};
+    param.sched_priority = config_.realtime_priority;
+    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) {
+      std::fprintf(stderr, "viscerad: realtime priority refused for the I/O thread\n");
+    }
+  }
   // An exception never crosses a thread: record it and let main decide.
   try {
     auto next_heartbeat = Clock::now();

@@ -16,6 +16,7 @@ struct ServerConfig {
   double max_rate_hz = 1000.0;       ///< highest mechanics rate a create may ask for (Hz)
   double skeleton_rate_hz = 30.0;    ///< default skeleton_state_t rate (Hz); <= 0: none
   double status_rate_hz = 4.0;       ///< session_status_t rate (Hz)
+  int realtime_priority = 0;  ///< > 0: SCHED_FIFO for mechanics and I/O threads (1..99)
   std::string key_file;       ///< pre-shared key: every message must carry its MAC ("" = none)
 };
 

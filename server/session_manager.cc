@@ -268,6 +268,7 @@ void SessionManager::Create(const session_request_t& request) {
   sc.skeleton_rate_hz =
       request.skeleton_rate_hz != 0.0 ? request.skeleton_rate_hz : config_.skeleton_rate_hz;
   sc.status_rate_hz = config_.status_rate_hz;
+  sc.realtime_priority = config_.realtime_priority;
   sc.skin = request.skin;
   if (request.frame_width > 0) sc.frame_width = request.frame_width;
   if (request.frame_height > 0) sc.frame_height = request.frame_height;

@@ -3,7 +3,10 @@
 #include <pthread.h>
 #include <unistd.h>
 
+#include <sched.h>
+
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <ctime>
 #include <exception>
@@ -35,6 +38,16 @@ int Run(const viscera::server::ServerConfig& config) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
+  if (config.realtime_priority > 0) {
+    // before any thread starts: LCM's receive thread, the I/O thread and the mechanics
+    // threads all inherit SCHED_FIFO, so a busy machine cannot delay poses or steps
+    sched_param param{};
+    param.sched_priority = config.realtime_priority;
+    if (const int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); err != 0) {
+      std::fprintf(stderr, "viscerad: --realtime %d refused (%s): normal scheduling\n",
+                   config.realtime_priority, std::strerror(err));
+    }
+  }
   viscera::server::IoLoop loop(config);
   loop.Start();
   std::fprintf(stderr,
@@ -96,6 +109,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--status-rate", config.status_rate_hz, "session_status_t rate (Hz)")
       ->check(CLI::Range(0.1, 100.0))
+      ->capture_default_str();
+  app.add_option("--realtime", config.realtime_priority,
+                 "SCHED_FIFO priority (1..99) for the mechanics and I/O threads; 0 = normal")
+      ->check(CLI::Range(0, 99))
       ->capture_default_str();
   app.add_option("--key-file", config.key_file,
                  "Pre-shared key file: sign every message and accept only signed ones");

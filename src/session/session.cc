@@ -1,6 +1,10 @@
 #include "session/session.h"
 
+#include <pthread.h>
+#include <sched.h>
 #include <time.h>
+
+#include <cstring>
 
 #include <algorithm>
 #include <cmath>
@@ -124,6 +128,13 @@ CameraPose Session::camera() const {
 }
 
 void Session::Run() {
+  if (config_.realtime_priority > 0) {
+    sched_param param{};
+    param.sched_priority = config_.realtime_priority;
+    if (const int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); err != 0) {
+      SetError(Cat("realtime priority refused (", std::strerror(err), "): normal scheduling"));
+    }
+  }
   // An exception never crosses a thread: the session is faulted, the daemon lives on.
   try {
     loop_ = std::make_unique<LoopState>(*model_, num_tools());

@@ -31,6 +31,9 @@ struct SessionConfig {
   std::string skin;                ///< kept for the render thread (rendering issue)
   int frame_width = 640;           ///< pixels
   int frame_height = 480;
+  /// > 0: the mechanics thread runs SCHED_FIFO at this priority (1..99), so builds and
+  /// other processes cannot delay its deadlines; 0: normal scheduling.
+  int realtime_priority = 0;
 };
 
 /// Thread-safe view of a session's camera (set by kCamera, read by a render thread).
