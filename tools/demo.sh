@@ -1,18 +1,55 @@
 #!/usr/bin/env bash
-# The main job, end to end: installs what it needs, builds, and runs the default scene
-# (scenes/fall.toml, the paper's 4 m / 250-point fall) offline, printing a summary and writing
-# its trace to out/fall.jsonl.
-# Usage: ./tools/demo.sh [SCENE.toml] [SECONDS]
+# The main job, end to end: installs what it needs, builds, starts viscerad in the
+# background, creates a session, drives the clearing gesture with the viscera client,
+# prints the force and timing figures, destroys the session and stops the server.
+# Everything runs in a private network namespace holding only loopback (nothing leaves
+# this machine; VISCERA_DEMO_NETNS=0 uses the host's network instead, ttl=0).
+# The session's record is kept in out/records/.
+# Usage: ./tools/demo.sh [SCENE] [POSE_RATE_HZ]
+#   SCENE: a scene of scenes/ with the clearing gesture's "left" grasper (default: cavity,
+#   the 190-point intestine in the abdominal cavity that scenes/clearing.csv was made for)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/tools/setup.sh"
 build="${VISCERA_BUILD_DIR:-$root/build}"
-scene="${1:-$root/scenes/fall.toml}"
-seconds="${2:-2}"
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build" --parallel "$(nproc)" --target viscera-sim
-mkdir -p "$root/out"
-trace="$root/out/$(basename "$scene" .toml).jsonl"
-echo "== viscera-sim $(basename "$scene"), ${seconds} s simulated"
-"$build/tools/viscera-sim" "$scene" --duration "$seconds" --trace "$trace" --trace-every 5
-echo "== trace: $trace ($(wc -l <"$trace") frames)"
+scene="${1:-cavity}"
+pose_rate="${2:-1000}"
+
+if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then
+  "$root/tools/setup.sh"
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" --parallel "$(nproc)" --target viscerad viscera_cli
+  if [ "${VISCERA_DEMO_NETNS:-1}" = 1 ]; then
+    exec "$root/tests/e2e/in_netns.sh" env VISCERA_IN_NETNS=1 VISCERA_BUILD_DIR="$build" \
+      bash "$0" "$scene" "$pose_rate"
+  fi
+fi
+
+url='udpm://239.255.76.67:7667?ttl=0'
+records="$root/out/records"
+mkdir -p "$records"
+export VISCERA_SESSIONS="$root/out/sessions.json"
+viscera() { "$build/client/viscera" "$@" --lcm-url "$url"; }
+
+echo "== viscerad (background; records in out/records)"
+"$build/server/viscerad" --server-id demo --lcm-url "$url" --scene-dir "$root/scenes" \
+  --log-dir "$records" 2>"$root/out/viscerad.log" &
+server=$!
+trap 'kill -TERM $server 2>/dev/null || true; wait $server 2>/dev/null || true' EXIT
+viscera servers --timeout 1.2
+
+echo "== create a session on scenes/$scene.toml"
+id=$(viscera create "$scene" --json | python3 -c 'import json, sys; print(json.load(sys.stdin)["session"])')
+echo "session $id"
+sleep 1
+viscera status "$id"
+
+echo "== drive the clearing gesture (poses at $pose_rate Hz)"
+viscera drive "$id" --gesture clearing --pose-rate "$pose_rate"
+
+echo "== destroy the session, stop the server"
+viscera destroy "$id"
+kill -TERM $server
+wait $server
+trap - EXIT
+tail -n 2 "$root/out/viscerad.log"
+echo "== record: $(ls -1 "$records"/session-"$id".lcmlog) (lcm-logplayer reads it)"
