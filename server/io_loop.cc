@@ -87,7 +87,10 @@ void IoLoop::Run() {
       }
       const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(
           next_heartbeat - Clock::now());
-      bus_->Pump(static_cast<int>(std::clamp(wait, std::chrono::milliseconds{0}, kMaxPump).count()));
+      // while a model is being built elsewhere, look for it often
+      const auto longest = sessions_->creating() ? std::chrono::milliseconds{5} : kMaxPump;
+      bus_->Pump(static_cast<int>(std::clamp(wait, std::chrono::milliseconds{0}, longest).count()));
+      sessions_->Poll();
     }
   } catch (const std::exception& e) {
     std::lock_guard<std::mutex> lock(error_mutex_);

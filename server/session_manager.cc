@@ -1,5 +1,6 @@
 #include "server/session_manager.h"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -75,6 +76,8 @@ SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus)
 SessionManager::~SessionManager() { StopAll(); }
 
 void SessionManager::StopAll() {
+  for (PendingCreate& p : pending_) p.scene.wait();  // helpers finish; their models are dropped
+  pending_.clear();
   for (auto& [id, session] : sessions_) session->Stop();
   sessions_.clear();
   num_sessions_ = 0;
@@ -231,7 +234,7 @@ void SessionManager::Create(const session_request_t& request) {
           "create must name its server (server_id from the heartbeat)");
     return;
   }
-  if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
+  if (static_cast<int>(sessions_.size() + pending_.size()) >= config_.max_sessions) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused,
           Cat("server full: ", sessions_.size(), " of ", config_.max_sessions, " sessions"));
@@ -247,17 +250,44 @@ void SessionManager::Create(const session_request_t& request) {
     return;
   }
 
-  session::SessionScene scene;
-  try {
-    const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
-    scene = session::LoadSessionScene(config_.scene_dir, request.scene_name, request.scene_toml,
-                                      rate, config_.max_rate_hz);
-  } catch (const std::exception& e) {
+  // building the model may take long (mesh distance fields): a helper thread does it
+  const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
+  pending_.push_back({request, std::async(std::launch::async, [this, request, rate] {
+                        return session::LoadSessionScene(config_.scene_dir, request.scene_name,
+                                                         request.scene_toml, rate,
+                                                         config_.max_rate_hz);
+                      })});
+}
+
+void SessionManager::Poll() {
+  for (size_t i = 0; i < pending_.size();) {
+    PendingCreate& p = pending_[i];
+    if (p.scene.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+      ++i;
+      continue;
+    }
+    const session_request_t request = p.request;
+    std::future<session::SessionScene> future = std::move(p.scene);
+    pending_.erase(pending_.begin() + static_cast<long>(i));
+    session::SessionScene scene;
+    try {
+      scene = future.get();  // the helper's exception, if any, arrives here as a value
+    } catch (const std::exception& e) {
+      ++rejected_;
+      Reply(request, session_reply_t::kRefused, e.what());
+      continue;
+    }
+    FinishCreate(request, std::move(scene));
+  }
+}
+
+void SessionManager::FinishCreate(const session_request_t& request, session::SessionScene scene) {
+  if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
     ++rejected_;
-    Reply(request, session_reply_t::kRefused, e.what());
+    Reply(request, session_reply_t::kRefused,
+          Cat("server full: ", sessions_.size(), " of ", config_.max_sessions, " sessions"));
     return;
   }
-
   session::SessionConfig sc;
   do {
     sc.id = NewSessionId();

@@ -4,6 +4,7 @@
 /// answered; never thrown), creates and destroys sessions, and answers status and list.
 #include <atomic>
 #include <cstdint>
+#include <future>
 #include <map>
 #include <memory>
 #include <string>
@@ -15,6 +16,7 @@
 #include "bus/lcm_bus.h"
 #include "server/server_config.h"
 #include "session/session.h"
+#include "session/session_scene.h"
 
 namespace viscera::server {
 
@@ -38,6 +40,12 @@ class SessionManager {
   /// when its channel names one.
   void OnDrop(const std::string& channel, bus::DropReason reason);
 
+  /// Finishes creations whose model is built (building a model can take a while, e.g. a
+  /// mesh obstacle's distance field: a helper thread builds it so the I/O thread never
+  /// stalls). Call from the I/O loop; cheap when nothing is pending.
+  void Poll();
+  bool creating() const { return !pending_.empty(); }
+
   /// Stops every session: final status, records flushed.
   void StopAll();
 
@@ -49,12 +57,18 @@ class SessionManager {
   void Reply(const viscera_proto::session_request_t& request, int8_t result,
              const std::string& message, int64_t session_id = 0);
   void Create(const viscera_proto::session_request_t& request);
+  void FinishCreate(const viscera_proto::session_request_t& request, session::SessionScene scene);
   void Reject(session::Session* session, const std::string& why);
   session::Session* Find(int64_t id);
 
   ServerConfig config_;
   bus::LcmBus* bus_;
   std::map<int64_t, std::unique_ptr<session::Session>> sessions_;
+  struct PendingCreate {
+    viscera_proto::session_request_t request;
+    std::future<session::SessionScene> scene;  // the helper's result or its exception
+  };
+  std::vector<PendingCreate> pending_;
   std::atomic<int> num_sessions_{0};
   std::atomic<int64_t> rejected_{0};
   int64_t reply_seq_ = 0;

@@ -1,0 +1,156 @@
+#include "server/session_manager.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <chrono>
+#include <limits>
+#include <thread>
+
+#include <viscera_proto/session_reply_t.hpp>
+
+#include "bus/channels.h"
+#include "bus/header.h"
+
+namespace viscera::server {
+namespace {
+
+viscera_proto::tool_pose_t GoodPose() {
+  viscera_proto::tool_pose_t pose{};
+  pose.header = bus::MakeHeader(7, 0);
+  pose.tool = 0;
+  pose.position[2] = 0.1;
+  pose.orientation[0] = 1.0;
+  pose.jaw = 0.5;
+  return pose;
+}
+
+TEST(PoseProblem, AcceptsAGoodPoseAndNamesWhatIsWrongWithBadOnes) {
+  EXPECT_EQ(PoseProblem(GoodPose(), 1), "");
+  auto p = GoodPose();
+  p.tool = 1;
+  EXPECT_NE(PoseProblem(p, 1).find("tool 1 does not exist"), std::string::npos);
+  p = GoodPose();
+  p.position[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(PoseProblem(p, 1).find("position"), std::string::npos);
+  p = GoodPose();
+  p.position[1] = 11.0;  // beyond any operating room
+  EXPECT_NE(PoseProblem(p, 1).find("position"), std::string::npos);
+  p = GoodPose();
+  p.orientation[3] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(PoseProblem(p, 1).find("orientation"), std::string::npos);
+  p = GoodPose();
+  p.orientation[0] = 0.1;  // norm 0.1: not a rotation
+  EXPECT_NE(PoseProblem(p, 1).find("orientation"), std::string::npos);
+  p = GoodPose();
+  p.jaw = -0.01;
+  EXPECT_NE(PoseProblem(p, 1).find("jaw"), std::string::npos);
+}
+
+// The manager on an in-process bus: requests in, replies out, nothing thrown.
+class SessionManagerTest : public ::testing::Test {
+ protected:
+  SessionManagerTest() : bus_("memq://") {
+    config_.server_id = "srv";
+    config_.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/scenes";
+    config_.max_sessions = 1;
+    manager_ = std::make_unique<SessionManager>(config_, &bus_);
+    bus_.Subscribe<viscera_proto::session_reply_t>(
+        bus::kReplyChannel,
+        [this](const viscera_proto::session_reply_t& r, int64_t) { replies_.push_back(r); });
+  }
+
+  viscera_proto::session_reply_t Ask(viscera_proto::session_request_t r) {
+    r.header.version = viscera_proto::header_t::kProtocolVersion;
+    r.header.utime = bus::WallMicros();
+    r.request_id = ++request_id_;
+    const std::string channel = bus::kRequestChannel;
+    manager_->OnRequest(r, bus::MessageInfo{&channel, 0, 0});
+    for (int i = 0; i < 400 && manager_->creating(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      manager_->Poll();
+    }
+    bus_.Drain();
+    EXPECT_FALSE(replies_.empty());
+    if (replies_.empty()) return {};
+    EXPECT_EQ(replies_.back().request_id, request_id_);
+    return replies_.back();
+  }
+
+  static viscera_proto::session_request_t Request(int8_t command, int64_t id = 0) {
+    viscera_proto::session_request_t r{};
+    r.header = bus::MakeHeader(id, 0);
+    r.command = command;
+    r.server_id = "srv";
+    return r;
+  }
+
+  bus::LcmBus bus_;
+  ServerConfig config_;
+  std::unique_ptr<SessionManager> manager_;
+  std::vector<viscera_proto::session_reply_t> replies_;
+  int64_t request_id_ = 0;
+};
+
+TEST_F(SessionManagerTest, CreateCommandsAndDestroyWithTheToken) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  auto create = Request(Q::kCreate);
+  create.scene_name = "hanging";
+  const R created = Ask(create);
+  ASSERT_EQ(created.result, R::kOk) << created.message;
+  const int64_t id = created.header.session_id;
+  EXPECT_EQ(created.header.token.size(), 16u);
+  EXPECT_EQ(manager_->num_sessions(), 1);
+  // full: one session at most
+  EXPECT_EQ(Ask(create).result, R::kRefused);
+
+  auto pause = Request(Q::kPause, id);
+  EXPECT_EQ(Ask(pause).result, R::kBadToken);  // no token
+  pause.header.token = {1, 2, 3};
+  pause.header.token_len = 3;
+  EXPECT_EQ(Ask(pause).result, R::kBadToken);  // wrong token
+  pause.header.token = created.header.token;
+  pause.header.token_len = 16;
+  EXPECT_EQ(Ask(pause).result, R::kOk);
+  const R status = Ask(Request(Q::kStatus, id));  // no token needed
+  ASSERT_EQ(status.result, R::kOk);
+  ASSERT_EQ(status.num_sessions, 1);
+  EXPECT_EQ(status.sessions[0].rejected, 2);
+  EXPECT_EQ(Ask(Request(Q::kStatus, id + 1)).result, R::kUnknownSession);
+  auto bad = Request(42, id);
+  EXPECT_EQ(Ask(bad).result, R::kBadRequest);
+  auto destroy = Request(Q::kDestroy, id);
+  destroy.header.token = created.header.token;
+  destroy.header.token_len = 16;
+  const R destroyed = Ask(destroy);
+  ASSERT_EQ(destroyed.result, R::kOk);
+  EXPECT_EQ(destroyed.sessions[0].state, viscera_proto::session_status_t::kStopped);
+  EXPECT_EQ(manager_->num_sessions(), 0);
+  EXPECT_GE(manager_->rejected(), 5);
+}
+
+TEST_F(SessionManagerTest, BadScenesAndRatesAreRefusedWithTheReason) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  auto r = Request(Q::kCreate);
+  r.scene_name = "../etc/passwd";
+  R reply = Ask(r);
+  EXPECT_EQ(reply.result, R::kRefused);
+  EXPECT_NE(reply.message.find("scene name"), std::string::npos) << reply.message;
+  r.scene_name = "fall";
+  r.rate_hz = 5000.0;
+  reply = Ask(r);
+  EXPECT_EQ(reply.result, R::kRefused);
+  EXPECT_NE(reply.message.find("rate"), std::string::npos) << reply.message;
+  r.scene_name = "";
+  r.rate_hz = 0.0;
+  r.scene_toml = "[intestine]\nlength = -1\n";
+  EXPECT_EQ(Ask(r).result, R::kRefused);
+  r.server_id = "";
+  EXPECT_EQ(Ask(r).result, R::kBadRequest);  // create must name its server
+  EXPECT_EQ(manager_->num_sessions(), 0);
+}
+
+}  // namespace
+}  // namespace viscera::server
