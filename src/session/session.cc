@@ -165,8 +165,8 @@ void Session::Loop() {
 
   const int64_t period = PeriodNs(model_->params().rate_hz);
   const int64_t status_period = PeriodNs(config_.status_rate_hz);
-  const int64_t skeleton_period =
-      config_.skeleton_rate_hz > 0.0 ? PeriodNs(config_.skeleton_rate_hz) : 0;
+  const bool send_skeleton = config_.skeleton_rate_hz > 0.0;
+  const int64_t skeleton_period = PeriodNs(send_skeleton ? config_.skeleton_rate_hz : 30.0);
   // a first status at once (no rates yet), then one per status period
   PublishStatus(MonotonicNanos(), /*summarize=*/false);
   int64_t next = MonotonicNanos();
@@ -211,8 +211,9 @@ void Session::Loop() {
     }
 
     const int64_t now = MonotonicNanos();
-    if (skeleton_period > 0 && now >= next_skeleton) {
-      PublishSkeleton();
+    if (now >= next_skeleton) {
+      snapshots_.Publish(L.stepper.state());
+      if (send_skeleton) PublishSkeleton();
       next_skeleton = std::max(next_skeleton + skeleton_period, now);
     }
     if (now >= next_status) {

@@ -18,6 +18,7 @@
 #include "mechanics/model.h"
 #include "session/inbox.h"
 #include "session/recorder.h"
+#include "session/snapshot.h"
 
 namespace viscera::session {
 
@@ -78,6 +79,9 @@ class Session {
   /// The latest status (refreshed at status rate and on every state change).
   viscera_proto::session_status_t Status() const;
   CameraPose camera() const;
+  /// The latest skeleton snapshot (published at the skeleton rate, or 30 Hz when the
+  /// session sends no skeleton messages), for the skin/render thread. Any thread.
+  std::shared_ptr<const Snapshot> LatestSnapshot() const { return snapshots_.Latest(); }
   bool faulted() const { return state_.load() == viscera_proto::session_status_t::kFaulted; }
 
  private:
@@ -104,6 +108,7 @@ class Session {
   viscera_proto::session_status_t status_;
   std::string last_error_;
   CameraPose camera_;
+  SnapshotExchange snapshots_;
 
   // Mechanics thread only (the loop and what it calls).
   struct LoopState;

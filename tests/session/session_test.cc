@@ -80,7 +80,11 @@ TEST(Session, KeepsItsRateAndPublishesForceEveryStepForEachTool) {
   session.Start();
   PumpFor(bus, 1.0);
   const session_status_t mid = session.Status();
+  const auto snapshot = session.LatestSnapshot();
   session.Stop();
+  ASSERT_NE(snapshot, nullptr);
+  EXPECT_EQ(snapshot->q.rows(), 21);
+  EXPECT_GT(snapshot->step, 150);
   bus.Drain();
 
   // 200 Hz for a second: about 200 steps, two force messages each

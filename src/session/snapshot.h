@@ -1,0 +1,38 @@
+#pragma once
+/// Snapshot hand-off from the mechanics thread to readers (the skin/render thread of the
+/// rendering issue, tests): an immutable copy of the skeleton, published as a
+/// shared_ptr<const Snapshot>. The mechanics thread never shares its mutable state; a reader
+/// keeps its snapshot as long as it likes while newer ones are published.
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "mechanics/state.h"
+
+namespace viscera::session {
+
+struct Snapshot {
+  int64_t step = 0;
+  double t = 0.0;                          ///< simulated time (s)
+  Points q;                                ///< control points (m), #N by 3
+  std::vector<mechanics::ToolState> tools;  ///< tool tips, jaws, forces
+  mechanics::ContactStats contacts;
+};
+
+class SnapshotExchange {
+ public:
+  /// Publishes a copy of `state` (mechanics thread). Reuses a snapshot no reader holds any
+  /// more, so in steady state it does not allocate.
+  void Publish(const mechanics::State& state);
+
+  /// The latest snapshot, or nullptr before the first. Any thread.
+  std::shared_ptr<const Snapshot> Latest() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::shared_ptr<const Snapshot> latest_;
+  std::shared_ptr<Snapshot> spare_;  // mechanics thread only
+};
+
+}  // namespace viscera::session
