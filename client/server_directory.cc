@@ -21,6 +21,7 @@ void ServerDirectory::Observe(const viscera_proto::heartbeat_t& heartbeat) {
   info.max_sessions = heartbeat.max_sessions;
   info.load = heartbeat.load;
   info.uptime_s = static_cast<double>(heartbeat.uptime_us) * 1e-6;
+  info.rejected = heartbeat.rejected;
   ++info.heartbeats;
 }
 
@@ -39,7 +40,8 @@ nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers) {
                      {"max_sessions", s.max_sessions},
                      {"load", s.load},
                      {"uptime_s", s.uptime_s},
-                     {"heartbeats", s.heartbeats}});
+                     {"heartbeats", s.heartbeats},
+                     {"rejected", s.rejected}});
   }
   return array;
 }

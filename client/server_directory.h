@@ -18,6 +18,7 @@ struct ServerInfo {
   double load = 0.0;       ///< fraction of one core
   double uptime_s = 0.0;   ///< s
   int64_t heartbeats = 0;  ///< heard while listening
+  int64_t rejected = 0;    ///< messages the server dropped since it started
 };
 
 class ServerDirectory {
@@ -38,7 +39,8 @@ class ServerDirectory {
   std::string last_rejection_;
 };
 
-/// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load, uptime_s, heartbeats.
+/// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load,
+/// uptime_s, heartbeats, rejected.
 nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers);
 
 /// A table with a header line, one line per server, columns aligned.

@@ -198,6 +198,11 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
   EXPECT_NEAR(sb["rate_hz"].get<double>(), 100.0, 10.0);
   EXPECT_NEAR(sa["rate_hz"].get<double>(), 100.0, 10.0);
 
+  // the server counts everything it dropped, the unknown session's pose and garbage requests too
+  const CliResult servers = Viscera(dir, "servers --timeout 1.2 --json");
+  ASSERT_EQ(servers.rc, 0);
+  EXPECT_GE(servers.json()[0]["rejected"].get<int64_t>(), kBadForA + 3);
+
   // nothing recorded was lost: a's record replays exactly
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a)).rc, 0);
   const session::ReplayResult r = session::ReplayRecord(dir + "/session-" + std::to_string(a) + ".lcmlog");

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <viscera_proto/heartbeat_t.hpp>
+#include <viscera_proto/tool_pose_t.hpp>
 
 namespace {
 
@@ -43,6 +44,26 @@ TEST(PythonInterop, HeartbeatEncodedByPythonDecodesInCpp) {
   EXPECT_EQ(msg.load, 0.5f);
   EXPECT_EQ(msg.uptime_us, 77);
   EXPECT_EQ(msg.rejected, 5);
+}
+
+TEST(PythonInterop, ToolPoseEncodedByPythonDecodesInCpp) {
+  // what a Python device bridge or load-testing script sends
+  const std::vector<uint8_t> bytes = RunPython(
+      "import sys; from viscera_proto import tool_pose_t, header_t\n"
+      "p = tool_pose_t(); h = header_t()\n"
+      "h.version = header_t.kProtocolVersion; h.session_id = 99; h.seq = 5; h.utime = 17\n"
+      "h.token = bytes(range(16)); h.token_len = 16; h.mac = b''; h.mac_len = 0; p.header = h\n"
+      "p.tool = 1; p.position = [0.1, -0.2, 0.3]; p.orientation = [1.0, 0.0, 0.0, 0.0]; p.jaw = 0.25\n"
+      "sys.stdout.buffer.write(p.encode())");
+  viscera_proto::tool_pose_t msg;
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  EXPECT_EQ(msg.header.session_id, 99);
+  EXPECT_EQ(msg.header.token.size(), 16u);
+  EXPECT_EQ(msg.header.token[15], 15);
+  EXPECT_EQ(msg.tool, 1);
+  EXPECT_EQ(msg.position[1], -0.2);
+  EXPECT_EQ(msg.orientation[0], 1.0);
+  EXPECT_EQ(msg.jaw, 0.25);
 }
 
 }  // namespace
