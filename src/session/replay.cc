@@ -32,7 +32,7 @@ Msg DecodeOrThrow(const lcm::LogEvent& e, const std::string& path) {
 
 }  // namespace
 
-ReplayResult ReplayRecord(const std::string& path) {
+ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step) {
   lcm::LogFile log(path, "r");
   ThrowUnless(log.good(), "cannot read session record '", path, "'");
 
@@ -102,6 +102,7 @@ ReplayResult ReplayRecord(const std::string& path) {
         stepper->Advance(targets);
         ++result.steps;
       }
+      if (on_step) on_step(*scene->model, stepper->state());
       compare_pending();
     }
   }

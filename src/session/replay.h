@@ -4,6 +4,7 @@
 /// session used, so the trajectory comes out bit for bit the same. It checks itself
 /// against the skeleton states the session recorded.
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "mechanics/state.h"
@@ -24,9 +25,13 @@ struct ReplayResult {
   mechanics::State final_state;
 };
 
+/// Called after every replayed step (and reset) with the model and the state, e.g. to write
+/// a trace. It must not keep references past the call.
+using ReplayObserver = std::function<void(const mechanics::Model& model, const mechanics::State& state)>;
+
 /// Replays the record at `path`. Only the first session in the file is replayed.
 /// @throws InputError when the file cannot be read, holds no scene record, or a record
 ///         is malformed.
-ReplayResult ReplayRecord(const std::string& path);
+ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step = nullptr);
 
 }  // namespace viscera::session

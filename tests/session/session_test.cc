@@ -209,7 +209,14 @@ TEST(Session, ItsRecordReplaysToTheSameTrajectory) {
     ASSERT_TRUE(session.inbox().PostCommand(reset));
     PumpFor(bus, 0.4);
     session.Stop();
-    const ReplayResult r = ReplayRecord(path);
+    int64_t observed = 0;
+    double last_t = -1.0;
+    const ReplayResult r = ReplayRecord(path, [&](const mechanics::Model&, const mechanics::State& s) {
+      ++observed;
+      EXPECT_GE(s.t, last_t);
+      last_t = s.t;
+    });
+    EXPECT_EQ(observed, r.steps + r.resets);
     EXPECT_EQ(r.session_id, kId);
     EXPECT_EQ(r.steps, session.Status().steps);
     EXPECT_EQ(r.resets, 1);
