@@ -21,6 +21,7 @@
 #include "common/clock.h"
 #include "mechanics/forces.h"
 #include "session/loop_stats.h"
+#include "session/outbox.h"
 #include "session/step_record.h"
 #include "session/stepper.h"
 #include "spline/arc_length.h"
@@ -63,6 +64,8 @@ struct Session::LoopState {
   spline::ArcLengthTable arc_table;
   int64_t last_summary_ns = 0;
   std::string force_channel, skeleton_channel, status_channel, step_channel;
+  /// Publishes and records off this thread, in order (outbox.h says why).
+  std::unique_ptr<Outbox> outbox;
 };
 
 Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> model,
@@ -99,6 +102,7 @@ void Session::Stop() {
   } catch (const std::exception& e) {
     SetError(Cat("final status failed: ", e.what()));
   }
+  if (loop_ != nullptr) loop_->outbox.reset();  // sends what is queued, joins its thread
   if (recorder_ != nullptr) recorder_->Flush();
 }
 
@@ -162,6 +166,10 @@ void Session::Loop() {
   L.status_channel = bus::SessionChannel(bus::kStatusPrefix, config_.id);
   L.step_channel = bus::SessionChannel(bus::kStepPrefix, config_.id);
   L.commands.reserve(Inbox::kMaxCommands);
+  L.outbox = std::make_unique<Outbox>(
+      bus_, recorder_.get(),
+      Outbox::Channels{L.force_channel, L.skeleton_channel, L.status_channel, L.step_channel},
+      config_.realtime_priority);
 
   const int64_t period = PeriodNs(model_->params().rate_hz);
   const int64_t status_period = PeriodNs(config_.status_rate_hz);
@@ -199,7 +207,7 @@ void Session::Loop() {
         FillStepRecord(viscera_proto::step_record_t::kStep, L.stepper.state().steps, L.targets,
                        L.poses, &L.record);
         L.record.header = bus::MakeHeader(config_.id, L.record_seq++);
-        recorder_->Write(L.step_channel, L.record, L.record.header.utime);
+        L.outbox->Push(L.record);
       }
       const int64_t cpu0 = ThreadCpuNanos();
       if (L.stepper.Advance(L.targets)) {
@@ -221,6 +229,7 @@ void Session::Loop() {
       next_status = std::max(next_status + status_period, now);
     }
 
+    L.outbox->Flush();
     const int64_t done = MonotonicNanos();
     if (!L.paused && done > deadline) L.stats.RecordMiss();
     next += period;
@@ -239,7 +248,7 @@ void Session::ApplyCommands() {
           FillStepRecord(viscera_proto::step_record_t::kReset, L.stepper.state().steps, {}, {},
                          &L.record);
           L.record.header = bus::MakeHeader(config_.id, L.record_seq++);
-          recorder_->Write(L.step_channel, L.record, L.record.header.utime);
+          L.outbox->Push(L.record);
         }
         break;
       case Command::Kind::kPause:
@@ -282,8 +291,7 @@ void Session::PublishForces(int64_t now_ns) {
     f.clamped = tool.clamped;
     f.active = L.targets[i].active;
     f.grasping = tool.grasping;
-    bus_->Publish(L.force_channel, f);
-    if (recorder_ != nullptr) recorder_->Write(L.force_channel, f, f.header.utime);
+    L.outbox->Push(f);
   }
 }
 
@@ -316,8 +324,7 @@ void Session::PublishSkeleton() {
   k.environment_contacts = s.contacts.environment;
   k.self_contacts = s.contacts.self;
   k.tool_contacts = s.contacts.tool;
-  bus_->Publish(L.skeleton_channel, k);
-  if (recorder_ != nullptr) recorder_->Write(L.skeleton_channel, k, k.header.utime);
+  L.outbox->Push(k);
 }
 
 void Session::PublishStatus(int64_t now_ns, bool summarize) {
@@ -346,12 +353,14 @@ void Session::PublishStatus(int64_t now_ns, bool summarize) {
     std::lock_guard<std::mutex> lock(status_mutex_);
     status_ = s;
   }
+  if (L != nullptr && L->outbox != nullptr) {
+    L->outbox->Push(s);
+    L->outbox->Flush();
+    return;
+  }
   const std::string channel = bus::SessionChannel(bus::kStatusPrefix, config_.id);
   bus_->Publish(channel, s);
-  if (recorder_ != nullptr) {
-    recorder_->Write(channel, s, s.header.utime);
-    recorder_->Flush();
-  }
+  if (recorder_ != nullptr) recorder_->Write(channel, s, s.header.utime);
 }
 
 }  // namespace viscera::session
