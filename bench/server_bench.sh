@@ -47,7 +47,7 @@ print(f"mechanics {sys.argv[2]:>4} Hz: round trip p50 {r['round_trip_p50_us']:.0
       f"max {r['round_trip_max_us']:.0f} us ({r['poses_answered']} of {r['poses_sent']} poses answered); "
       f"max |F| {r['max_force_n']:.2f} N; achieved {s['rate_hz']:.1f} Hz; "
       f"deadline misses {s['deadline_misses']} of {s['steps']} steps ({100.0 * s['deadline_misses'] / max(1, s['steps']):.3f} %); "
-      f"step p50 {s['step_cost_p50_us']:.0f} us p99 {s['step_cost_p99_us']:.0f} us; jitter p99 {s['jitter_p99_us']:.0f} us; contacts {s['contacts']}")
+      f"step p50 {s['step_cost_p50_us']:.0f} us p99 {s['step_cost_p99_us']:.0f} us, longest (wall, last 0.25 s) {s['step_wall_max_us']:.0f} us; jitter p99 {s['jitter_p99_us']:.0f} us; contacts {s['contacts']}")
 PY
   v destroy "$id" >/dev/null
 done

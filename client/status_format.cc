@@ -29,6 +29,7 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"jitter_p99_us", s.jitter_p99_us},
           {"step_cost_p50_us", s.step_cost_p50_us},
           {"step_cost_p99_us", s.step_cost_p99_us},
+          {"step_wall_max_us", s.step_wall_max_us},
           {"contacts", s.contacts},
           {"energy", s.energy},
           {"tools", s.tool_names},

@@ -37,6 +37,8 @@ LoopSummary LoopStats::Summarize(int64_t elapsed_ns) {
   s.step_cost_p99_us = static_cast<float>(Quantile(scratch_.data(), n, 0.99));
   std::copy_n(jitter_us_.begin(), n, scratch_.begin());
   s.jitter_p99_us = static_cast<float>(Quantile(scratch_.data(), n, 0.99));
+  s.wall_max_us = static_cast<float>(static_cast<double>(wall_max_ns_) * 1e-3);
+  wall_max_ns_ = 0;
   count_ = 0;
   return s;
 }

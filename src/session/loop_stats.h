@@ -2,6 +2,7 @@
 /// LoopStats: timing of a fixed-rate loop over a status period: step cost and wake-up
 /// jitter percentiles, achieved rate, deadline misses. Fixed-size buffers: recording is
 /// allocation-free; Summarize sorts a preallocated copy.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -12,6 +13,7 @@ struct LoopSummary {
   float step_cost_p50_us = 0.0f;  ///< CPU time per step (µs)
   float step_cost_p99_us = 0.0f;
   float jitter_p99_us = 0.0f;     ///< wake-up lateness (µs)
+  float wall_max_us = 0.0f;       ///< longest scheduled start -> step done (µs)
 };
 
 /// The p-quantile (0..1) of values[0..n), nearest rank; 0 when n = 0. Reorders values.
@@ -26,6 +28,8 @@ class LoopStats {
   void RecordStep(int64_t cost_ns, int64_t lateness_ns);
   /// A step that ended after its deadline.
   void RecordMiss() { ++deadline_misses_; }
+  /// Wall time from a step's scheduled start to its end (ns).
+  void RecordWall(int64_t ns) { wall_max_ns_ = std::max(wall_max_ns_, ns); }
 
   /// Summary of the steps since the previous call over `elapsed_ns` of wall time; starts a
   /// new period.
@@ -38,6 +42,7 @@ class LoopStats {
   std::vector<double> cost_us_, jitter_us_, scratch_;
   int64_t count_ = 0;  // steps this period
   int64_t deadline_misses_ = 0;
+  int64_t wall_max_ns_ = 0;
 };
 
 }  // namespace viscera::session

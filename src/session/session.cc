@@ -134,7 +134,9 @@ CameraPose Session::camera() const {
 void Session::Run() {
   if (config_.realtime_priority > 0) {
     sched_param param{};
-    param.sched_priority = config_.realtime_priority;
+    // one above the I/O, LCM and output threads (which run at realtime_priority): on two
+    // cores a step must not wait for them to block
+    param.sched_priority = std::min(99, config_.realtime_priority + 1);
     if (const int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); err != 0) {
       SetError(Cat("realtime priority refused (", std::strerror(err), "): normal scheduling"));
     }
@@ -231,7 +233,10 @@ void Session::Loop() {
 
     L.outbox->Flush();
     const int64_t done = MonotonicNanos();
-    if (!L.paused && done > deadline) L.stats.RecordMiss();
+    if (!L.paused) {
+      L.stats.RecordWall(done - next);
+      if (done > deadline) L.stats.RecordMiss();
+    }
     next += period;
     // far behind (a stall, a paused machine): start again from now instead of a burst
     if (done > next + period) next = done;
@@ -342,6 +347,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize) {
       s.step_cost_p50_us = sum.step_cost_p50_us;
       s.step_cost_p99_us = sum.step_cost_p99_us;
       s.jitter_p99_us = sum.jitter_p99_us;
+      s.step_wall_max_us = sum.wall_max_us;
     }
     s.deadline_misses = L->stats.deadline_misses();
     s.energy = mechanics::ComputeEnergies(*model_, st.q, st.qd).total();

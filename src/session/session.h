@@ -32,8 +32,9 @@ struct SessionConfig {
   std::string skin;                ///< kept for the render thread (rendering issue)
   int frame_width = 640;           ///< pixels
   int frame_height = 480;
-  /// > 0: the mechanics thread runs SCHED_FIFO at this priority (1..99), so builds and
-  /// other processes cannot delay its deadlines; 0: normal scheduling.
+  /// > 0: the mechanics thread runs SCHED_FIFO one above this priority and its output
+  /// thread at it (1..98), so builds, other processes and the server's other threads cannot
+  /// delay its steps; 0: normal scheduling.
   int realtime_priority = 0;
 };
 
