@@ -1,0 +1,159 @@
+#include "skin/mesh.h"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "common/check.h"
+#include "skin/marching_cubes.h"
+
+namespace viscera::skin {
+namespace {
+
+// A closed tetrahedron, outward orientation.
+Mesh Tetrahedron() {
+  Mesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return m;
+}
+
+TEST(MeshTest, TetrahedronIsClosedOrientedWithVolumeOneSixth) {
+  const Mesh m = Tetrahedron();
+  const TopologyReport r = CheckTopology(m);
+  EXPECT_TRUE(r.closed_oriented_manifold());
+  EXPECT_EQ(r.components, 1);
+  EXPECT_NEAR(SignedVolume(m), 1.0 / 6.0, 1e-15);
+}
+
+TEST(MeshTest, TopologyCheckCatchesHolesFlipsAndFins) {
+  Mesh hole = Tetrahedron();
+  hole.triangles.pop_back();
+  EXPECT_EQ(CheckTopology(hole).boundary_edges, 3);
+  Mesh flipped = Tetrahedron();
+  std::swap(flipped.triangles[0][1], flipped.triangles[0][2]);
+  EXPECT_EQ(CheckTopology(flipped).misoriented_edges, 3);
+  Mesh fin = Tetrahedron();
+  fin.positions.push_back(Vec3(-1, -1, 0));
+  fin.triangles.emplace_back(0, 1, 4);
+  EXPECT_EQ(CheckTopology(fin).nonmanifold_edges, 1);
+}
+
+TEST(MeshTest, ObjAndPlyRoundTrip) {
+  Mesh m = Tetrahedron();
+  ComputeVertexNormals(&m);
+  const auto dir = std::filesystem::temp_directory_path();
+  const std::string obj = (dir / "viscera_mesh_test.obj").string();
+  WriteMesh(obj, m);
+  const Mesh back = ReadObj(obj);
+  ASSERT_EQ(back.num_vertices(), 4);
+  ASSERT_EQ(back.num_triangles(), 4);
+  for (int i = 0; i < 4; ++i) EXPECT_LT((back.positions[i] - m.positions[i]).norm(), 1e-6);
+  EXPECT_EQ(back.triangles, m.triangles);
+  const std::string ply = (dir / "viscera_mesh_test.ply").string();
+  WriteMesh(ply, m);
+  // header + 4 vertices * 6 floats + 4 faces * (1 + 12) bytes
+  const auto size = std::filesystem::file_size(ply);
+  EXPECT_GT(size, 4u * 24u + 4u * 13u);
+  EXPECT_THROW(WriteMesh((dir / "mesh.stl").string(), m), InputError);
+}
+
+// A field with several blobs: polygonized on a coarse grid it must give closed, outward
+// meshes, whatever cube cases (including the ambiguous ones) occur.
+class Blobs final : public ScalarField {
+ public:
+  explicit Blobs(std::vector<Vec3> c) : centres_(std::move(c)) {}
+  double Value(const Vec3& p) const override {
+    double f = 0.0;
+    for (const Vec3& c : centres_) f += 1.0 / (0.05 + (p - c).squaredNorm());
+    return f;
+  }
+
+ private:
+  std::vector<Vec3> centres_;
+};
+
+TEST(MarchingCubesTest, EveryCaseGivesClosedOrientedSurfaces) {
+  // Two blobs close enough to produce saddles; coarse cells hit many cube cases.
+  std::srand(7);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Vec3> c;
+    for (int k = 0; k < 3; ++k) c.push_back(Vec3::Random());
+    const Blobs field(c);
+    NarrowBandPolygonizer mc;
+    Mesh m;
+    std::vector<Vec3> seeds;
+    for (const Vec3& x : c) {
+      for (double r = 0.0; r < 3.0; r += 0.05) seeds.push_back(x + Vec3(r, 0.0, 0.0));
+    }
+    mc.Run(field, 4.0, 0.13 + 0.01 * trial, seeds, 1000000, &m);
+    ASSERT_FALSE(mc.hit_budget());
+    ASSERT_GT(m.num_triangles(), 0);
+    const TopologyReport r = CheckTopology(m);
+    EXPECT_EQ(r.boundary_edges, 0) << "trial " << trial;
+    EXPECT_EQ(r.nonmanifold_edges, 0) << "trial " << trial;
+    EXPECT_EQ(r.misoriented_edges, 0) << "trial " << trial;
+    EXPECT_GT(SignedVolume(m), 0.0) << "trial " << trial;
+  }
+}
+
+TEST(MarchingCubesTest, SphereVolumeAndRadius) {
+  const Blobs field({Vec3(0.01, 0.02, 0.03)});
+  // 1 / (0.05 + d^2) = 2  <=>  d^2 = 0.45
+  const double radius = std::sqrt(0.45);
+  NarrowBandPolygonizer mc;
+  Mesh m;
+  mc.Run(field, 2.0, 0.05, {Vec3(radius, 0.0, 0.0)}, 1000000, &m);
+  EXPECT_TRUE(CheckTopology(m).closed_oriented_manifold());
+  for (const Vec3& p : m.positions) EXPECT_NEAR((p - Vec3(0.01, 0.02, 0.03)).norm(), radius, 0.01 * radius);
+  const double exact = 4.0 / 3.0 * 3.141592653589793 * radius * radius * radius;
+  EXPECT_NEAR(SignedVolume(m), exact, 0.01 * exact);
+}
+
+}  // namespace
+}  // namespace viscera::skin
+
+namespace viscera::skin {
+namespace {
+
+// Random inside/outside labels on the points of an 8^3 grid, outside on its border: every
+// cube case, the ambiguous faces included, appears; the result must still be closed.
+class RandomGrid final : public ScalarField {
+ public:
+  RandomGrid(double cell, unsigned seed) : cell_(cell), seed_(seed) {}
+  double Value(const Vec3& p) const override {
+    const int i = static_cast<int>(std::lround(p.x() / cell_)), j = static_cast<int>(std::lround(p.y() / cell_)),
+              k = static_cast<int>(std::lround(p.z() / cell_));
+    if (std::min({i, j, k}) <= 0 || std::max({i, j, k}) >= 8) return -1.0;
+    unsigned h = seed_ ^ (i * 73856093u) ^ (j * 19349663u) ^ (k * 83492791u);
+    h ^= h >> 13;
+    h *= 0x5bd1e995u;
+    h ^= h >> 15;
+    return (h & 1023u) / 1023.0 - 0.5;
+  }
+
+ private:
+  double cell_;
+  unsigned seed_;
+};
+
+TEST(MarchingCubesTest, RandomLabelsGiveClosedOrientedManifolds) {
+  const double cell = 0.1;
+  std::vector<Vec3> seeds;
+  for (int i = 0; i < 8; ++i)
+    for (int j = 0; j < 8; ++j)
+      for (int k = 0; k < 8; ++k) seeds.push_back(Vec3(i + 0.5, j + 0.5, k + 0.5) * cell);
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    NarrowBandPolygonizer mc;
+    Mesh m;
+    mc.Run(RandomGrid(cell, seed), 0.0, cell, seeds, 1000000, &m);
+    const TopologyReport r = CheckTopology(m);
+    EXPECT_TRUE(r.closed_oriented_manifold())
+        << "seed " << seed << ": boundary " << r.boundary_edges << ", non-manifold "
+        << r.nonmanifold_edges << ", misoriented " << r.misoriented_edges;
+    EXPECT_GT(SignedVolume(m), 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace viscera::skin
