@@ -119,31 +119,116 @@ double ConvolutionSkin::Field(int ring, const Vec3& p) const {
   return f + SegmentField(w.last, p, min_d2);
 }
 
-double ConvolutionSkin::SolveSeed(int ring, const Vec3& origin, const Vec3& dir, double r0,
-                                  double slope, int* evaluations) const {
-  // Secant iteration on y(x) = log f(origin + e^x dir) - log iso, x = log r: y is nearly
-  // linear in x (slope -2 for a long straight skeleton), so one step from a warm start
-  // usually lands within tolerance.
+void ConvolutionSkin::FieldBatch(int ring, const Vec3& origin, int n, const double* dx, const double* dy,
+                                 const double* dz, const double* r, double* f) const {
+  // Structure of arrays, segments outside and seeds inside: the inner loop has no branches
+  // and vectorizes.
+  double px[kBlock], py[kBlock], pz[kBlock];
+  for (int j = 0; j < n; ++j) {
+    px[j] = origin.x() + r[j] * dx[j];
+    py[j] = origin.y() + r[j] * dy[j];
+    pz[j] = origin.z() + r[j] * dz[j];
+    f[j] = 0.0;
+  }
+  const double min_d2 = 1e-6 * radius_ * radius_;
+  const Window& w = windows_[ring];
+  auto add = [&](const KernelSegment& seg) {
+    const double ax = seg.start.x(), ay = seg.start.y(), az = seg.start.z();
+    const double ex = seg.direction.x(), ey = seg.direction.y(), ez = seg.direction.z();
+    const double length = seg.length;
+    for (int j = 0; j < n; ++j) {
+      // (sin a1 - sin a2) / d^2, as SegmentField
+      const double wx = px[j] - ax, wy = py[j] - ay, wz = pz[j] - az;
+      const double t = wx * ex + wy * ey + wz * ez;
+      const double d2 = std::max(wx * wx + wy * wy + wz * wz - t * t, min_d2);
+      const double x1 = length - t;
+      const double sin1 = x1 / std::sqrt(d2 + x1 * x1);
+      const double sin0 = -t / std::sqrt(d2 + t * t);
+      f[j] += (sin1 - sin0) / d2;
+    }
+  };
+  add(w.first);
+  if (w.k1 - w.k0 == 1) return;
+  for (int k = w.k0 + 1; k < w.k1 - 1; ++k) add(segments_[k]);
+  add(w.last);
+}
+
+long long ConvolutionSkin::SolveBlock(int ring, int begin, int end, std::vector<double>* radii) {
+  // Secant iteration on y(x) = log f(origin + e^x dir) - log iso, x = log r, for all seeds of
+  // the block at once: y is nearly linear in x (slope -2 for a long straight skeleton), so
+  // one step from a warm start usually lands within tolerance.
   const double x_min = std::log(kMinRadiusFactor * radius_);
   const double x_max = std::log(kMaxRadiusFactor * radius_);
   const double tol = options_.tolerance * radius_;
-  auto residual = [&](double x) {
-    ++*evaluations;
-    return std::log(std::max(Field(ring, origin + std::exp(x) * dir), 1e-300)) - log_iso_[ring];
-  };
-  double x = std::clamp(std::log(r0), x_min, x_max);
-  double y = residual(x);
-  for (;;) {
-    const double x_new = std::clamp(x - y / slope, x_min, x_max);
-    const double r = std::exp(x), r_new = std::exp(x_new);
-    if (std::abs(r_new - r) < tol || *evaluations >= options_.max_iterations) return r_new;
-    const double y_new = residual(x_new);
-    const double secant = (y_new - y) / (x_new - x);
-    // keep the last slope if the secant is not a usable (decreasing) one
-    if (std::isfinite(secant) && secant < -0.25) slope = secant;
-    x = x_new;
-    y = y_new;
+  const double log_iso = log_iso_[ring];
+  const Vec3& origin = rays_.origins()[begin];
+  const std::vector<Vec3>& dirs = rays_.directions();
+  const int n = end - begin;
+  VISCERA_DEMAND(0 < n && n <= kBlock);
+  double x[kBlock], y[kBlock], slope[kBlock];
+  int evals[kBlock];
+  // active seeds, compacted: their index in the block and SoA directions / radii / fields
+  int idx[kBlock];
+  double dx[kBlock] = {}, dy[kBlock] = {}, dz[kBlock] = {}, r[kBlock] = {}, f[kBlock];
+  for (int j = 0; j < n; ++j) {
+    const int v = begin + j;
+    double r0 = kColdStartFactor * radius_;
+    slope[j] = -2.0;
+    if (start_valid_[v]) {
+      r0 = start_radii_[v];
+      slope[j] = -2.5;  // a finite window falls off faster than 1 / r^2
+    } else if (guess_ != nullptr) {
+      r0 = (*guess_)[v];
+      slope[j] = -2.5;
+    }
+    x[j] = std::clamp(std::log(r0), x_min, x_max);
+    idx[j] = j;
+    evals[j] = 1;
+    dx[j] = dirs[v].x();
+    dy[j] = dirs[v].y();
+    dz[j] = dirs[v].z();
+    r[j] = std::exp(x[j]);
   }
+  FieldBatch(ring, origin, n, dx, dy, dz, r, f);
+  for (int j = 0; j < n; ++j) y[j] = std::log(std::max(f[j], 1e-300)) - log_iso;
+  long long total = n;
+  int active = n;
+  double x_new[kBlock];
+  while (active > 0) {
+    // step every active seed; retire the converged ones
+    int kept = 0;
+    for (int a = 0; a < active; ++a) {
+      const int j = idx[a];
+      const double xn = std::clamp(x[j] - y[j] / slope[j], x_min, x_max);
+      const double rn = std::exp(xn);
+      if (std::abs(rn - std::exp(x[j])) < tol || evals[j] >= options_.max_iterations) {
+        (*radii)[begin + j] = rn;
+        continue;
+      }
+      x_new[j] = xn;
+      idx[kept] = j;
+      dx[kept] = dirs[begin + j].x();
+      dy[kept] = dirs[begin + j].y();
+      dz[kept] = dirs[begin + j].z();
+      r[kept] = rn;
+      ++kept;
+    }
+    active = kept;
+    if (active == 0) break;
+    FieldBatch(ring, origin, active, dx, dy, dz, r, f);
+    total += active;
+    for (int a = 0; a < active; ++a) {
+      const int j = idx[a];
+      const double yn = std::log(std::max(f[a], 1e-300)) - log_iso;
+      const double secant = (yn - y[j]) / (x_new[j] - x[j]);
+      // keep the last slope if the secant is not a usable (decreasing) one
+      if (std::isfinite(secant) && secant < -0.25) slope[j] = secant;
+      x[j] = x_new[j];
+      y[j] = yn;
+      ++evals[j];
+    }
+  }
+  return total;
 }
 
 void ConvolutionSkin::WarmStartGuesses() {
@@ -190,25 +275,17 @@ void ConvolutionSkin::Solve(const std::vector<char>* active, const std::vector<d
   const int count = rays_.num_vertices();
   radii->resize(count);
   const std::vector<int>& ring_of = rays_.vertex_ring();
-  const std::vector<Vec3>& origins = rays_.origins();
-  const std::vector<Vec3>& dirs = rays_.directions();
-  int evaluations = 0;
+  guess_ = guess;
   long long total = 0;
-  for (int v = 0; v < count; ++v) {
-    const int ring = ring_of[v];
-    if (active != nullptr && !(*active)[ring]) continue;
-    double r0 = kColdStartFactor * radius_, slope = -2.0;
-    if (start_valid_[v]) {
-      r0 = start_radii_[v];
-      slope = -2.5;  // a finite window falls off faster than 1 / r^2
-    } else if (guess != nullptr) {
-      r0 = (*guess)[v];
-      slope = -2.5;
-    }
-    evaluations = 0;
-    (*radii)[v] = SolveSeed(ring, origins[v], dirs[v], r0, slope, &evaluations);
-    total += evaluations;
+  // blocks of consecutive vertices on one ray origin (a ring, or an end ring with its cap)
+  for (int begin = 0; begin < count;) {
+    const int ring = ring_of[begin];
+    int end = begin + 1;
+    while (end < count && end - begin < kBlock && ring_of[end] == ring) ++end;
+    if (active == nullptr || (*active)[ring]) total += SolveBlock(ring, begin, end, radii);
+    begin = end;
   }
+  guess_ = nullptr;
   // remember this frame for the next warm start
   previous_params_ = params_;
   previous_radii_ = *radii;

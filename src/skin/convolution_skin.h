@@ -56,8 +56,13 @@ class ConvolutionSkin final : public Skin {
   void BuildSkeleton(const Points& q);
   void PrepareWindows(const std::vector<char>* active);
   void WarmStartGuesses();
-  double SolveSeed(int ring, const Vec3& origin, const Vec3& dir, double r0, double slope,
-                   int* evaluations) const;
+  static constexpr int kBlock = 64;  // seeds solved together (SoA batch)
+  // Field at origin + r[j] * (dx, dy, dz)[j] for j < n, n <= kBlock.
+  void FieldBatch(int ring, const Vec3& origin, int n, const double* dx, const double* dy,
+                  const double* dz, const double* r, double* f) const;
+  // Moves the seeds [begin, end) (one ring, one ray origin) to the surface; returns the
+  // number of field evaluations.
+  long long SolveBlock(int ring, int begin, int end, std::vector<double>* radii);
 
   double radius_;
   ConvolutionOptions options_;
@@ -83,6 +88,7 @@ class ConvolutionSkin final : public Skin {
   std::vector<double> previous_params_, previous_radii_, start_radii_;
   std::vector<char> previous_valid_, start_valid_;
   std::vector<double> radii_;
+  const std::vector<double>* guess_ = nullptr;  // during Solve only
   SkinStats stats_;
 };
 

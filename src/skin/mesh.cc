@@ -162,14 +162,16 @@ TopologyReport CheckTopology(const Mesh& mesh) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
     return x;
   };
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
-    const size_t count = j - i;
+  const int num_edges = static_cast<int>(edges.size());
+  for (int i = 0; i < num_edges;) {
+    int j = i + 1;
+    while (j < num_edges && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    const int count = j - i;
     if (count == 1) ++report.boundary_edges;
     if (count > 2) ++report.nonmanifold_edges;
     if (count == 2 && edges[i].forward == edges[i + 1].forward) ++report.misoriented_edges;
-    for (size_t k = i + 1; k < j; ++k) parent[find(edges[k].face)] = find(edges[i].face);
+    const int root = find(edges[i].face);
+    for (int k = i + 1; k < j; ++k) parent[find(edges[k].face)] = root;
     i = j;
   }
   for (int f = 0; f < num_faces; ++f) {
