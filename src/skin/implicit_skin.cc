@@ -37,40 +37,65 @@ void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, 
     cells_.Insert(sorted_[b].first, {static_cast<int>(b), static_cast<int>(e)});
     b = e;
   }
+  blocks_.Clear();
+  pool_.clear();
 }
 
-double PointSkeletonField::Value(const Vec3& p) const {
+std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
+  // Blocks of the support size: the primitives within support + half a block diagonal of a
+  // block's centre are the only ones that can reach a point of the block. Computed once per
+  // block and frame, sorted by index (curve order) for the blending graph.
+  const double block = support_;
+  const uint64_t key = CellKey(p, 1.0 / block);
+  if (const std::pair<int, int>* hit = blocks_.Find(key)) return *hit;
+  const Vec3 centre((std::floor(p.x() / block) + 0.5) * block, (std::floor(p.y() / block) + 0.5) * block,
+                    (std::floor(p.z() / block) + 0.5) * block);
+  const double reach = support_ + 0.5 * std::sqrt(3.0) * block;
   const double inv = 1.0 / support_;
-  const int ci = static_cast<int>(std::floor(p.x() * inv)), cj = static_cast<int>(std::floor(p.y() * inv)),
-            ck = static_cast<int>(std::floor(p.z() * inv));
-  contributions_.clear();
-  double sum = 0.0;
-  for (int dk = -1; dk <= 1; ++dk) {
-    for (int dj = -1; dj <= 1; ++dj) {
-      for (int di = -1; di <= 1; ++di) {
-        const Vec3 corner((ci + di + 0.5) * support_, (cj + dj + 0.5) * support_, (ck + dk + 0.5) * support_);
-        const std::pair<int, int>* range = cells_.Find(CellKey(corner, inv));
+  const int begin = static_cast<int>(pool_.size());
+  const int i0 = static_cast<int>(std::floor((centre.x() - reach) * inv)), i1 = static_cast<int>(std::floor((centre.x() + reach) * inv));
+  const int j0 = static_cast<int>(std::floor((centre.y() - reach) * inv)), j1 = static_cast<int>(std::floor((centre.y() + reach) * inv));
+  const int k0 = static_cast<int>(std::floor((centre.z() - reach) * inv)), k1 = static_cast<int>(std::floor((centre.z() + reach) * inv));
+  for (int k = k0; k <= k1; ++k) {
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        const Vec3 cell_centre((i + 0.5) * support_, (j + 0.5) * support_, (k + 0.5) * support_);
+        const std::pair<int, int>* range = cells_.Find(CellKey(cell_centre, inv));
         if (range == nullptr) continue;
         for (int s = range->first; s < range->second; ++s) {
           const int index = sorted_[s].second;
-          const double f = SoftObjectKernel(((*points_)[index] - p).squaredNorm(), support2_);
-          if (f <= 0.0) continue;
-          sum += f;
-          if (blending_graph_) contributions_.emplace_back(index, f);
+          if (((*points_)[index] - centre).squaredNorm() < reach * reach) pool_.push_back(index);
         }
       }
     }
   }
-  if (!blending_graph_) return weight_ * sum;
+  std::sort(pool_.begin() + begin, pool_.end());
+  const std::pair<int, int> range{begin, static_cast<int>(pool_.size())};
+  blocks_.Insert(key, range);
+  return range;
+}
+
+double PointSkeletonField::Value(const Vec3& p) const {
+  const auto [begin, end] = Candidates(p);
+  const std::vector<Vec3>& points = *points_;
+  if (!blending_graph_) {
+    double sum = 0.0;
+    for (int c = begin; c < end; ++c) sum += SoftObjectKernel((points[pool_[c]] - p).squaredNorm(), support2_);
+    return weight_ * sum;
+  }
   // blending graph: runs of nearby indices blend (sum), runs combine by max (union)
-  std::sort(contributions_.begin(), contributions_.end());
   double best = 0.0, group = 0.0;
-  for (size_t i = 0; i < contributions_.size(); ++i) {
-    if (i > 0 && contributions_[i].first - contributions_[i - 1].first > max_index_gap_) {
+  int last = -1;
+  for (int c = begin; c < end; ++c) {
+    const int index = pool_[c];
+    const double f = SoftObjectKernel((points[index] - p).squaredNorm(), support2_);
+    if (f <= 0.0) continue;
+    if (last >= 0 && index - last > max_index_gap_) {
       best = std::max(best, group);
       group = 0.0;
     }
-    group += contributions_[i].second;
+    group += f;
+    last = index;
   }
   return weight_ * std::max(best, group);
 }

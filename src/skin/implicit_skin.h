@@ -34,7 +34,8 @@ inline double SoftObjectKernel(double d2, double rho2) {
   return a * a * a;
 }
 
-/// Field of point primitives with an optional blending graph. Rebuilt per frame.
+/// Field of point primitives with an optional blending graph. Rebuilt per frame. Value()
+/// fills a per-frame cache: one thread at a time.
 class PointSkeletonField final : public ScalarField {
  public:
   PointSkeletonField(double support, bool blending_graph, double blend_gap);
@@ -51,7 +52,11 @@ class PointSkeletonField final : public ScalarField {
   // uniform grid of cell `support` over the primitives: sorted (key, index) and lookup
   std::vector<std::pair<uint64_t, int>> sorted_;
   FlatHashMap<std::pair<int, int>> cells_;  // key -> [begin, end) in sorted_
-  mutable std::vector<std::pair<int, double>> contributions_;
+  // Candidate primitives per block of the support size, filled lazily during a frame (so
+  // Value is not thread-safe): block key -> [begin, end) in pool_, sorted by index.
+  std::pair<int, int> Candidates(const Vec3& p) const;
+  mutable FlatHashMap<std::pair<int, int>> blocks_;
+  mutable std::vector<int> pool_;
 };
 
 class ImplicitSkin final : public Skin {
