@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "common/check.h"
 
@@ -137,23 +138,60 @@ MarchingCubesTable::MarchingCubesTable() {
   }
 }
 
+NarrowBandPolygonizer::Brick* NarrowBandPolygonizer::BrickAt(int bi, int bj, int bk) {
+  const uint64_t key = Key(bi, bj, bk);
+  if (key == last_key_) return last_brick_;
+  int* slot = brick_index_.Find(key);
+  int index;
+  if (slot != nullptr) {
+    index = *slot;
+  } else {
+    // take the next pooled brick (allocated once, reused every frame) and reset it
+    index = bricks_used_++;
+    if (index == static_cast<int>(bricks_.size())) bricks_.push_back(std::make_unique<Brick>());
+    Brick& b = *bricks_[index];
+    std::fill(std::begin(b.value), std::end(b.value), std::numeric_limits<double>::quiet_NaN());
+    std::fill(&b.vertex[0][0], &b.vertex[0][0] + 3 * kBrickPoints, -1);
+    std::fill(std::begin(b.visited), std::end(b.visited), 0);
+    brick_index_.Insert(key, index);
+  }
+  last_key_ = key;
+  last_brick_ = bricks_[index].get();
+  return last_brick_;
+}
+
 void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cell,
                                 const std::vector<Vec3>& seeds, int max_cells, Mesh* out) {
   VISCERA_DEMAND(cell > 0.0);
-  corners_.Clear();
-  visited_.Clear();
+  brick_index_.Clear();
+  bricks_used_ = 0;
+  last_key_ = FlatHashMap<int>::kEmpty;
+  last_brick_ = nullptr;
   queue_.clear();
   out->Clear();
   cells_visited_ = 0;
   evaluations_ = 0;
   hit_budget_ = false;
+  // grid point (i, j, k) lives in brick (i, j, k) >> kBrickShift (arithmetic shift = floor)
+  auto local = [](int i, int j, int k) {
+    return (i & kBrickMask) | ((j & kBrickMask) << kBrickShift) | ((k & kBrickMask) << (2 * kBrickShift));
+  };
+  auto brick = [this](int i, int j, int k) {
+    return BrickAt(i >> kBrickShift, j >> kBrickShift, k >> kBrickShift);
+  };
+  // marks cell (i, j, k), named by its lowest corner, visited; true if it was not
+  auto visit = [&](int i, int j, int k) {
+    uint8_t& flag = brick(i, j, k)->visited[local(i, j, k)];
+    if (flag) return false;
+    flag = 1;
+    return true;
+  };
   const double inv = 1.0 / cell;
   for (const Vec3& s : seeds) {
     const int i = static_cast<int>(std::floor(s.x() * inv)), j = static_cast<int>(std::floor(s.y() * inv)),
               k = static_cast<int>(std::floor(s.z() * inv));
-    if (visited_.Insert(Key(i, j, k), 1).second) queue_.push_back({i, j, k});
+    if (visit(i, j, k)) queue_.push_back({i, j, k});
   }
-  constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
   while (!queue_.empty()) {
     if (cells_visited_ >= max_cells) {
       hit_budget_ = true;
@@ -167,12 +205,12 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
     int config = 0;
     for (int n = 0; n < 8; ++n) {
       const int i = c[0] + (n & 1), j = c[1] + ((n >> 1) & 1), k = c[2] + ((n >> 2) & 1);
-      auto [corner, inserted] = corners_.Insert(Key(i, j, k), Corner{kUnset, {-1, -1, -1}});
-      if (inserted) {
-        corner->value = field.Value(Vec3(i * cell, j * cell, k * cell));
+      double& value = brick(i, j, k)->value[local(i, j, k)];
+      if (std::isnan(value)) {
+        value = field.Value(Vec3(i * cell, j * cell, k * cell));
         ++evaluations_;
       }
-      v[n] = corner->value;
+      v[n] = value;
       if (v[n] > iso) config |= 1 << n;
     }
     if (config == 0 || config == 255) continue;  // the surface does not cross this cell
@@ -186,16 +224,16 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
         const std::array<int, 2> ec = MarchingCubesTable::EdgeCorners(edge);
         const int axis = edge / 4;
         const int i = c[0] + (ec[0] & 1), j = c[1] + ((ec[0] >> 1) & 1), k = c[2] + ((ec[0] >> 2) & 1);
-        Corner* corner = corners_.Find(Key(i, j, k));
-        if (corner->vertex[axis] < 0) {
+        int& vertex = brick(i, j, k)->vertex[local(i, j, k)][axis];
+        if (vertex < 0) {
           const double f0 = v[ec[0]], f1 = v[ec[1]];
           const double s = std::clamp((iso - f0) / (f1 - f0), 0.0, 1.0);
           Vec3 p(i * cell, j * cell, k * cell);
           p[axis] += s * cell;
-          corner->vertex[axis] = static_cast<int>(out->positions.size());
+          vertex = static_cast<int>(out->positions.size());
           out->positions.push_back(p);
         }
-        ids[a] = corner->vertex[axis];
+        ids[a] = vertex;
       }
       out->triangles.emplace_back(ids[0], ids[1], ids[2]);
     }
@@ -210,7 +248,7 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
         if (f == 0 || f == 4) continue;
         std::array<int, 3> n = c;
         n[axis] += 2 * side - 1;
-        if (visited_.Insert(Key(n[0], n[1], n[2]), 1).second) queue_.push_back(n);
+        if (visit(n[0], n[1], n[2])) queue_.push_back(n);
       }
     }
   }

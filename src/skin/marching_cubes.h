@@ -12,6 +12,7 @@
 /// walk does not hit its cell budget.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/types.h"
@@ -55,14 +56,25 @@ class NarrowBandPolygonizer {
   bool hit_budget() const { return hit_budget_; }
 
  private:
-  struct Corner {
-    double value;
-    int vertex[3];  // vertex on the edge from this corner along +x, +y, +z, or -1
+  // Grid storage in bricks of 4^3 grid points, found through a hash map of brick keys with a
+  // one-entry cache (the walk is spatially coherent): far fewer hash look-ups than one per
+  // grid point. Bricks are pooled and reused from frame to frame.
+  static constexpr int kBrickShift = 2;
+  static constexpr int kBrickMask = (1 << kBrickShift) - 1;
+  static constexpr int kBrickPoints = 1 << (3 * kBrickShift);
+  struct Brick {
+    double value[kBrickPoints];      // field at the grid point, NaN until evaluated
+    int vertex[kBrickPoints][3];     // vertex on the edge from the point along +x, +y, +z, or -1
+    uint8_t visited[kBrickPoints];   // the cell whose lowest corner is the point was queued
   };
+  Brick* BrickAt(int bi, int bj, int bk);
 
   MarchingCubesTable table_;
-  FlatHashMap<Corner> corners_;
-  FlatHashMap<char> visited_;
+  std::vector<std::unique_ptr<Brick>> bricks_;
+  int bricks_used_ = 0;
+  FlatHashMap<int> brick_index_;
+  uint64_t last_key_ = 0;
+  Brick* last_brick_ = nullptr;
   std::vector<std::array<int, 3>> queue_;
   int cells_visited_ = 0;
   long long evaluations_ = 0;
