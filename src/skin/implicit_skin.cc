@@ -26,7 +26,7 @@ void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, 
   points_ = &points;
   weight_ = weight;
   max_index_gap_ = std::max(1, static_cast<int>(std::floor(blend_gap_ / spacing)));
-  const double inv = 1.0 / support_;
+  const double inv = 1.0 / GridCell();
   sorted_.resize(points.size());
   for (size_t i = 0; i < points.size(); ++i) sorted_[i] = {CellKey(points[i], inv), static_cast<int>(i)};
   std::sort(sorted_.begin(), sorted_.end());
@@ -51,7 +51,8 @@ std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
   const Vec3 centre((std::floor(p.x() / block) + 0.5) * block, (std::floor(p.y() / block) + 0.5) * block,
                     (std::floor(p.z() / block) + 0.5) * block);
   const double reach = support_ + 0.5 * std::sqrt(3.0) * block;
-  const double inv = 1.0 / support_;
+  const double grid = GridCell();
+  const double inv = 1.0 / grid;
   const int begin = static_cast<int>(pool_.size());
   const int i0 = static_cast<int>(std::floor((centre.x() - reach) * inv)), i1 = static_cast<int>(std::floor((centre.x() + reach) * inv));
   const int j0 = static_cast<int>(std::floor((centre.y() - reach) * inv)), j1 = static_cast<int>(std::floor((centre.y() + reach) * inv));
@@ -59,7 +60,7 @@ std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
   for (int k = k0; k <= k1; ++k) {
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
-        const Vec3 cell_centre((i + 0.5) * support_, (j + 0.5) * support_, (k + 0.5) * support_);
+        const Vec3 cell_centre((i + 0.5) * grid, (j + 0.5) * grid, (k + 0.5) * grid);
         const std::pair<int, int>* range = cells_.Find(CellKey(cell_centre, inv));
         if (range == nullptr) continue;
         for (int s = range->first; s < range->second; ++s) {

@@ -49,7 +49,9 @@ class PointSkeletonField final : public ScalarField {
   int max_index_gap_ = 1;
   double weight_ = 1.0;
   const std::vector<Vec3>* points_ = nullptr;
-  // uniform grid of cell `support` over the primitives: sorted (key, index) and lookup
+  // uniform grid over the primitives (cell 2 * support: a block's reach spans 2-3 cells per
+  // axis): sorted (key, index) and lookup
+  double GridCell() const { return 2.0 * support_; }
   std::vector<std::pair<uint64_t, int>> sorted_;
   FlatHashMap<std::pair<int, int>> cells_;  // key -> [begin, end) in sorted_
   // Candidate primitives per block of the support size, filled lazily during a frame (so

@@ -56,10 +56,10 @@ class NarrowBandPolygonizer {
   bool hit_budget() const { return hit_budget_; }
 
  private:
-  // Grid storage in bricks of 4^3 grid points, found through a hash map of brick keys with a
+  // Grid storage in bricks of 8^3 grid points, found through a hash map of brick keys with a
   // one-entry cache (the walk is spatially coherent): far fewer hash look-ups than one per
   // grid point. Bricks are pooled and reused from frame to frame.
-  static constexpr int kBrickShift = 2;
+  static constexpr int kBrickShift = 3;
   static constexpr int kBrickMask = (1 << kBrickShift) - 1;
   static constexpr int kBrickPoints = 1 << (3 * kBrickShift);
   struct Brick {
