@@ -50,9 +50,7 @@ void ConvolutionSkin::BuildSkeleton(const Points& q) {
 }
 
 void ConvolutionSkin::Prepare(const Points& q) {
-  ThrowUnless(curve_.has_value(), "ConvolutionSkin used before Bind");
-  ThrowUnless(q.rows() == curve_->num_points(), "skin bound to ", curve_->num_points(),
-              " control points, got ", q.rows());
+  CheckSnapshot(q, curve_.has_value() ? curve_->num_points() : 0);
   frames_.Build(*curve_, q);
   const double max_edge = options_.max_edge_factor > 0.0
                               ? options_.max_edge_factor * radius_

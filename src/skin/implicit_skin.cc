@@ -131,9 +131,7 @@ ImplicitSkin::ImplicitSkin(double radius, const ImplicitOptions& options)
 void ImplicitSkin::Bind(int num_control_points) { curve_.emplace(num_control_points); }
 
 void ImplicitSkin::Build(const Points& q, Mesh* out) {
-  ThrowUnless(curve_.has_value(), "ImplicitSkin::Build before Bind");
-  ThrowUnless(q.rows() == curve_->num_points(), "skin bound to ", curve_->num_points(),
-              " control points, got ", q.rows());
+  CheckSnapshot(q, curve_.has_value() ? curve_->num_points() : 0);
   // primitives uniform in arc length; their count follows the curve length
   arc_table_.Build(*curve_, q);
   const double length = arc_table_.total_length();

@@ -43,9 +43,7 @@ void ParametricSkin::RadiiFor(const TubeRays& rays, std::vector<double>* radii) 
 }
 
 void ParametricSkin::Build(const Points& q, Mesh* out) {
-  ThrowUnless(curve_.has_value(), "ParametricSkin::Build before Bind");
-  ThrowUnless(q.rows() == curve_->num_points(), "skin bound to ", curve_->num_points(),
-              " control points, got ", q.rows());
+  CheckSnapshot(q, curve_.has_value() ? curve_->num_points() : 0);
   frames_.Build(*curve_, q);
   rays_.Build(frames_, params_);
   RadiiFor(rays_, &radii_);

@@ -1,5 +1,7 @@
 #include "skin/skin.h"
 
+#include <cmath>
+
 #include "common/check.h"
 #include "skin/convolution_skin.h"
 #include "skin/hybrid_skin.h"
@@ -11,6 +13,12 @@ namespace viscera::skin {
 void ValidateOptions(const SkinOptions& options) {
   ThrowUnless(options.radius > 0.0 && std::isfinite(options.radius),
               "skin radius must be finite and > 0, got ", options.radius);
+}
+
+void CheckSnapshot(const Points& q, int bound_rows) {
+  ThrowUnless(bound_rows > 0, "skin used before Bind");
+  ThrowUnless(q.rows() == bound_rows, "skin bound to ", bound_rows, " control points, got ", q.rows());
+  ThrowUnless(q.allFinite(), "skeleton snapshot has non-finite coordinates");
 }
 
 std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& options) {

@@ -95,4 +95,9 @@ std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& optio
 /// Validates options shared by all skins. @throws InputError with the offending values.
 void ValidateOptions(const SkinOptions& options);
 
+/// Checks a skeleton snapshot before a skin reads it: `bound_rows` control points (0: the
+/// skin was never bound), all finite. A NaN from a diverged simulation must not reach the
+/// mesh. @throws InputError naming the problem.
+void CheckSnapshot(const Points& q, int bound_rows);
+
 }  // namespace viscera::skin
