@@ -39,6 +39,9 @@ void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, 
   }
   blocks_.Clear();
   pool_.clear();
+  pool_x_.clear();
+  pool_y_.clear();
+  pool_z_.clear();
 }
 
 std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
@@ -71,6 +74,13 @@ std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
     }
   }
   std::sort(pool_.begin() + begin, pool_.end());
+  // copy the candidates' coordinates next to each other (structure of arrays) for Value
+  for (size_t c = begin; c < pool_.size(); ++c) {
+    const Vec3& x = (*points_)[pool_[c]];
+    pool_x_.push_back(x.x());
+    pool_y_.push_back(x.y());
+    pool_z_.push_back(x.z());
+  }
   const std::pair<int, int> range{begin, static_cast<int>(pool_.size())};
   blocks_.Insert(key, range);
   return range;
@@ -78,24 +88,33 @@ std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
 
 double PointSkeletonField::Value(const Vec3& p) const {
   const auto [begin, end] = Candidates(p);
-  const std::vector<Vec3>& points = *points_;
+  const double px = p.x(), py = p.y(), pz = p.z(), inv_rho2 = 1.0 / support2_;
+  const double* xs = pool_x_.data();
+  const double* ys = pool_y_.data();
+  const double* zs = pool_z_.data();
   if (!blending_graph_) {
+    // branch-free soft-object kernel: vectorizes
     double sum = 0.0;
-    for (int c = begin; c < end; ++c) sum += SoftObjectKernel((points[pool_[c]] - p).squaredNorm(), support2_);
+    for (int c = begin; c < end; ++c) {
+      const double dx = xs[c] - px, dy = ys[c] - py, dz = zs[c] - pz;
+      const double a = std::max(0.0, 1.0 - (dx * dx + dy * dy + dz * dz) * inv_rho2);
+      sum += a * a * a;
+    }
     return weight_ * sum;
   }
   // blending graph: runs of nearby indices blend (sum), runs combine by max (union)
   double best = 0.0, group = 0.0;
   int last = -1;
   for (int c = begin; c < end; ++c) {
+    const double dx = xs[c] - px, dy = ys[c] - py, dz = zs[c] - pz;
+    const double a = 1.0 - (dx * dx + dy * dy + dz * dz) * inv_rho2;
+    if (a <= 0.0) continue;
     const int index = pool_[c];
-    const double f = SoftObjectKernel((points[index] - p).squaredNorm(), support2_);
-    if (f <= 0.0) continue;
     if (last >= 0 && index - last > max_index_gap_) {
       best = std::max(best, group);
       group = 0.0;
     }
-    group += f;
+    group += a * a * a;
     last = index;
   }
   return weight_ * std::max(best, group);

@@ -59,6 +59,7 @@ class PointSkeletonField final : public ScalarField {
   std::pair<int, int> Candidates(const Vec3& p) const;
   mutable FlatHashMap<std::pair<int, int>> blocks_;
   mutable std::vector<int> pool_;
+  mutable std::vector<double> pool_x_, pool_y_, pool_z_;  // coordinates of pool_ entries
 };
 
 class ImplicitSkin final : public Skin {
