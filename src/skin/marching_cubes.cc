@@ -150,8 +150,8 @@ NarrowBandPolygonizer::Brick* NarrowBandPolygonizer::BrickAt(int bi, int bj, int
     index = bricks_used_++;
     if (index == static_cast<int>(bricks_.size())) bricks_.push_back(std::make_unique<Brick>());
     Brick& b = *bricks_[index];
+    // (vertex[] is reset point by point when the point's value is first computed)
     std::fill(std::begin(b.value), std::end(b.value), std::numeric_limits<double>::quiet_NaN());
-    std::fill(&b.vertex[0][0], &b.vertex[0][0] + 3 * kBrickPoints, -1);
     std::fill(std::begin(b.visited), std::end(b.visited), 0);
     brick_index_.Insert(key, index);
   }
@@ -200,14 +200,35 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
     const std::array<int, 3> c = queue_.back();
     queue_.pop_back();
     ++cells_visited_;
-    // corner values, evaluated once per grid point and frame
+    // corner values, evaluated once per grid point and frame; the corners' bricks and slots
+    // (one brick for most cells: fast path without look-ups)
+    Brick* corner_brick[8];
+    int corner_slot[8];
+    const int li = c[0] & kBrickMask, lj = c[1] & kBrickMask, lk = c[2] & kBrickMask;
+    if (li < kBrickMask && lj < kBrickMask && lk < kBrickMask) {
+      Brick* b = brick(c[0], c[1], c[2]);
+      const int base = local(c[0], c[1], c[2]);
+      for (int n = 0; n < 8; ++n) {
+        corner_brick[n] = b;
+        corner_slot[n] = base + (n & 1) + (((n >> 1) & 1) << kBrickShift) + (((n >> 2) & 1) << (2 * kBrickShift));
+      }
+    } else {
+      for (int n = 0; n < 8; ++n) {
+        const int i = c[0] + (n & 1), j = c[1] + ((n >> 1) & 1), k = c[2] + ((n >> 2) & 1);
+        corner_brick[n] = brick(i, j, k);
+        corner_slot[n] = local(i, j, k);
+      }
+    }
     double v[8];
     int config = 0;
     for (int n = 0; n < 8; ++n) {
-      const int i = c[0] + (n & 1), j = c[1] + ((n >> 1) & 1), k = c[2] + ((n >> 2) & 1);
-      double& value = brick(i, j, k)->value[local(i, j, k)];
+      Brick* b = corner_brick[n];
+      const int at = corner_slot[n];
+      double& value = b->value[at];
       if (std::isnan(value)) {
+        const int i = c[0] + (n & 1), j = c[1] + ((n >> 1) & 1), k = c[2] + ((n >> 2) & 1);
         value = field.Value(Vec3(i * cell, j * cell, k * cell));
+        b->vertex[at][0] = b->vertex[at][1] = b->vertex[at][2] = -1;
         ++evaluations_;
       }
       v[n] = value;
@@ -223,9 +244,9 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
         const int edge = tris[t + a];
         const std::array<int, 2> ec = MarchingCubesTable::EdgeCorners(edge);
         const int axis = edge / 4;
-        const int i = c[0] + (ec[0] & 1), j = c[1] + ((ec[0] >> 1) & 1), k = c[2] + ((ec[0] >> 2) & 1);
-        int& vertex = brick(i, j, k)->vertex[local(i, j, k)][axis];
+        int& vertex = corner_brick[ec[0]]->vertex[corner_slot[ec[0]]][axis];
         if (vertex < 0) {
+          const int i = c[0] + (ec[0] & 1), j = c[1] + ((ec[0] >> 1) & 1), k = c[2] + ((ec[0] >> 2) & 1);
           const double f0 = v[ec[0]], f1 = v[ec[1]];
           const double s = std::clamp((iso - f0) / (f1 - f0), 0.0, 1.0);
           Vec3 p(i * cell, j * cell, k * cell);
