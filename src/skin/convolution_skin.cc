@@ -163,7 +163,7 @@ long long ConvolutionSkin::SolveBlock(int ring, int begin, int end, std::vector<
   const std::vector<Vec3>& dirs = rays_.directions();
   const int n = end - begin;
   VISCERA_DEMAND(0 < n && n <= kBlock);
-  double x[kBlock], y[kBlock], slope[kBlock];
+  double x[kBlock], y[kBlock], slope[kBlock], r_now[kBlock], r_new[kBlock];  // r = e^x
   int evals[kBlock];
   // active seeds, compacted: their index in the block and SoA directions / radii / fields
   int idx[kBlock];
@@ -186,6 +186,7 @@ long long ConvolutionSkin::SolveBlock(int ring, int begin, int end, std::vector<
     dy[j] = dirs[v].y();
     dz[j] = dirs[v].z();
     r[j] = std::exp(x[j]);
+    r_now[j] = r[j];
   }
   FieldBatch(ring, origin, n, dx, dy, dz, r, f);
   for (int j = 0; j < n; ++j) y[j] = std::log(std::max(f[j], 1e-300)) - log_iso;
@@ -199,11 +200,12 @@ long long ConvolutionSkin::SolveBlock(int ring, int begin, int end, std::vector<
       const int j = idx[a];
       const double xn = std::clamp(x[j] - y[j] / slope[j], x_min, x_max);
       const double rn = std::exp(xn);
-      if (std::abs(rn - std::exp(x[j])) < tol || evals[j] >= options_.max_iterations) {
+      if (std::abs(rn - r_now[j]) < tol || evals[j] >= options_.max_iterations) {
         (*radii)[begin + j] = rn;
         continue;
       }
       x_new[j] = xn;
+      r_new[j] = rn;
       idx[kept] = j;
       dx[kept] = dirs[begin + j].x();
       dy[kept] = dirs[begin + j].y();
@@ -222,6 +224,7 @@ long long ConvolutionSkin::SolveBlock(int ring, int begin, int end, std::vector<
       // keep the last slope if the secant is not a usable (decreasing) one
       if (std::isfinite(secant) && secant < -0.25) slope[j] = secant;
       x[j] = x_new[j];
+      r_now[j] = r_new[j];
       y[j] = yn;
       ++evals[j];
     }

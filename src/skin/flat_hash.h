@@ -4,6 +4,7 @@
 /// entry; this one reuses one array from frame to frame).
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace viscera::skin {

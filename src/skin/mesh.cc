@@ -1,7 +1,9 @@
 #include "skin/mesh.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <numeric>
 #include <sstream>

@@ -33,13 +33,15 @@ void ParametricSkin::Bind(int num_control_points) {
 void ParametricSkin::RadiiFor(const TubeRays& rays, std::vector<double>* radii) const {
   VISCERA_DEMAND(curve_.has_value());
   const int n = curve_->num_segments();
-  radii->resize(rays.num_vertices());
+  // one cos per ring, not per vertex
   const std::vector<double>& params = rays.ring_params();
-  for (int v = 0; v < rays.num_vertices(); ++v) {
-    const double x = params[rays.vertex_ring()[v]] * n;
-    const double u = x - std::floor(x);  // local parameter between two control points
-    (*radii)[v] = ParametricRadius(r_min_, r_max_, u);
+  ring_radii_.resize(params.size());
+  for (size_t i = 0; i < params.size(); ++i) {
+    const double x = params[i] * n;
+    ring_radii_[i] = ParametricRadius(r_min_, r_max_, x - std::floor(x));  // local parameter u
   }
+  radii->resize(rays.num_vertices());
+  for (int v = 0; v < rays.num_vertices(); ++v) (*radii)[v] = ring_radii_[rays.vertex_ring()[v]];
 }
 
 void ParametricSkin::Build(const Points& q, Mesh* out) {

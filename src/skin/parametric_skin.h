@@ -39,6 +39,7 @@ class ParametricSkin final : public Skin {
   FrameField frames_;
   TubeRays rays_;
   std::vector<double> params_, radii_;
+  mutable std::vector<double> ring_radii_;  // scratch of RadiiFor
   SkinStats stats_;
 };
 
