@@ -19,8 +19,8 @@ uint64_t CellKey(const Vec3& p, double inv_cell) {
 
 }  // namespace
 
-PointSkeletonField::PointSkeletonField(double support, bool blending_graph, double blend_gap)
-    : support_(support), support2_(support * support), blend_gap_(blend_gap), blending_graph_(blending_graph) {}
+PointSkeletonField::PointSkeletonField(double support, bool blending_graph, double blend_gap, double block)
+    : support_(support), support2_(support * support), blend_gap_(blend_gap), block_(block), blending_graph_(blending_graph) {}
 
 void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, double weight) {
   points_ = &points;
@@ -45,10 +45,10 @@ void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, 
 }
 
 std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
-  // Blocks of the support size: the primitives within support + half a block diagonal of a
-  // block's centre are the only ones that can reach a point of the block. Computed once per
-  // block and frame, sorted by index (curve order) for the blending graph.
-  const double block = support_;
+  // The primitives within support + half a block diagonal of a block's centre are the only
+  // ones that can reach a point of the block. Computed once per block and frame, sorted by
+  // index (curve order) for the blending graph.
+  const double block = block_;
   const uint64_t key = CellKey(p, 1.0 / block);
   if (const std::pair<int, int>* hit = blocks_.Find(key)) return *hit;
   const Vec3 centre((std::floor(p.x() / block) + 0.5) * block, (std::floor(p.y() / block) + 0.5) * block,
@@ -125,7 +125,8 @@ ImplicitSkin::ImplicitSkin(double radius, const ImplicitOptions& options)
       options_(options),
       spacing_(options.spacing_factor * radius),
       iso_(0.0),
-      field_(options.support_factor * radius, options.blending_graph, options.blend_arc_factor * radius) {
+      field_(options.support_factor * radius, options.blending_graph, options.blend_arc_factor * radius,
+             std::clamp(4.0 * options.cell_factor, 0.5 * options.support_factor, options.support_factor) * radius) {
   ThrowUnless(radius > 0.0, "skin radius must be > 0, got ", radius);
   ThrowUnless(options.spacing_factor > 0.0 && options.spacing_factor <= 1.0,
               "implicit spacing_factor must be in (0, 1], got ", options.spacing_factor);

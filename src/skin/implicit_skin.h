@@ -38,23 +38,26 @@ inline double SoftObjectKernel(double d2, double rho2) {
 /// fills a per-frame cache: one thread at a time.
 class PointSkeletonField final : public ScalarField {
  public:
-  PointSkeletonField(double support, bool blending_graph, double blend_gap);
+  /// @param block edge of the cubes whose candidate primitives are cached (m), about four
+  ///        marching-cubes cells: smaller blocks have shorter candidate lists, larger ones
+  ///        fewer lists to build.
+  PointSkeletonField(double support, bool blending_graph, double blend_gap, double block);
   /// Takes primitives (#P, in curve order, arc-length spacing `spacing`) of weight `weight`.
   void Reset(const std::vector<Vec3>& points, double spacing, double weight);
   double Value(const Vec3& p) const override;
 
  private:
-  double support_, support2_, blend_gap_;
+  double support_, support2_, blend_gap_, block_;
   bool blending_graph_;
   int max_index_gap_ = 1;
   double weight_ = 1.0;
   const std::vector<Vec3>* points_ = nullptr;
   // uniform grid over the primitives (cell 2 * support: a block's reach spans 2-3 cells per
-  // axis): sorted (key, index) and lookup
+  // axis): sorted (key, index) and look-up
   double GridCell() const { return 2.0 * support_; }
   std::vector<std::pair<uint64_t, int>> sorted_;
   FlatHashMap<std::pair<int, int>> cells_;  // key -> [begin, end) in sorted_
-  // Candidate primitives per block of the support size, filled lazily during a frame (so
+  // Candidate primitives per block, filled lazily during a frame (so
   // Value is not thread-safe): block key -> [begin, end) in pool_, sorted by index.
   std::pair<int, int> Candidates(const Vec3& p) const;
   mutable FlatHashMap<std::pair<int, int>> blocks_;
