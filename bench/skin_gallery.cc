@@ -10,14 +10,11 @@
 #include "skin/skin.h"
 #include "skin/skeletons.h"  // tests/skin/skeletons.h
 
-int main(int argc, char** argv) {
+namespace {
+
+int Run(const std::string& dir) {
   using namespace viscera;
   using namespace viscera::skin;
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUT_DIR\n", argv[0]);
-    return 2;
-  }
-  const std::string dir = argv[1];
   constexpr double kR = 0.0125;
   const Points spiral = testing::FlatSpiral(94, 1.5, 4 * kR, 2.4 * kR);
   const Points hairpin = testing::Hairpin(60, 12 * kR, 1.6 * kR);
@@ -53,4 +50,19 @@ int main(int argc, char** argv) {
   write("parametric", base, testing::UBend(60, 8 * kR, 0.6 * kR), "ubend_parametric_fold.obj");
   write("parametric", base, testing::UBend(60, 8 * kR, 2.0 * kR), "ubend_parametric_ok.obj");
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUT_DIR\n", argv[0]);
+    return 2;
+  }
+  try {
+    return Run(argv[1]);
+  } catch (const viscera::InputError& e) {
+    std::fprintf(stderr, "skin_gallery: %s\n", e.what());
+    return 1;
+  }
 }

@@ -38,9 +38,8 @@ inline double SoftObjectKernel(double d2, double rho2) {
 /// fills a per-frame cache: one thread at a time.
 class PointSkeletonField final : public ScalarField {
  public:
-  /// @param block edge of the cubes whose candidate primitives are cached (m), about four
-  ///        marching-cubes cells: smaller blocks have shorter candidate lists, larger ones
-  ///        fewer lists to build.
+  /// @param block edge of the cubes whose candidate primitives are cached (m): smaller
+  ///        blocks have shorter candidate lists, larger ones fewer lists to build.
   PointSkeletonField(double support, bool blending_graph, double blend_gap, double block);
   /// Takes primitives (#P, in curve order, arc-length spacing `spacing`) of weight `weight`.
   void Reset(const std::vector<Vec3>& points, double spacing, double weight);
