@@ -47,7 +47,8 @@ class ConvolutionSkin final : public Skin {
   const TubeRays& rays() const { return rays_; }
   const std::optional<spline::CatmullRom>& curve() const { return curve_; }
 
-  /// Field at p as seen by ring `ring` of the last Prepare (local window or whole skeleton).
+  /// Field at p as seen by ring `ring` (its local window, or the whole skeleton), for the
+  /// rings the last Solve moved. For tests and tools.
   double Field(int ring, const Vec3& p) const;
   /// The ring's iso-value.
   double IsoValue(int ring) const { return iso_[ring]; }
