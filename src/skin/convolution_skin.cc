@@ -12,6 +12,7 @@ namespace {
 constexpr double kColdStartFactor = 0.05;  // cold seeds start this close to the skeleton
 constexpr double kMinRadiusFactor = 0.02;  // seeds stay within [0.02 R, 4 R] of their origin
 constexpr double kMaxRadiusFactor = 4.0;
+constexpr double kFoldMargin = 0.1;        // see TubeRays::PreventFolds
 
 }  // namespace
 
@@ -302,6 +303,8 @@ void ConvolutionSkin::Solve(const std::vector<char>* active, const std::vector<d
 void ConvolutionSkin::Build(const Points& q, Mesh* out) {
   Prepare(q);
   Solve(nullptr, nullptr, &radii_);
+  // (the warm start keeps the unclamped iso-surface radii)
+  if (options_.prevent_folds) rays_.PreventFolds(kFoldMargin, &radii_);
   rays_.Emit(radii_, out);
   stats_.vertices = out->num_vertices();
   stats_.triangles = out->num_triangles();

@@ -19,6 +19,7 @@ HybridSkin::HybridSkin(double radius, const ParametricOptions& parametric,
     : r_min_(parametric.radius_min_factor * radius),
       r_max_(parametric.radius_max_factor * radius),
       hybrid_(hybrid),
+      prevent_folds_(convolution.prevent_folds),
       convolution_(radius, convolution) {
   ThrowUnless(0.0 < r_min_ && r_min_ <= r_max_, "hybrid skin needs 0 < Rmin <= Rmax, got Rmin = ",
               r_min_, ", Rmax = ", r_max_);
@@ -64,6 +65,7 @@ void HybridSkin::Build(const Points& q, Mesh* out) {
     radii_[v] = w > 0.0 ? (1.0 - w) * parametric_radii_[v] + w * convolution_radii_[v]
                         : parametric_radii_[v];
   }
+  if (prevent_folds_) rays.PreventFolds(0.1, &radii_);
   rays.Emit(radii_, out);
   stats_ = convolution_.stats();
   stats_.vertices = out->num_vertices();

@@ -6,7 +6,8 @@
 /// distance of its centre to the focus, and every vertex sits at radius
 /// (1 - w) R_parametric(s) + w R_convolution. One mesh, shared vertices: no gap or crack at
 /// the seams; w is continuous in the focus position: no popping when it moves. Only rings
-/// with w > 0 pay for the convolution solve.
+/// with w > 0 pay for the convolution solve. With the convolution's prevent_folds (default)
+/// the blended radii go through TubeRays::PreventFolds.
 #include <vector>
 
 #include "skin/convolution_skin.h"
@@ -37,6 +38,7 @@ class HybridSkin final : public Skin {
  private:
   double r_min_, r_max_;
   HybridOptions hybrid_;
+  bool prevent_folds_;  // the convolution's option, applied to the blended radii
   ConvolutionSkin convolution_;
   std::vector<double> ring_weight_, vertex_weight_, parametric_radii_, convolution_radii_, radii_;
   std::vector<char> active_;

@@ -1,5 +1,6 @@
 #include "skin/parametric_skin.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -49,6 +50,7 @@ void ParametricSkin::Build(const Points& q, Mesh* out) {
   frames_.Build(*curve_, q);
   rays_.Build(frames_, params_);
   RadiiFor(rays_, &radii_);
+  if (options_.prevent_folds) rays_.PreventFolds(0.1, &radii_);
   rays_.Emit(radii_, out);
   stats_.vertices = out->num_vertices();
   stats_.triangles = out->num_triangles();

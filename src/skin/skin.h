@@ -20,6 +20,9 @@ struct ParametricOptions {
   int cap_rings = 4;               ///< rings of a hemispherical end cap (1 = flat fan)
   FrameRule frame_rule = FrameRule::kDoubleReflection;
   int frame_samples_per_segment = 8;
+  /// Shorten the rays on the inner side of bends tighter than the radius so that rings do
+  /// not fold over (tube_rays.h, FoldLimit). Off by default: the paper's skin folds there.
+  bool prevent_folds = false;
 };
 
 /// Convolution surface with the Cani-Hornus segment kernel and local convolution
@@ -36,6 +39,9 @@ struct ConvolutionOptions {
   double tolerance = 1e-4;           ///< stop when the radial step < tolerance * radius
   int max_iterations = 12;           ///< field evaluations per seed, at most
   bool warm_start = true;            ///< seeds start from their previous radius
+  /// Shorten rays on the inner side of bends tighter than the surface's radius so that rings
+  /// do not fold over: the surface creases there instead of turning inside out.
+  bool prevent_folds = true;
   FrameRule frame_rule = FrameRule::kDoubleReflection;
   int frame_samples_per_segment = 8;
 };

@@ -1,6 +1,8 @@
 #include "skin/tube_rays.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "common/check.h"
@@ -26,6 +28,7 @@ void TubeRays::Build(const FrameField& frames, const std::vector<double>& ring_p
   const int m = sides_, c = cap_rings_;
   const int count = 2 + (2 * (c - 1) + k) * m;
   ring_centers_.resize(k);
+  ring_curvatures_.resize(k);
   origins_.resize(count);
   directions_.resize(count);
   vertex_ring_.resize(count);
@@ -37,6 +40,11 @@ void TubeRays::Build(const FrameField& frames, const std::vector<double>& ring_p
     if (i == 0) first = f;
     if (i == k - 1) last = f;
     ring_centers_[i] = f.position;
+    // curvature vector (P'' - (P'' . t) t) / |P'|^2
+    const Vec3 d1 = frames.curve()->Tangent(frames.control_points(), ring_params[i]);
+    const Vec3 d2 = frames.curve()->SecondDerivative(frames.control_points(), ring_params[i]);
+    const double speed2 = d1.squaredNorm();
+    ring_curvatures_[i] = speed2 > 0.0 ? Vec3((d2 - d2.dot(f.tangent) * f.tangent) / speed2) : Vec3(Vec3::Zero());
     for (int j = 0; j < m; ++j) {
       const int v = TubeVertex(i, j);
       origins_[v] = f.position;
@@ -66,6 +74,32 @@ void TubeRays::Build(const FrameField& frames, const std::vector<double>& ring_p
   vertex_ring_[count - 1] = k - 1;
 
   if (triangles_for_rings_ != k) BuildTriangles();
+}
+
+double TubeRays::FoldLimit(int vertex, double margin) const {
+  const double inward = ring_curvatures_[vertex_ring_[vertex]].dot(directions_[vertex]);
+  return inward > 0.0 ? (1.0 - margin) / inward : std::numeric_limits<double>::infinity();
+}
+
+void TubeRays::PreventFolds(double margin, std::vector<double>* radii) const {
+  VISCERA_DEMAND(static_cast<int>(radii->size()) == num_vertices());
+  std::vector<double>& r = *radii;
+  for (int v = 0; v < num_vertices(); ++v) r[v] = std::min(r[v], FoldLimit(v, margin));
+  const int k = num_rings(), m = sides_;
+  for (int i = 1; i < k; ++i) {
+    const Vec3 step = ring_centers_[i] - ring_centers_[i - 1];
+    const double step2 = step.squaredNorm();
+    if (step2 <= 0.0) continue;
+    for (int j = 0; j < m; ++j) {
+      const int v = TubeVertex(i, j), u = TubeVertex(i - 1, j);
+      const Vec3 previous = origins_[u] + r[u] * directions_[u];
+      // advance (origin + r dir - previous) . step >= margin |step|^2, linear in r
+      const double a = (origins_[v] - previous).dot(step) - margin * step2;
+      const double b = directions_[v].dot(step);
+      if (a + r[v] * b >= 0.0 || b >= 0.0) continue;
+      r[v] = std::max(0.0, a / -b);
+    }
+  }
 }
 
 void TubeRays::BuildTriangles() {

@@ -38,6 +38,20 @@ class TubeRays {
   const std::vector<Vec3>& directions() const { return directions_; }
   /// Per vertex: the tube ring it is attached to (caps attach to ring 0 or K-1).
   const std::vector<int>& vertex_ring() const { return vertex_ring_; }
+  /// Largest radius the vertex's ray can take without its ring folding over the next on the
+  /// inner side of a bend: rings cross where 1 - r (kappa . dir) <= 0, kappa the curvature
+  /// vector (1/m) of the ring's centre, so the limit is (1 - margin) / (kappa . dir) when
+  /// kappa . dir > 0, else +infinity. margin in (0, 1).
+  double FoldLimit(int vertex, double margin) const;
+  /// Shortens rays so that rings do not fold over on the inner side of tight bends: each ray
+  /// is capped at FoldLimit(v, margin), then, walking each side line from the first ring to
+  /// the last, a vertex that would not advance along the curve by at least `margin` times
+  /// the ring step (discrete folds where the curvature changes between rings) is pulled in
+  /// until it does. Caps are left alone. The surface creases there instead of turning
+  /// inside out. @pre radii->size() == num_vertices().
+  void PreventFolds(double margin, std::vector<double>* radii) const;
+  /// Curvature vectors of the ring centres (#K, 1/m, pointing to the centre of curvature).
+  const std::vector<Vec3>& ring_curvatures() const { return ring_curvatures_; }
   /// Per vertex: true for the cap vertices (poles included).
   bool IsCap(int vertex) const { return vertex < FirstTubeVertex() || vertex >= FirstTubeVertex() + num_rings() * sides_; }
   int FirstTubeVertex() const { return 1 + (cap_rings_ - 1) * sides_; }
@@ -54,7 +68,7 @@ class TubeRays {
 
   int sides_, cap_rings_;
   std::vector<double> ring_params_;
-  std::vector<Vec3> ring_centers_, origins_, directions_;
+  std::vector<Vec3> ring_centers_, ring_curvatures_, origins_, directions_;
   std::vector<int> vertex_ring_;
   std::vector<Eigen::Vector3i> triangles_;
   int triangles_for_rings_ = -1;

@@ -246,3 +246,32 @@ TEST(ConvolutionSkinTest, CoilWithTouchingTurnsKeepsRoundSections) {
 
 }  // namespace
 }  // namespace viscera::skin
+
+namespace viscera::skin {
+namespace {
+
+// Rays can fold on the inner side of a bend tighter than the radius, like the parametric
+// rings (and the convolution surface bulges there, up to 1.3 R at a bend radius of 0.5 R).
+// With prevent_folds (default) no ring crosses the next in U-bends of radius R to 0.4 R; with
+// it off they do. The mesh stays closed and oriented either way.
+TEST(ConvolutionSkinTest, TightBendsDoNotFoldRings) {
+  const double r = 0.0125;
+  for (double factor : {1.0, 0.5, 0.4}) {
+    const Points q = testing::UBend(60, 8 * r, factor * r);
+    ConvolutionSkin guarded(r, ConvolutionOptions{});
+    ConvolutionOptions off;
+    off.prevent_folds = false;
+    ConvolutionSkin unguarded(r, off);
+    guarded.Bind(60);
+    unguarded.Bind(60);
+    Mesh a, b;
+    guarded.Build(q, &a);
+    unguarded.Build(q, &b);
+    EXPECT_EQ(testing::BackwardRingSteps(guarded.rays(), a), 0) << "bend radius " << factor << " R";
+    EXPECT_GT(testing::BackwardRingSteps(unguarded.rays(), b), 0) << "bend radius " << factor << " R";
+    EXPECT_TRUE(CheckTopology(a).closed_oriented_manifold());
+  }
+}
+
+}  // namespace
+}  // namespace viscera::skin

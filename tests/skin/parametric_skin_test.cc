@@ -118,6 +118,26 @@ TEST(ParametricSkinTest, NoSelfIntersectingRingsWhileKappaRmaxBelowOne) {
   }
 }
 
+// Beyond the bound, prevent_folds (off by default, as in the paper) shortens the inner rays:
+// no ring crosses the next any more, where the paper's skin has hundreds of crossings.
+TEST(ParametricSkinTest, PreventFoldsRemovesRingCrossings) {
+  for (double factor : {1.0, 0.6, 0.4}) {
+    const Points q = testing::UBend(60, 8 * kR, factor * kR);
+    ParametricOptions options;
+    ParametricSkin paper(kR, options);
+    options.prevent_folds = true;
+    ParametricSkin guarded(kR, options);
+    paper.Bind(60);
+    guarded.Bind(60);
+    Mesh a, b;
+    paper.Build(q, &a);
+    guarded.Build(q, &b);
+    EXPECT_GT(testing::BackwardRingSteps(paper.rays(), a), 0) << "bend radius " << factor << " R";
+    EXPECT_EQ(testing::BackwardRingSteps(guarded.rays(), b), 0) << "bend radius " << factor << " R";
+    EXPECT_TRUE(CheckTopology(b).closed_oriented_manifold());
+  }
+}
+
 TEST(ParametricSkinTest, RejectsBadInput) {
   ParametricSkin skin(kR, ParametricOptions{});
   Mesh mesh;
