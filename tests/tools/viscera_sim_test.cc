@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -128,6 +130,43 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   EXPECT_GT(peak, 0.3);
   EXPECT_LE(peak, 5.0);
   EXPECT_LT(jump, 0.5);
+}
+
+TEST(VisceraSim, ExportsEachSkinOfTheLastFrameAsAClosedMesh) {
+  for (const char* skin : {"parametric", "implicit", "convolution", "hybrid"}) {
+    const std::string mesh = testing::TempDir() + "pile_" + skin + ".obj";
+    const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fallopian.toml") + " --duration 0.2 --skin " + skin +
+                           " --export-mesh " + mesh + " 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream in(mesh);
+    int vertices = 0, faces = 0;
+    std::map<std::pair<int, int>, int> edges;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("v ", 0) == 0) ++vertices;
+      if (line.rfind("f ", 0) != 0) continue;
+      ++faces;
+      std::istringstream f(line.substr(2));
+      int idx[3];
+      for (int& i : idx) {
+        std::string token;
+        f >> token;
+        i = std::stoi(token.substr(0, token.find('/')));
+      }
+      for (int e = 0; e < 3; ++e) ++edges[{idx[e], idx[(e + 1) % 3]}];
+    }
+    EXPECT_GT(faces, 1000) << skin;
+    EXPECT_GT(vertices, 500) << skin;
+    // Closed and consistently oriented: every directed edge has exactly one opposite twin.
+    for (const auto& [edge, count] : edges) {
+      EXPECT_EQ(count, 1) << skin;
+      EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << skin;
+      if (count != 1 || !edges.count({edge.second, edge.first})) break;
+    }
+  }
+  const Result bad = Shell(std::string(VISCERA_SIM) + " " + Scene("fallopian.toml") +
+                           " --duration 0.01 --skin marble --export-mesh /tmp/x.obj 2>&1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("marble"), std::string::npos) << bad.out;
 }
 
 TEST(VisceraSim, BadSceneGivesAClearErrorAndExitCode) {
