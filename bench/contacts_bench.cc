@@ -18,19 +18,15 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <fstream>
-#include <regex>
-#include <sstream>
 #include <string>
 
 #include "common/check.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
+#include "fall_scene.h"
 
 namespace viscera::mechanics {
 namespace {
-
-constexpr const char* kFallScene = VISCERA_SOURCE_DIR "/scenes/fall.toml";
 
 // Simulated seconds of one whole-fall iteration, and of the warm-up before the settled runs.
 constexpr double kFallSeconds = 3.0;
@@ -38,16 +34,7 @@ constexpr double kWarmupSeconds = 3.0;
 
 // The fall scene with `n` control points, self-contacts on or off.
 ModelParams FallParams(int n, bool self_contacts) {
-  std::ifstream file(kFallScene);
-  ThrowUnless(file.good(), kFallScene, ": cannot open");
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::regex key(R"(control_points\s*=\s*[0-9]+)");
-  ThrowUnless(std::regex_search(text.str(), key), kFallScene, ": no intestine.control_points");
-  const std::string resized = std::regex_replace(text.str(), key, "control_points = " + std::to_string(n),
-                                                 std::regex_constants::format_first_only);
-  ModelParams params = scene::ParseScene(resized, "fall.toml, " + std::to_string(n) + " points").model;
-  VISCERA_DEMAND(params.initial_q.rows() == n);
+  ModelParams params = bench::FallParams(n);
   VISCERA_DEMAND(params.contacts.self);  // the scene as shipped has them
   params.contacts.self = self_contacts;
   return params;
