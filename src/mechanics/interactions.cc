@@ -117,12 +117,11 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever, const 
   return Vec3::Zero();
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Points& qd) const {
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c) const {
   const ContactParams& cp = model_.params().contacts;
   Penalty p = Geometry(c);
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
-  (void)qd;  // velocities were gathered from qd into sphere_velocity_ by the caller
   const Vec3 other = c.kind == ContactKind::kSelf ? sphere_velocity_[c.b]
                      : c.kind == ContactKind::kTool ? Vec3(p.lever * tool_velocity_[c.b])
                                                     : Vec3::Zero();
@@ -153,7 +152,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   GatherVelocities(qd);
   double energy = 0.0;
   for (const ContactCandidate& c : candidates_) {
-    const Penalty p = Evaluate(c, qd);
+    const Penalty p = Evaluate(c);
     if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
@@ -231,7 +230,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   Mat3 stiffness = Mat3::Zero();
   for (const ContactCandidate& c : candidates_) {
     if (c.kind != ContactKind::kTool || c.b != index) continue;
-    const Penalty p = Evaluate(c, qd);
+    const Penalty p = Evaluate(c);
     if (!p.active) continue;
     force -= p.lever * p.force;
     stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();

@@ -58,8 +58,8 @@ class Interactions {
   Penalty Geometry(const collision::ContactCandidate& c) const;
   // Velocity of the candidate's other side at the contact (zero for obstacles).
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever, const Points& qd) const;
-  // Geometry plus the force law at velocities qd.
-  Penalty Evaluate(const collision::ContactCandidate& c, const Points& qd) const;
+  // Geometry plus the force law, at the velocities last gathered by GatherVelocities.
+  Penalty Evaluate(const collision::ContactCandidate& c) const;
   Vec3 SphereVelocity(int sphere, const Points& qd) const;
   void GatherVelocities(const Points& qd);
   double CandidateMargin(const State& state, double h) const;
