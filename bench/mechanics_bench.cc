@@ -7,9 +7,6 @@
 // and the springs' stiffness and masses follow from the same EA, EI and mass.
 #include <benchmark/benchmark.h>
 
-#include <fstream>
-#include <regex>
-#include <sstream>
 #include <string>
 
 #include "common/check.h"
@@ -18,28 +15,20 @@
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
+#include "fall_scene.h"
 
 namespace viscera::mechanics {
 namespace {
-
-constexpr const char* kFallScene = VISCERA_SOURCE_DIR "/scenes/fall.toml";
 
 // A run of steps restarts from the coil after this much simulated time, so every size measures
 // the first second of the fall, not a chain that has been in free fall for minutes.
 constexpr double kRestartAfterSeconds = 1.0;
 
-// The fall scene with `n` control points.
+// The fall scene with `n` control points, without contacts: the mechanical layer alone.
 ModelParams FallParams(int n) {
-  std::ifstream file(kFallScene);
-  ThrowUnless(file.good(), kFallScene, ": cannot open");
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::regex key(R"(control_points\s*=\s*[0-9]+)");
-  ThrowUnless(std::regex_search(text.str(), key), kFallScene, ": no intestine.control_points");
-  const std::string resized = std::regex_replace(text.str(), key, "control_points = " + std::to_string(n),
-                                                 std::regex_constants::format_first_only);
-  ModelParams params = scene::ParseScene(resized, "fall.toml, " + std::to_string(n) + " points").model;
-  VISCERA_DEMAND(params.initial_q.rows() == n);
+  ModelParams params = bench::FallParams(n);
+  params.contacts.self = false;
+  params.obstacles.clear();
   return params;
 }
 

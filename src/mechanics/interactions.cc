@@ -49,6 +49,10 @@ Interactions::Interactions(const Model& model)
   grasp_offset_.assign(tools, Vec3::Zero());
   grasp_scale_.assign(tools, 0.0);
   candidates_.reserve(static_cast<size_t>(chain_.size()) * 16);
+  sphere_velocity_.assign(chain_.size(), Vec3::Zero());
+  sphere_k_.assign(chain_.size(), Mat3::Zero());
+  sphere_d_.assign(chain_.size(), Mat3::Zero());
+  sphere_touched_.assign(chain_.size(), 0);
   chain_.Place(model.params().initial_q);
 }
 
@@ -113,12 +117,15 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever, const 
   return Vec3::Zero();
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Points& qd) const {
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c) const {
   const ContactParams& cp = model_.params().contacts;
   Penalty p = Geometry(c);
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
-  const Vec3 relative = SphereVelocity(c.a, qd) - OtherVelocity(c, p.lever, qd);
+  const Vec3 other = c.kind == ContactKind::kSelf ? sphere_velocity_[c.b]
+                     : c.kind == ContactKind::kTool ? Vec3(p.lever * tool_velocity_[c.b])
+                                                    : Vec3::Zero();
+  const Vec3 relative = sphere_velocity_[c.a] - other;
   const double vn = relative.dot(p.normal);
   // A pair that is apart but closing fast enough to touch within the implicit step acts now: its
   // linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of the
@@ -135,12 +142,17 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Po
   return p;
 }
 
+void Interactions::GatherVelocities(const Points& qd) {
+  for (int k = 0; k < chain_.size(); ++k) sphere_velocity_[k] = SphereVelocity(k, qd);
+}
+
 double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
   const ContactParams& cp = model_.params().contacts;
   chain_.UpdateCentres(q);
+  GatherVelocities(qd);
   double energy = 0.0;
   for (const ContactCandidate& c : candidates_) {
-    const Penalty p = Evaluate(c, qd);
+    const Penalty p = Evaluate(c);
     if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
@@ -156,10 +168,24 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       const Mat3 kn = pair * cp.stiffness * nn;
       const Mat3 dn = pair * cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
       for (int side = 0; side < (c.kind == ContactKind::kSelf ? 2 : 1); ++side) {
-        const collision::Sphere& sp = chain_.spheres()[side == 0 ? c.a : c.b];
-        AddWindowOuter(sp.first, sp.w, kn, K);
-        if (D) AddWindowOuter(sp.first, sp.w, dn, D);
+        const int sphere = side == 0 ? c.a : c.b;
+        if (!sphere_touched_[sphere]) {
+          sphere_touched_[sphere] = 1;
+          sphere_k_[sphere].setZero();
+          sphere_d_[sphere].setZero();
+        }
+        sphere_k_[sphere] += kn;
+        sphere_d_[sphere] += dn;
       }
+    }
+  }
+  if (K) {
+    for (int k = 0; k < chain_.size(); ++k) {
+      if (!sphere_touched_[k]) continue;
+      sphere_touched_[k] = 0;
+      const collision::Sphere& sp = chain_.spheres()[k];
+      AddWindowOuter(sp.first, sp.w, sphere_k_[k], K);
+      if (D) AddWindowOuter(sp.first, sp.w, sphere_d_[k], D);
     }
   }
   // Grasps: a stiff spring from the jaws to the grasped curve point.
@@ -198,11 +224,13 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
 
   // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
   // (the shaft pivots at the port), and their stiffness.
+  chain_.UpdateCentres(q);
+  GatherVelocities(qd);
   Vec3 force = Vec3::Zero();
   Mat3 stiffness = Mat3::Zero();
   for (const ContactCandidate& c : candidates_) {
     if (c.kind != ContactKind::kTool || c.b != index) continue;
-    const Penalty p = Evaluate(c, qd);
+    const Penalty p = Evaluate(c);
     if (!p.active) continue;
     force -= p.lever * p.force;
     stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();

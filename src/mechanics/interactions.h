@@ -58,9 +58,10 @@ class Interactions {
   Penalty Geometry(const collision::ContactCandidate& c) const;
   // Velocity of the candidate's other side at the contact (zero for obstacles).
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever, const Points& qd) const;
-  // Geometry plus the force law at velocities qd.
-  Penalty Evaluate(const collision::ContactCandidate& c, const Points& qd) const;
+  // Geometry plus the force law, at the velocities last gathered by GatherVelocities.
+  Penalty Evaluate(const collision::ContactCandidate& c) const;
   Vec3 SphereVelocity(int sphere, const Points& qd) const;
+  void GatherVelocities(const Points& qd);
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
   void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
@@ -76,6 +77,7 @@ class Interactions {
   double speculative_h_ = 0.0;
   // RequiredSubsteps left candidates for the whole step: the first sub-step reuses them.
   bool candidates_fresh_ = false;
+
   collision::SphereChain chain_;
   collision::ContactDetector detector_;
   std::vector<collision::ContactCandidate> candidates_;
@@ -87,6 +89,11 @@ class Interactions {
   // drawn into the jaws), and fades out on release: the force never jumps.
   std::vector<Vec3> grasp_offset_;
   std::vector<double> grasp_scale_;
+  // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
+  // damping (spread onto its window once, not once per contact).
+  std::vector<Vec3> sphere_velocity_;
+  std::vector<Mat3> sphere_k_, sphere_d_;
+  std::vector<char> sphere_touched_;
 };
 
 }  // namespace viscera::mechanics

@@ -94,8 +94,10 @@ void Model::BuildSprings() {
   // rod's EI kappa^2 / 2 at kappa_ref: k_b = 9 EI / (kappa_ref^2 l0^5) (docs/mechanics.md).
   const double k_bend = 9.0 * params_.bend_stiffness / (kappa_ref * kappa_ref * std::pow(l0, 5));
   // Bend springs also resist stretching (axial stiffness 4 k_b l0); the stretch springs take
-  // the rest so that the chain's total axial stiffness stays EA.
-  const double k_stretch = std::max(params_.stretch_stiffness / l0 - 4.0 * k_bend, 0.0);
+  // the rest so that the chain's total axial stiffness stays EA. They never drop below half of
+  // EA / l0: without them the chain has a zero-energy zig-zag (alternate points folding), which
+  // the (i, i+2) springs cannot see.
+  const double k_stretch = std::max(params_.stretch_stiffness / l0 - 4.0 * k_bend, 0.5 * params_.stretch_stiffness / l0);
   if (4.0 * k_bend * l0 > params_.stretch_stiffness) {
     warnings_.push_back(Cat("at ", n, " control points the bend springs alone give an axial stiffness of ",
                             4.0 * k_bend * l0, " N, more than stretch_stiffness = ", params_.stretch_stiffness,

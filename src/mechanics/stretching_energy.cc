@@ -43,21 +43,27 @@ void AddSegmentGradient(const Model& model, const StretchScratch& s, int j, doub
   }
 }
 
-// K += coeff * d^2 l_j / dq^2 = coeff * sum_g w_g b'_a b'_b (I - t t^T) / |P'|.
+// K += coeff * d^2 l_j / dq^2 = coeff * sum_g w_g b'_a b'_b (I - t t^T) / |P'|, summed over the
+// segment's nodes before its 10 blocks are written.
 void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j, double coeff,
                              BlockBand* K) {
   const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
   const int f = model.curve().FirstIndex(j);
+  Mat3 p[4];
   for (int g = 0; g < 4; ++g) {
     const int node = 4 * j + g;
-    if (s.node_speed(node) <= 0.0) continue;
+    if (s.node_speed(node) <= 0.0) {
+      p[g].setZero();
+      continue;
+    }
     const Vec3 t = s.node_tangent.row(node).transpose();
-    const Mat3 p = (coeff * Rule::kWeights[g] / s.node_speed(node)) * (Mat3::Identity() - t * t.transpose());
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a; b < 4; ++b) {
-        const Mat3 h = dw(g, a) * dw(g, b) * p;
-        K->Add(f + a, f + b, h);
-      }
+    p[g] = (coeff * Rule::kWeights[g] / s.node_speed(node)) * (Mat3::Identity() - t * t.transpose());
+  }
+  for (int a = 0; a < 4; ++a) {
+    for (int b = a; b < 4; ++b) {
+      Mat3 h = dw(0, a) * dw(0, b) * p[0];
+      for (int g = 1; g < 4; ++g) h += dw(g, a) * dw(g, b) * p[g];
+      K->Add(f + a, f + b, h);
     }
   }
 }

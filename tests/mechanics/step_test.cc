@@ -73,7 +73,7 @@ TEST_P(StepAllocation, StepAllocatesNothingInSteadyState) {
   State state = InitialState(model);
   Workspace ws(model);
   const PointLoad load{0.3, Vec3(0.0, 0.1, 0.0)};
-  const StepInputs inputs{std::span<const PointLoad>(&load, 1)};
+  const StepInputs inputs{std::span<const PointLoad>(&load, 1), {}};
   for (int k = 0; k < 3; ++k) Step(model, inputs, &state, &ws);  // warm-up sizes the buffers
 
   g_allocations = 0;

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -99,7 +101,15 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   std::ifstream in(trace);
   for (std::string line; std::getline(in, line);) frames.push_back(nlohmann::json::parse(line));
   ASSERT_EQ(frames.size(), 601u);
-  // The sphere under the grasp point at t = 1.5 s is lifted and carried aside by the end.
+  // The sphere under the jaws when they close (the script's row at t = 1.5 s) is lifted and
+  // carried aside by the end.
+  Eigen::Vector3d jaws = Eigen::Vector3d::Constant(1e9);
+  std::ifstream script(Scene("clearing.csv"));
+  for (std::string line; std::getline(script, line);) {
+    double t, x, y, z;
+    if (std::sscanf(line.c_str(), "%lf,left,%lf,%lf,%lf", &t, &x, &y, &z) == 4 && t == 1.5) jaws = {x, y, z};
+  }
+  ASSERT_LT(jaws.norm(), 1.0) << "clearing.csv has no row for the left tool at t = 1.5";
   auto sphere = [](const nlohmann::json& f, size_t k) {
     return Eigen::Vector3d(f["spheres"][k][0], f["spheres"][k][1], f["spheres"][k][2]);
   };
@@ -107,7 +117,7 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   size_t grasped = 0;
   double best = 1e9;
   for (size_t k = 0; k < grasp["spheres"].size(); ++k) {
-    const double d = (sphere(grasp, k) - Eigen::Vector3d(-0.012, -0.010, 0.097)).norm();
+    const double d = (sphere(grasp, k) - jaws).norm();
     if (d < best) best = d, grasped = k;
   }
   EXPECT_LT(best, 0.03);
@@ -128,6 +138,43 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   EXPECT_GT(peak, 0.3);
   EXPECT_LE(peak, 5.0);
   EXPECT_LT(jump, 0.5);
+}
+
+TEST(VisceraSim, ExportsEachSkinOfTheLastFrameAsAClosedMesh) {
+  for (const char* skin : {"parametric", "implicit", "convolution", "hybrid"}) {
+    const std::string mesh = testing::TempDir() + "pile_" + skin + ".obj";
+    const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fallopian.toml") + " --duration 0.2 --skin " + skin +
+                           " --export-mesh " + mesh + " 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    std::ifstream in(mesh);
+    int vertices = 0, faces = 0;
+    std::map<std::pair<int, int>, int> edges;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("v ", 0) == 0) ++vertices;
+      if (line.rfind("f ", 0) != 0) continue;
+      ++faces;
+      std::istringstream f(line.substr(2));
+      int idx[3];
+      for (int& i : idx) {
+        std::string token;
+        f >> token;
+        i = std::stoi(token.substr(0, token.find('/')));
+      }
+      for (int e = 0; e < 3; ++e) ++edges[{idx[e], idx[(e + 1) % 3]}];
+    }
+    EXPECT_GT(faces, 1000) << skin;
+    EXPECT_GT(vertices, 500) << skin;
+    // Closed and consistently oriented: every directed edge has exactly one opposite twin.
+    for (const auto& [edge, count] : edges) {
+      EXPECT_EQ(count, 1) << skin;
+      EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << skin;
+      if (count != 1 || !edges.count({edge.second, edge.first})) break;
+    }
+  }
+  const Result bad = Shell(std::string(VISCERA_SIM) + " " + Scene("fallopian.toml") +
+                           " --duration 0.01 --skin marble --export-mesh /tmp/x.obj 2>&1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("marble"), std::string::npos) << bad.out;
 }
 
 TEST(VisceraSim, BadSceneGivesAClearErrorAndExitCode) {

@@ -16,6 +16,7 @@
 #include "mechanics/step.h"
 #include "scene/scene.h"
 #include "script/tool_script.h"
+#include "skin/skin.h"
 #include "sim/progress_bar.h"
 #include "sim/trace_writer.h"
 
@@ -32,7 +33,30 @@ struct Options {
   int trace_every = 1;
   bool json = false;
   std::string tool_script;
+  std::string skin = "parametric";
+  std::string export_mesh;
+  std::vector<double> focus;  // hybrid skin: focus centre (m); default the skeleton's centre
+  double focus_radius = 0.1;
 };
+
+// Writes the skin of the final pose (OBJ or PLY by extension).
+void ExportMesh(const Options& opt, const mechanics::Model& model, const Points& q) {
+  skin::SkinOptions options;
+  options.radius = model.params().radius;
+  if (opt.focus.size() == 3) {
+    options.hybrid.focus = Vec3(opt.focus[0], opt.focus[1], opt.focus[2]);
+  } else {
+    options.hybrid.focus = q.colwise().mean().transpose();
+  }
+  ThrowUnless(opt.focus.empty() || opt.focus.size() == 3, "--focus takes x,y,z");
+  options.hybrid.focus_radius = opt.focus_radius;
+  std::unique_ptr<skin::Skin> s = skin::MakeSkin(opt.skin, options);
+  s->Bind(static_cast<int>(q.rows()));
+  skin::Mesh mesh;
+  s->Build(q, &mesh);
+  skin::WriteMesh(opt.export_mesh, mesh);
+  std::cerr << "mesh: " << opt.skin << " skin, " << s->stats().triangles << " triangles -> " << opt.export_mesh << std::endl;
+}
 
 // Targets of the scene's tools from a script: tools the script does not name stay idle.
 class ScriptedTools {
@@ -144,6 +168,7 @@ int Run(const Options& opt) {
   }
 
   const Energies e = energies();
+  if (!opt.export_mesh.empty()) ExportMesh(opt, model, state.q);
   const Vec3 com = CentreOfMass(model, state.q);
   double total_us = 0.0;
   for (double c : cost_us) total_us += c;
@@ -225,6 +250,11 @@ int main(int argc, char** argv) {
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
   app.add_flag("--json", opt.json, "print the final summary as JSON");
   app.add_option("--tool-script", opt.tool_script, "CSV of tool targets: t,tool,x,y,z,qw,qx,qy,qz,jaw");
+  app.add_option("--skin", opt.skin, "skin for --export-mesh: parametric, implicit, convolution or hybrid")
+      ->capture_default_str();
+  app.add_option("--export-mesh", opt.export_mesh, "write the last frame's skin mesh (.obj or .ply)");
+  app.add_option("--focus", opt.focus, "hybrid skin focus centre x y z (m)")->expected(3);
+  app.add_option("--focus-radius", opt.focus_radius, "hybrid skin focus radius (m)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     return viscera::tools::Run(opt);

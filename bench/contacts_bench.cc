@@ -1,0 +1,142 @@
+// Cost of the mechanics WITH contacts on the paper's benchmark scene (scenes/fall.toml: a 4 m
+// coil falling onto a plane, self-contacts on), for 50 to 1000 control points.
+// Figures and the command that produced them: docs/benchmarks.md ("Contacts").
+//
+// Every size is the same physical scene: the TOML text is re-parsed with another
+// intestine.control_points (bench/mechanics_bench.cc does the same without contacts). The sphere
+// chain does not depend on the control points (spacing = radius: 4 m / 12.5 mm, 321 spheres),
+// so the contact work is roughly the same at every size and only the curve's part grows with n.
+//
+//   BM_FallWhole/n:N/self:S    one iteration = the whole fall from the coil: 3 simulated
+//                              seconds (300 steps: falling, impact at about 0.16 s, landing,
+//                              the pile sliding and settling, which takes until about 2.8 s).
+//                              The state is reset to the coil between iterations (not timed).
+//   BM_FallSettled/n:N/self:S  the settled pile: 3 simulated seconds of warm-up (not timed),
+//                              then one iteration = one step.
+// S = 1 is the scene as shipped; S = 0 turns self-contacts off (the plane stays) to show what
+// self-contacts cost on top of the plane.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <string>
+
+#include "common/check.h"
+#include "mechanics/step.h"
+#include "scene/scene.h"
+#include "fall_scene.h"
+
+namespace viscera::mechanics {
+namespace {
+
+// Simulated seconds of one whole-fall iteration, and of the warm-up before the settled runs.
+constexpr double kFallSeconds = 3.0;
+constexpr double kWarmupSeconds = 3.0;
+
+// The fall scene with `n` control points, self-contacts on or off.
+ModelParams FallParams(int n, bool self_contacts) {
+  ModelParams params = bench::FallParams(n);
+  VISCERA_DEMAND(params.contacts.self);  // the scene as shipped has them
+  params.contacts.self = self_contacts;
+  return params;
+}
+
+// What the steps did, summed over the timed steps.
+struct Tally {
+  int64_t steps = 0;
+  int64_t substeps = 0;
+  int max_substeps = 0;
+  int64_t self_contacts = 0;
+  int64_t environment_contacts = 0;
+
+  void Add(const State& state) {
+    ++steps;
+    substeps += state.substeps;
+    max_substeps = std::max(max_substeps, state.substeps);
+    self_contacts += state.contacts.self;
+    environment_contacts += state.contacts.environment;
+  }
+};
+
+// Counters (CPU time; "per step" means per 10 ms step of the scene's 100 Hz):
+//   n, spheres       control points, spheres of the chain
+//   us_per_step      CPU microseconds per step
+//   ms_per_sim_s     CPU milliseconds per simulated second
+//   realtime_x       simulated seconds per CPU second: the real-time factor on one core
+//   ns_per_point     CPU nanoseconds per step and control point (flat = linear in n)
+//   substeps         average integrator sub-steps per step (more at impacts); max_substeps
+//   self, env        average self and environment contacts (pairs in contact) per step
+//   resets           non-finite steps (must be 0, or the figures are meaningless)
+void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets) {
+  const double steps = static_cast<double>(tally.steps);
+  const double simulated = steps * model.step_size();
+  const double n = model.num_points();
+  using C = benchmark::Counter;
+  bench.counters["n"] = n;
+  bench.counters["spheres"] = spheres;
+  bench.counters["us_per_step"] = C(steps * 1e-6, C::kIsRate | C::kInvert);
+  bench.counters["ms_per_sim_s"] = C(simulated * 1e-3, C::kIsRate | C::kInvert);
+  bench.counters["realtime_x"] = C(simulated, C::kIsRate);
+  bench.counters["ns_per_point"] = C(steps * n * 1e-9, C::kIsRate | C::kInvert);
+  bench.counters["substeps"] = static_cast<double>(tally.substeps) / steps;
+  bench.counters["max_substeps"] = tally.max_substeps;
+  bench.counters["self"] = static_cast<double>(tally.self_contacts) / steps;
+  bench.counters["env"] = static_cast<double>(tally.environment_contacts) / steps;
+  bench.counters["resets"] = static_cast<double>(resets);
+}
+
+void BM_FallWhole(benchmark::State& bench) {
+  const Model model(FallParams(static_cast<int>(bench.range(0)), bench.range(1) != 0));
+  Workspace workspace(model);
+  const State start = InitialState(model);
+  State state = start;
+  const int64_t steps_per_fall = static_cast<int64_t>(kFallSeconds * model.params().rate_hz + 0.5);
+
+  // One warm-up step: the solvers and the contact buffers size themselves on first use.
+  Step(model, {}, &state, &workspace);
+
+  Tally tally;
+  int64_t resets = 0;
+  for (auto _ : bench) {
+    bench.PauseTiming();
+    resets += state.nonfinite_resets;
+    state = start;  // same sizes: a copy, no allocation
+    bench.ResumeTiming();
+    for (int64_t i = 0; i < steps_per_fall; ++i) {
+      Step(model, {}, &state, &workspace);
+      tally.Add(state);
+    }
+  }
+  resets += state.nonfinite_resets;
+  Report(bench, model, workspace.interactions()->chain().size(), tally, resets);
+}
+
+void BM_FallSettled(benchmark::State& bench) {
+  const Model model(FallParams(static_cast<int>(bench.range(0)), bench.range(1) != 0));
+  Workspace workspace(model);
+  State state = InitialState(model);
+  const int64_t warmup_steps = static_cast<int64_t>(kWarmupSeconds * model.params().rate_hz + 0.5);
+  for (int64_t i = 0; i < warmup_steps; ++i) Step(model, {}, &state, &workspace);
+  const int64_t resets_before = state.nonfinite_resets;
+
+  Tally tally;
+  for (auto _ : bench) {
+    Step(model, {}, &state, &workspace);
+    tally.Add(state);
+  }
+  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets);
+  bench.counters["warmup_resets"] = static_cast<double>(resets_before);
+}
+
+void Sizes(benchmark::internal::Benchmark* b) {
+  for (int self : {1, 0}) {
+    for (int n : {50, 125, 250, 500, 1000}) b->Args({n, self});
+  }
+}
+
+BENCHMARK(BM_FallWhole)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FallSettled)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace viscera::mechanics
+
+BENCHMARK_MAIN();
