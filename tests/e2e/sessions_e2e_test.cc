@@ -335,7 +335,8 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
   // no jump: the force fades over steps instead of dropping at once
   const json s = Status(dir, id);
   EXPECT_EQ(s["idle_events"], 1);
-  EXPECT_GT(s["poses"].get<int64_t>(), 1000);
+  // the 300 paced poses arrive; of the burst, UDP keeps what the receive buffer holds
+  EXPECT_GT(s["poses"].get<int64_t>(), 250) << s.dump();
   const json so = Status(dir, other);
   EXPECT_NEAR(so["rate_hz"].get<double>(), 100.0, 15.0) << so.dump();  // unaffected
   EXPECT_NEAR(s["rate_hz"].get<double>(), 100.0, 15.0) << s.dump();
