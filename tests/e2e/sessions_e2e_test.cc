@@ -194,7 +194,7 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
   const int64_t flood_counted = sa["poses"].get<int64_t>() + sa["rejected"].get<int64_t>() - kBadForA - 1;
   EXPECT_GE(sa["rejected"].get<int64_t>(), kBadForA + 1) << sa.dump();
   EXPECT_LE(flood_counted, 20000);
-  EXPECT_GT(flood_counted, 1000) << "the server heard almost none of the flood";
+  EXPECT_GT(flood_counted, 200) << "the server heard almost none of the flood";
   EXPECT_NE(sa["last_error"].get<std::string>(), "");
   EXPECT_EQ(sb["rejected"], 0);  // the other session saw none of it
   EXPECT_NEAR(sb["rate_hz"].get<double>(), 100.0, 10.0);
