@@ -11,6 +11,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <string>
 #include <vector>
 
 #include "common/check.h"
@@ -47,13 +48,18 @@ const Cavity& Scene() {
   return cavity;
 }
 
-// Args: skin index, width, height.
+// Args: skin index, width, height, sides (vertices per ring of the ring-based skins; 0: the
+// skin's default, 16 parametric, 32 convolution and hybrid).
 void BM_Frame(benchmark::State& state) {
   const Cavity& cavity = Scene();
   FrameOptions options;
   options.skin = kSkins[state.range(0)];
   options.width = static_cast<int>(state.range(1));
   options.height = static_cast<int>(state.range(2));
+  if (state.range(3) > 0) {
+    options.skin_options.parametric.sides = static_cast<int>(state.range(3));
+    options.skin_options.convolution.sides = static_cast<int>(state.range(3));
+  }
   FrameRenderer renderer(cavity.params, options);
   const Points& q0 = cavity.poses.front();
   const Laparoscope scope = FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
@@ -68,7 +74,7 @@ void BM_Frame(benchmark::State& state) {
     encode_ms += renderer.timings().encode_ms;
   }
   const double n = static_cast<double>(state.iterations());
-  state.SetLabel(options.skin);
+  state.SetLabel(options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : ""));
   state.counters["skin_ms"] = skin_ms / n;
   state.counters["render_ms"] = render_ms / n;
   state.counters["encode_ms"] = encode_ms / n;
@@ -80,8 +86,13 @@ void BM_Frame(benchmark::State& state) {
 
 void Sizes(benchmark::internal::Benchmark* b) {
   for (int skin = 0; skin < 4; ++skin) {
-    b->Args({skin, 640, 480});
-    b->Args({skin, 1280, 720});
+    b->Args({skin, 640, 480, 0});
+    b->Args({skin, 1280, 720, 0});
+  }
+  // the convolution surface at the parametric skin's ring density
+  for (int skin : {1, 3}) {
+    b->Args({skin, 640, 480, 16});
+    b->Args({skin, 1280, 720, 16});
   }
 }
 BENCHMARK(BM_Frame)->Apply(Sizes)->Unit(benchmark::kMillisecond)->UseRealTime();

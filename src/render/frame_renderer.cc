@@ -32,7 +32,7 @@ FrameRenderer::FrameRenderer(const mechanics::ModelParams& params, const FrameOp
       encoder_(options.jpeg_quality),
       skin_(skin::MakeSkin(options.skin, WithRadius(options.skin_options, params.radius))),
       focus_radius_(options.skin_options.hybrid.focus_radius),
-      scene_(std::make_unique<SceneRenderer>(params, options.palette)) {
+      scene_(std::make_unique<SceneRenderer>(params, options.palette, options.scene)) {
   skin_->Bind(static_cast<int>(params.initial_q.rows()));
 }
 

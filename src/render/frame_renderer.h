@@ -29,6 +29,7 @@ struct FrameOptions {
   /// The skin's own options; `radius` is replaced by the scene's tube radius.
   skin::SkinOptions skin_options;
   Palette palette = DefaultPalette();
+  SceneOptions scene;
 };
 
 /// Costs of the last frame, milliseconds of wall time. With LP_NUM_THREADS=0 (the

@@ -5,15 +5,15 @@
 
 namespace viscera::render {
 
-SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palette, double plane_half_size)
-    : tool_params_(params.tools), palette_(std::move(palette)) {
+SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palette, SceneOptions options)
+    : tool_params_(params.tools), palette_(std::move(palette)), options_(options) {
   const Vec3 around = params.initial_q.rows() > 0 ? Vec3(params.initial_q.colwise().mean().transpose())
                                                   : Vec3(Vec3::Zero());
   int unnamed = 0;
   TriMesh cpu;
   for (const collision::Obstacle& o : params.obstacles) {
     cpu.Clear();
-    AppendObstacle(o, around, plane_half_size, &cpu);
+    AppendObstacle(o, around, options_.plane_half_size, &cpu);
     StaticMesh s;
     s.mesh = std::make_unique<GpuMesh>();
     s.mesh->Upload(cpu);
@@ -43,11 +43,11 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   renderer_.Clear(palette_.background);
   for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
 
-  // the intestine: both faces lit, the scope may enter the tube
   intestine_cpu_.Clear();
   AppendSkin(intestine, &intestine_cpu_);
   intestine_gpu_.Upload(intestine_cpu_);
-  renderer_.Draw(intestine_gpu_, camera, palette_.intestine, Faces::kBoth);
+  renderer_.Draw(intestine_gpu_, camera, palette_.intestine,
+                 options_.intestine_back_faces ? Faces::kBoth : Faces::kFront);
 
   tools_cpu_.Clear();
   for (size_t i = 0; i < tools.size(); ++i) {

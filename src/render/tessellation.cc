@@ -147,7 +147,7 @@ void AppendObstacle(const collision::Obstacle& o, const Vec3& around, double pla
       AppendBox(o.centre, o.half_extents, o.orientation, out);
       break;
     case ObstacleKind::kEllipsoid:
-      AppendEllipsoid(o.centre, o.radii, o.orientation, 96, 64, out);
+      AppendEllipsoid(o.centre, o.radii, o.orientation, 72, 48, out);
       break;
     case ObstacleKind::kMesh:
       ThrowUnless(o.sdf != nullptr, "obstacle \"", o.name, "\": a mesh obstacle without its mesh");
