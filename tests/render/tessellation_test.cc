@@ -21,7 +21,9 @@ void ExpectOnSurfaceAndOutward(const collision::Obstacle& o, const TriMesh& mesh
     const double d = collision::SignedDistance(o, V(mesh.positions[i]), &normal);
     EXPECT_NEAR(d, 0.0, tol) << "vertex " << i;
     // a box's vertices are its corners, where the surface normal is not defined
-    if (o.kind != collision::ObstacleKind::kBox) EXPECT_GT(normal.dot(V(mesh.normals[i])), 0.99) << "vertex " << i;
+    if (o.kind != collision::ObstacleKind::kBox) {
+      EXPECT_GT(normal.dot(V(mesh.normals[i])), 0.99) << "vertex " << i;
+    }
     EXPECT_NEAR(mesh.normals[i].norm(), 1.0f, 1e-5f);
   }
   for (int t = 0; t < mesh.num_triangles(); ++t) {

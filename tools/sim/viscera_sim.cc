@@ -197,7 +197,7 @@ int Run(const Options& opt) {
   const int render_every = opt.render_every > 0 ? opt.render_every
                                                 : std::max(1, static_cast<int>(std::lround(model.params().rate_hz / 25.0)));
   if (!opt.render_dir.empty()) {
-    ThrowUnless(opt.render_every >= 0, "--render-every ", opt.render_every, ": must be >= 1");
+    ThrowUnless(opt.render_every >= 0, "--render-every ", opt.render_every, ": must be >= 1 (0: about 25 per second)");
     frames = std::make_unique<FrameWriter>(opt, model, state.q);
     frames->Write(state);
   }
