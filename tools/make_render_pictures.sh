@@ -1,8 +1,9 @@
 #!/bin/sh
 # Docs tool: regenerates the renderer's pictures in docs/ (docs/rendering.md): each skin in the
-# settled cavity scene through a laparoscope inside the cavity, and the clearing gesture at
-# t = 3 s from viscera-sim's default camera, and a close-up of the grasper's jaws at t = 0.9 s. Frames come from `viscera-sim --render` (OSMesa,
-# JPEG quality 95) and are converted to PNG. Needs a build and python3 with Pillow.
+# settled cavity scene through a laparoscope inside the cavity, the clearing gesture at t = 3 s
+# from viscera-sim's default camera, and a close-up of the grasper's jaws at t = 0.9 s. Frames
+# come from `viscera-sim --render` (OSMesa, JPEG quality 95) and are converted to PNG. Needs a
+# build and python3 with Pillow.
 set -eu
 repo=$(cd "$(dirname "$0")/.." && pwd)
 sim="$repo/build/tools/viscera-sim"
