@@ -25,6 +25,10 @@ class MeshSdf {
   double Distance(const Vec3& p, Vec3* normal) const;
 
   int triangles() const { return static_cast<int>(faces_.rows()); }
+  /// The mesh the field was built from, scaled and placed (#V by 3, m), for rendering.
+  const Points& vertices() const { return vertices_; }
+  /// Its triangles (#F by 3 indices into vertices()), as read (polygons fanned).
+  const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces() const { return faces_; }
 
  private:
   double Sample(int i, int j, int k) const { return values_[(static_cast<size_t>(k) * ny_ + j) * nx_ + i]; }

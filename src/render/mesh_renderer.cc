@@ -24,12 +24,18 @@ void main() {
 )";
 
 // Blinn-Phong with the light at the eye: the light and view directions coincide, so
-// the half vector is the view direction.
+// the half vector is the view direction and both lobes are powers of n.v. A sharp lobe
+// (u_shininess) and a broad one (u_sheen) together give the wet look of mucosa. The
+// light falls off as 1 / (1 + (d / range)^2) with the distance d from the scope.
 constexpr char kFragmentShader[] = R"(#version 330 core
 uniform vec3 u_albedo;
 uniform float u_ambient;
 uniform float u_specular;
 uniform float u_shininess;
+uniform float u_sheen;
+uniform float u_sheen_shininess;
+uniform float u_metallic;
+uniform float u_light_range;
 in vec3 v_position;
 in vec3 v_normal;
 out vec4 frag_colour;
@@ -38,22 +44,18 @@ void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;
   float diffuse = max(dot(n, to_eye), 0.0);
-  float highlight = u_specular * pow(diffuse, u_shininess);
-  vec3 colour = u_albedo * (u_ambient + (1.0 - u_ambient) * diffuse) + vec3(highlight);
+  float light = 1.0;
+  if (u_light_range > 0.0) {
+    float d = length(v_position) / u_light_range;
+    light = 1.0 / (1.0 + d * d);
+  }
+  float highlight = u_specular * pow(diffuse, u_shininess) + u_sheen * pow(diffuse, u_sheen_shininess);
+  vec3 highlight_colour = mix(vec3(1.0), u_albedo, u_metallic);
+  vec3 colour = u_albedo * (u_ambient + (1.0 - u_ambient) * diffuse * light) +
+                highlight_colour * (highlight * light);
   frag_colour = vec4(min(colour, vec3(1.0)), 1.0);
 }
 )";
-
-// Uploads `bytes` into `buffer`, reallocating only when it grows.
-void Upload(GLenum target, unsigned buffer, const void* data, long bytes, long* capacity) {
-  glBindBuffer(target, buffer);
-  if (bytes > *capacity) {
-    glBufferData(target, bytes, data, GL_DYNAMIC_DRAW);
-    *capacity = bytes;
-  } else {
-    glBufferSubData(target, 0, bytes, data);
-  }
-}
 
 }  // namespace
 
@@ -72,29 +74,14 @@ MeshRenderer::MeshRenderer() {
   u_ambient_ = program_->Uniform("u_ambient");
   u_specular_ = program_->Uniform("u_specular");
   u_shininess_ = program_->Uniform("u_shininess");
-
-  // Core profile draws nothing without a vertex array object.
-  glGenVertexArrays(1, &vertex_array_);
-  glGenBuffers(1, &position_buffer_);
-  glGenBuffers(1, &normal_buffer_);
-  glGenBuffers(1, &index_buffer_);
-  glBindVertexArray(vertex_array_);
-  glBindBuffer(GL_ARRAY_BUFFER, position_buffer_);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(0);
-  glBindBuffer(GL_ARRAY_BUFFER, normal_buffer_);
-  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
-  glEnableVertexAttribArray(1);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, index_buffer_);  // recorded in the VAO
-  glBindVertexArray(0);
+  u_sheen_ = program_->Uniform("u_sheen");
+  u_sheen_shininess_ = program_->Uniform("u_sheen_shininess");
+  u_metallic_ = program_->Uniform("u_metallic");
+  u_light_range_ = program_->Uniform("u_light_range");
+  stream_ = std::make_unique<GpuMesh>();
 }
 
-MeshRenderer::~MeshRenderer() {
-  glDeleteBuffers(1, &index_buffer_);
-  glDeleteBuffers(1, &normal_buffer_);
-  glDeleteBuffers(1, &position_buffer_);
-  glDeleteVertexArrays(1, &vertex_array_);
-}
+MeshRenderer::~MeshRenderer() = default;
 
 void MeshRenderer::Clear(const Eigen::Vector3f& rgb) {
   glClearColor(rgb.x(), rgb.y(), rgb.z(), 1.0f);
@@ -104,25 +91,19 @@ void MeshRenderer::Clear(const Eigen::Vector3f& rgb) {
 void MeshRenderer::Draw(const VerticesF& positions, const VerticesF& normals,
                         const TrianglesU& triangles, const CameraMatrices& camera,
                         const Material& material) {
-  // validate: GL would read out of bounds on a bad index
   ThrowUnless(normals.rows() == positions.rows(), "MeshRenderer::Draw: ", positions.rows(),
               " positions but ", normals.rows(), " normals");
-  if (triangles.size() > 0) {
-    ThrowUnless(triangles.maxCoeff() < positions.rows(), "MeshRenderer::Draw: index ",
-                triangles.maxCoeff(), " out of range for ", positions.rows(), " vertices");
-  }
   if (triangles.rows() == 0) return;
+  // Eigen's row-major #V by 3 arrays are the interleaved layout GL takes.
+  stream_->Upload(positions.data(), normals.data(), positions.rows(), triangles.data(),
+                  static_cast<long>(triangles.size()));
+  Draw(*stream_, camera, material);
+}
 
-  // upload
-  glBindVertexArray(vertex_array_);
-  Upload(GL_ARRAY_BUFFER, position_buffer_, positions.data(),
-         static_cast<long>(positions.size() * sizeof(float)), &position_capacity_);
-  Upload(GL_ARRAY_BUFFER, normal_buffer_, normals.data(),
-         static_cast<long>(normals.size() * sizeof(float)), &normal_capacity_);
-  Upload(GL_ELEMENT_ARRAY_BUFFER, index_buffer_, triangles.data(),
-         static_cast<long>(triangles.size() * sizeof(uint32_t)), &index_capacity_);
-
-  // draw (Eigen's default column-major storage is what GL expects: no transpose)
+void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const Material& material,
+                        Faces faces) {
+  if (mesh.num_indices() == 0) return;
+  // Eigen's default column-major storage is what GL expects: no transpose
   program_->Use();
   glUniformMatrix4fv(u_view_, 1, GL_FALSE, camera.view.data());
   glUniformMatrix4fv(u_projection_, 1, GL_FALSE, camera.projection.data());
@@ -130,9 +111,18 @@ void MeshRenderer::Draw(const VerticesF& positions, const VerticesF& normals,
   glUniform1f(u_ambient_, material.ambient);
   glUniform1f(u_specular_, material.specular);
   glUniform1f(u_shininess_, material.shininess);
+  glUniform1f(u_sheen_, material.sheen);
+  glUniform1f(u_sheen_shininess_, material.sheen_shininess);
+  glUniform1f(u_metallic_, material.metallic);
+  glUniform1f(u_light_range_, camera.light_range);
   glEnable(GL_DEPTH_TEST);
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(triangles.size()), GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
+  if (faces == Faces::kBoth) {
+    glDisable(GL_CULL_FACE);
+  } else {
+    glEnable(GL_CULL_FACE);
+    glCullFace(faces == Faces::kFront ? GL_BACK : GL_FRONT);
+  }
+  mesh.Draw();
 
   const GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error(Cat("GL error 0x", std::hex, error, " in Draw"));

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "render/gpu_mesh.h"
 #include "render/shader_program.h"
 
 namespace viscera::render {
@@ -21,12 +22,26 @@ struct Material {
   float ambient = 0.15f;   ///< fraction of albedo lit regardless of the light
   float specular = 0.35f;  ///< strength of the white highlight (moist tissue shines)
   float shininess = 40.0f; ///< Blinn-Phong exponent
+  /// A second, broad highlight lobe (strength, exponent): the wet film on mucosa shines
+  /// in a wide soft glow around its sharp highlight. 0: none.
+  float sheen = 0.0f;
+  float sheen_shininess = 6.0f;
+  /// 0: white highlights (dielectric: tissue); 1: highlights tinted by the albedo (metal).
+  float metallic = 0.0f;
 };
+
+/// Which faces a draw keeps. Closed surfaces seen from outside keep front faces; the
+/// inner wall of a cavity (an outward-oriented surface seen from inside) keeps back faces,
+/// so a camera outside it sees through its near side.
+enum class Faces { kBoth, kFront, kBack };
 
 /// Where the camera is and what it sees.
 struct CameraMatrices {
   Eigen::Matrix4f view = Eigen::Matrix4f::Identity();        ///< world to view (rigid)
   Eigen::Matrix4f projection = Eigen::Matrix4f::Identity();  ///< view to clip
+  /// The laparoscope's light, at the eye, falls to half its intensity at this distance
+  /// (m): near tissue is bright, far tissue dark, as through a real scope. 0: no falloff.
+  float light_range = 0.0f;
 };
 
 class MeshRenderer {
@@ -52,18 +67,18 @@ class MeshRenderer {
   void Draw(const VerticesF& positions, const VerticesF& normals, const TrianglesU& triangles,
             const CameraMatrices& camera, const Material& material);
 
+  /// Draws a mesh already in GL buffers (uploaded once for static geometry, or per frame
+  /// into a GpuMesh of its own: one buffer set per mesh, so no upload waits for a draw).
+  /// @throws std::runtime_error when GL reports an error.
+  void Draw(const GpuMesh& mesh, const CameraMatrices& camera, const Material& material,
+            Faces faces = Faces::kBoth);
+
  private:
   std::unique_ptr<ShaderProgram> program_;
-  unsigned vertex_array_ = 0;
-  unsigned position_buffer_ = 0;
-  unsigned normal_buffer_ = 0;
-  unsigned index_buffer_ = 0;
-  // Bytes allocated in each buffer: grow only, then update in place.
-  long position_capacity_ = 0;
-  long normal_capacity_ = 0;
-  long index_capacity_ = 0;
+  std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
   int u_view_ = -1, u_projection_ = -1, u_albedo_ = -1, u_ambient_ = -1, u_specular_ = -1,
-      u_shininess_ = -1;
+      u_shininess_ = -1, u_sheen_ = -1, u_sheen_shininess_ = -1, u_metallic_ = -1,
+      u_light_range_ = -1;
 };
 
 }  // namespace viscera::render

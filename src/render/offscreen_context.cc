@@ -1,6 +1,9 @@
 #include "render/offscreen_context.h"
 
+#include <malloc.h>
+
 #include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 
 #include "common/check.h"
@@ -29,11 +32,21 @@ OSMesaContext CreateContext(bool core) {
 
 void LimitRasterizerThreads() { ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0); }
 
+void KeepRenderMemoryMapped() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (std::getenv("MALLOC_MMAP_THRESHOLD_") != nullptr || std::getenv("MALLOC_TRIM_THRESHOLD_") != nullptr) return;
+    ::mallopt(M_MMAP_THRESHOLD, 16 << 20);
+    ::mallopt(M_TRIM_THRESHOLD, 64 << 20);
+  });
+}
+
 OffscreenContext::OffscreenContext(int width, int height)
     : width_(width), height_(height), owner_(std::this_thread::get_id()) {
   ThrowUnless(width >= 1 && width <= kMaxSize && height >= 1 && height <= kMaxSize,
               "frame size ", width, "x", height, " is outside 1..", kMaxSize);
   LimitRasterizerThreads();
+  KeepRenderMemoryMapped();
   pixels_.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 0);
 
   OSMesaContext context = CreateContext(/*core=*/true);

@@ -9,7 +9,10 @@
 #include <iterator>
 #include <map>
 #include <sstream>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -175,6 +178,43 @@ TEST(VisceraSim, ExportsEachSkinOfTheLastFrameAsAClosedMesh) {
                            " --duration 0.01 --skin marble --export-mesh /tmp/x.obj 2>&1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("marble"), std::string::npos) << bad.out;
+}
+
+// --render writes decodable JPEG frames of the run: the first at t = 0, then every N steps.
+TEST(VisceraSim, RendersDecodableFramesOfTheRun) {
+  for (const char* skin : {"parametric", "convolution"}) {
+    const std::string dir = testing::TempDir() + "frames_" + skin;
+    std::filesystem::remove_all(dir);
+    const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.1 --skin " + skin +
+                           " --render " + dir + " --render-every 2 --frame-size 160x120 --json 2>&1");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_EQ(nlohmann::json::parse(r.out.substr(r.out.find('{')))["rendered_frames"], 6) << r.out;
+    for (int k = 0; k < 6; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "/frame_%06d.jpg", k);
+      const cv::Mat image = cv::imread(dir + name, cv::IMREAD_COLOR);
+      ASSERT_FALSE(image.empty()) << dir + name;
+      EXPECT_EQ(image.cols, 160);
+      EXPECT_EQ(image.rows, 120);
+      cv::Scalar mean, stddev;
+      cv::meanStdDev(image, mean, stddev);
+      EXPECT_GT(stddev[2], 10.0) << "uniform frame " << name;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir + "/frame_000006.jpg"));
+  }
+  // an explicit camera looking away from the coil sees less of it than the default one
+  const std::string dir = testing::TempDir() + "frames_away";
+  const Result away = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.01 --render " + dir +
+                            " --frame-size 160x120 --camera 0 0 0.2 0 1 0.6 2>&1");
+  ASSERT_EQ(away.exit_code, 0) << away.out;
+  const cv::Mat image = cv::imread(dir + "/frame_000000.jpg", cv::IMREAD_COLOR);
+  ASSERT_FALSE(image.empty());
+  const cv::Mat first = cv::imread(testing::TempDir() + "frames_parametric/frame_000000.jpg", cv::IMREAD_COLOR);
+  EXPECT_GT(cv::norm(image, first, cv::NORM_L1) / image.total(), 10.0);
+  const Result bad = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.01 --render " + dir +
+                           " --frame-size 160by120 2>&1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("160by120"), std::string::npos) << bad.out;
 }
 
 TEST(VisceraSim, BadSceneGivesAClearErrorAndExitCode) {

@@ -1,5 +1,6 @@
 // viscera-sim: runs a scene offline, with no network, and reports what happened.
 //   viscera-sim SCENE.toml --duration SECONDS [--trace FILE.jsonl] [--trace-every N] [--json]
+//               [--render DIR [--render-every N] [--camera EX EY EZ CX CY CZ] [--frame-size WxH]]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,8 @@
 #include "common/clock.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
+#include "render/frame_renderer.h"
+#include "render/jpeg_sequence.h"
 #include "scene/scene.h"
 #include "script/tool_script.h"
 #include "skin/skin.h"
@@ -37,6 +40,46 @@ struct Options {
   std::string export_mesh;
   std::vector<double> focus;  // hybrid skin: focus centre (m); default the skeleton's centre
   double focus_radius = 0.1;
+  std::string render_dir;     // JPEG frames of the run go here
+  int render_every = 0;       // steps between frames; 0: about 25 frames per simulated second
+  std::vector<double> camera; // eye x y z, look-at x y z (m); default frames the skeleton
+  std::string frame_size = "640x480";
+  int jpeg_quality = 85;
+};
+
+// Renders frames of the run into a directory (frame_000000.jpg, ...), from the scene's
+// framing camera or the one given.
+class FrameWriter {
+ public:
+  FrameWriter(const Options& opt, const mechanics::Model& model, const Points& q0) : sequence_(opt.render_dir) {
+    render::FrameOptions options;
+    render::ParseFrameSize(opt.frame_size, &options.width, &options.height);
+    options.jpeg_quality = opt.jpeg_quality;
+    options.skin = opt.skin;
+    options.skin_options.hybrid.focus_radius = opt.focus_radius;
+    renderer_ = std::make_unique<render::FrameRenderer>(model.params(), options);
+    scope_ = render::FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
+                                        options.width, options.height);
+    ThrowUnless(opt.camera.empty() || opt.camera.size() == 6, "--camera takes ex ey ez cx cy cz");
+    if (opt.camera.size() == 6) {
+      scope_.eye = Eigen::Vector3d(opt.camera[0], opt.camera[1], opt.camera[2]).cast<float>();
+      scope_.target = Eigen::Vector3d(opt.camera[3], opt.camera[4], opt.camera[5]).cast<float>();
+      scope_.light_range = 1.5f * (scope_.eye - scope_.target).norm();
+    }
+  }
+  void Write(const State& state) {
+    renderer_->Render(state, scope_);
+    sequence_.Write(renderer_->Encode());
+    render_ms_ += renderer_->timings().skin_ms + renderer_->timings().render_ms + renderer_->timings().encode_ms;
+  }
+  int frames() const { return sequence_.frames(); }
+  double mean_ms() const { return frames() > 0 ? render_ms_ / frames() : 0.0; }
+
+ private:
+  render::JpegSequence sequence_;
+  std::unique_ptr<render::FrameRenderer> renderer_;
+  render::Laparoscope scope_;
+  double render_ms_ = 0.0;
 };
 
 // Writes the skin of the final pose (OBJ or PLY by extension).
@@ -150,6 +193,14 @@ int Run(const Options& opt) {
   const Vec3 com0 = CentreOfMass(model, state.q);
   record(0.0);
   const int64_t steps = std::max<int64_t>(1, std::llround(opt.duration * model.params().rate_hz));
+  std::unique_ptr<FrameWriter> frames;
+  const int render_every = opt.render_every > 0 ? opt.render_every
+                                                : std::max(1, static_cast<int>(std::lround(model.params().rate_hz / 25.0)));
+  if (!opt.render_dir.empty()) {
+    ThrowUnless(opt.render_every >= 0, "--render-every ", opt.render_every, ": must be >= 1 (0: about 25 per second)");
+    frames = std::make_unique<FrameWriter>(opt, model, state.q);
+    frames->Write(state);
+  }
   std::vector<double> cost_us;
   cost_us.reserve(static_cast<size_t>(steps));
   ProgressBar progress(steps);
@@ -164,6 +215,7 @@ int Run(const Options& opt) {
     if (!std::isnan(state.contacts.min_clearance)) min_clearance = std::min(min_clearance, state.contacts.min_clearance);
     for (size_t t = 0; t < state.tools.size(); ++t) max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
     if (k % opt.trace_every == 0 || k == steps) record(us);
+    if (frames && k % render_every == 0) frames->Write(state);
     progress.Update(k);
   }
 
@@ -196,6 +248,7 @@ int Run(const Options& opt) {
       {"sphere_radius", interactions ? interactions->chain().radius() : 0.0},
       {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
   };
+  if (frames) summary["rendered_frames"] = frames->frames();
   summary["final_energy"]["contact"] = e.contact;
   if (opt.json) {
     std::cout << summary.dump(2) << "\n";
@@ -232,6 +285,10 @@ int Run(const Options& opt) {
     std::printf("tool %-11s force [%.3f, %.3f, %.3f] N, max over the run %.3f N%s\n", model.params().tools[t].name.c_str(),
                 f.x(), f.y(), f.z(), max_tool_force[t], state.tools[t].grasping ? ", grasping" : "");
   }
+  if (frames) {
+    std::printf("frames           %d (%s skin, %s, every %d steps, %.1f ms each) -> %s\n", frames->frames(),
+                opt.skin.c_str(), opt.frame_size.c_str(), render_every, frames->mean_ms(), opt.render_dir.c_str());
+  }
   if (state.nonfinite_resets > 0) {
     std::printf("WARNING          %lld non-finite steps were reset\n", static_cast<long long>(state.nonfinite_resets));
   }
@@ -250,11 +307,16 @@ int main(int argc, char** argv) {
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
   app.add_flag("--json", opt.json, "print the final summary as JSON");
   app.add_option("--tool-script", opt.tool_script, "CSV of tool targets: t,tool,x,y,z,qw,qx,qy,qz,jaw");
-  app.add_option("--skin", opt.skin, "skin for --export-mesh: parametric, implicit, convolution or hybrid")
+  app.add_option("--skin", opt.skin, "skin for --export-mesh and --render: parametric, implicit, convolution or hybrid")
       ->capture_default_str();
   app.add_option("--export-mesh", opt.export_mesh, "write the last frame's skin mesh (.obj or .ply)");
   app.add_option("--focus", opt.focus, "hybrid skin focus centre x y z (m)")->expected(3);
   app.add_option("--focus-radius", opt.focus_radius, "hybrid skin focus radius (m)")->capture_default_str();
+  app.add_option("--render", opt.render_dir, "write JPEG frames of the run to this directory");
+  app.add_option("--render-every", opt.render_every, "steps between frames (default: about 25 per simulated second)");
+  app.add_option("--camera", opt.camera, "laparoscope eye x y z and look-at x y z (m)")->expected(6);
+  app.add_option("--frame-size", opt.frame_size, "frame size WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--jpeg-quality", opt.jpeg_quality, "JPEG quality 1..100")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     return viscera::tools::Run(opt);

@@ -1,0 +1,103 @@
+// Rendering benchmark: wall milliseconds per frame of the cavity scene for each skin and frame
+// size, split into skin build, render (upload, draw, glFinish) and JPEG encode (quality 85).
+//
+//   scenes/cavity.toml (3 m, 190 control points, cavity wall, spine, liver, bladder) settles
+//   for 3 s at load; the benchmark then steps it 10 more steps and cycles through those
+//   poses, so the convolution skin's warm start follows real residual motion. The camera is
+//   viscera-sim's default (FramingLaparoscope of the pile). LP_NUM_THREADS=0 unless set:
+//   llvmpipe rasterizes in the benchmark's thread, so the figures are one core's.
+//
+//   taskset -c 1 ./build/bench/bench_render --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common/check.h"
+#include "mechanics/step.h"
+#include "render/frame_renderer.h"
+#include "scene/scene.h"
+
+namespace viscera::render {
+namespace {
+
+constexpr const char* kScene = VISCERA_SOURCE_DIR "/scenes/cavity.toml";
+constexpr int kPoses = 10;
+constexpr const char* kSkins[] = {"parametric", "convolution", "implicit", "hybrid"};
+
+struct Cavity {
+  mechanics::ModelParams params;
+  std::vector<Points> poses;
+};
+
+const Cavity& Scene() {
+  static const Cavity cavity = [] {
+    Cavity c;
+    c.params = scene::LoadSceneFile(kScene).model;  // settles for 3 s
+    const mechanics::Model model(c.params);
+    mechanics::Workspace workspace(model);
+    mechanics::State state = mechanics::InitialState(model);
+    for (int i = 0; i < kPoses; ++i) {
+      mechanics::Step(model, {}, &state, &workspace);
+      c.poses.push_back(state.q);
+    }
+    ThrowUnless(state.nonfinite_resets == 0, kScene, ": diverged");
+    return c;
+  }();
+  return cavity;
+}
+
+// Args: skin index, width, height, sides (vertices per ring of the ring-based skins; 0: the
+// skin's default, 16 parametric, 32 convolution and hybrid).
+void BM_Frame(benchmark::State& state) {
+  const Cavity& cavity = Scene();
+  FrameOptions options;
+  options.skin = kSkins[state.range(0)];
+  options.width = static_cast<int>(state.range(1));
+  options.height = static_cast<int>(state.range(2));
+  if (state.range(3) > 0) {
+    options.skin_options.parametric.sides = static_cast<int>(state.range(3));
+    options.skin_options.convolution.sides = static_cast<int>(state.range(3));
+  }
+  FrameRenderer renderer(cavity.params, options);
+  const Points& q0 = cavity.poses.front();
+  const Laparoscope scope = FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
+                                               options.width, options.height);
+  double skin_ms = 0.0, render_ms = 0.0, encode_ms = 0.0, bytes = 0.0;
+  size_t k = 0;
+  for (auto _ : state) {
+    renderer.Render(cavity.poses[k++ % cavity.poses.size()], {}, scope);
+    bytes += static_cast<double>(renderer.Encode().size());
+    skin_ms += renderer.timings().skin_ms;
+    render_ms += renderer.timings().render_ms;
+    encode_ms += renderer.timings().encode_ms;
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.SetLabel(options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : ""));
+  state.counters["skin_ms"] = skin_ms / n;
+  state.counters["render_ms"] = render_ms / n;
+  state.counters["encode_ms"] = encode_ms / n;
+  state.counters["render+encode fps"] = 1e3 / ((render_ms + encode_ms) / n);
+  state.counters["frame fps"] = 1e3 / ((skin_ms + render_ms + encode_ms) / n);
+  state.counters["triangles"] = static_cast<double>(renderer.scene().triangles());
+  state.counters["jpeg_kB"] = bytes / n / 1024.0;
+}
+
+void Sizes(benchmark::internal::Benchmark* b) {
+  for (int skin = 0; skin < 4; ++skin) {
+    b->Args({skin, 640, 480, 0});
+    b->Args({skin, 1280, 720, 0});
+  }
+  // the convolution surface at the parametric skin's ring density
+  for (int skin : {1, 3}) {
+    b->Args({skin, 640, 480, 16});
+    b->Args({skin, 1280, 720, 16});
+  }
+}
+BENCHMARK(BM_Frame)->Apply(Sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace viscera::render
+
+BENCHMARK_MAIN();

@@ -1,0 +1,33 @@
+#pragma once
+/// Palette: the materials of a laparoscopic scene. Colours are RGB in [0, 1], written to
+/// the frame as they are (no gamma step), chosen to look right on an sRGB screen.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "render/mesh_renderer.h"
+
+namespace viscera::render {
+
+struct Palette {
+  /// Pink mucosa-coloured serosa with a sharp wet highlight and a broad sheen.
+  Material intestine;
+  /// The abdominal wall (`inside = true` obstacles) and planes: darker, redder, less shiny.
+  Material cavity_wall;
+  /// Laparoscopic instruments: metallic grey, highlights tinted by the metal.
+  Material tool;
+  /// Organs by obstacle name (case-insensitive substring: "liver", "spine", ...).
+  std::vector<std::pair<std::string, Material>> named_organs;
+  /// Organs whose name matches none of the above, cycled in scene order.
+  std::vector<Material> organs;
+  /// What the scope sees where nothing is: near black, like an unlit abdomen.
+  Eigen::Vector3f background{0.02f, 0.01f, 0.01f};
+
+  /// The material of an organ obstacle named `name`, `index`-th unnamed organ so far.
+  const Material& Organ(const std::string& name, int* unnamed_index) const;
+};
+
+/// The palette the renderer uses unless told otherwise.
+Palette DefaultPalette();
+
+}  // namespace viscera::render

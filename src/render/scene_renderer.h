@@ -1,0 +1,70 @@
+#pragma once
+/// SceneRenderer: draws one frame of a simulation — the abdominal cavity's wall and organs
+/// (the scene's obstacles), the intestine's skin and the tools — into the current
+/// OffscreenContext.
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "mechanics/model_params.h"
+#include "mechanics/tool.h"
+#include "render/gpu_mesh.h"
+#include "render/mesh_renderer.h"
+#include "render/palette.h"
+#include "skin/mesh.h"
+
+namespace viscera::render {
+
+struct SceneOptions {
+  /// Planes are drawn as squares this size (m) each way around the projection of the
+  /// centre of the skeleton's starting pose.
+  double plane_half_size = 1.0;
+  /// Draw the intestine's back faces too (a scope inside the tube then sees its inner
+  /// wall). Off by default: culling them halves the triangles llvmpipe rasterizes (30-40 %
+  /// of the render time on the cavity scene) and a scope does not enter tissue.
+  bool intestine_back_faces = false;
+};
+
+class SceneRenderer {
+ public:
+  /// Tessellates the obstacles of `params` once and uploads them (they never move).
+  /// @pre an OffscreenContext (GL >= 3.3) is current on this thread and stays current
+  ///      for this object's life; `params` is valid (a Model was built from it).
+  SceneRenderer(const mechanics::ModelParams& params, Palette palette = DefaultPalette(),
+                SceneOptions options = {});
+  ~SceneRenderer();
+  SceneRenderer(const SceneRenderer&) = delete;
+  SceneRenderer& operator=(const SceneRenderer&) = delete;
+
+  /// Clears to the background and draws the obstacles, the intestine and the tools.
+  /// @param intestine the skin of the snapshot shown (world frame, outward triangles).
+  /// @param tools     one per `params.tools`, in scene order (State::tools); may be empty.
+  /// @throws InputError when tools has another size than the scene's tools.
+  void Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
+            const CameraMatrices& camera);
+
+  const Palette& palette() const { return palette_; }
+  /// Triangles drawn in the last frame (obstacles, intestine, tools).
+  long triangles() const { return triangles_; }
+
+ private:
+  struct StaticMesh {
+    std::unique_ptr<GpuMesh> mesh;
+    Material material;
+    Faces faces = Faces::kBoth;
+  };
+
+  std::vector<mechanics::ToolParams> tool_params_;
+  Palette palette_;
+  SceneOptions options_;
+  MeshRenderer renderer_;
+  std::vector<StaticMesh> obstacles_;
+  TriMesh intestine_cpu_;  // reused: its float copy of the skin
+  TriMesh tools_cpu_;
+  GpuMesh intestine_gpu_;  // one buffer set per dynamic mesh: no upload waits for a draw
+  GpuMesh tools_gpu_;
+  long static_triangles_ = 0;
+  long triangles_ = 0;
+};
+
+}  // namespace viscera::render
