@@ -26,7 +26,9 @@ TEST(SpatialGrid, MatchesBruteForceOnRandomPoints) {
     for (Vec3& p : points) p = Vec3(uni(rng), uni(rng), uni(rng));
     const auto expected = SpatialGrid::BruteForcePairs(points, 0.025);
     EXPECT_EQ(GridPairs(points, 0.025), expected) << "box " << box;
-    if (box == 0.05) EXPECT_GT(expected.size(), 1000u);  // a dense case really was tested
+    if (box == 0.05) {
+      EXPECT_GT(expected.size(), 1000u);  // a dense case really was tested
+    }
   }
 }
 

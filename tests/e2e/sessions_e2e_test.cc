@@ -270,16 +270,26 @@ TEST(SessionsE2E, ARecordSurvivesAKilledServerAndReplays) {
   EXPECT_GT(r.steps, 80);  // at most a fraction of a second lost
   EXPECT_GT(r.skeletons_compared, 20);
   EXPECT_EQ(r.max_deviation, 0.0);
+  // The offline runner replays the same record to the same trajectory.
+  const std::string trace = dir + "/replay.jsonl";
+  FILE* pipe = popen((std::string(VISCERA_SIM) + " --replay " + dir + "/session-" + std::to_string(id) +
+                      ".lcmlog --json --trace " + trace + " 2>&1").c_str(), "r");
+  std::string out;
+  char buf[4096];
+  for (size_t n; (n = fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
+  ASSERT_EQ(pclose(pipe), 0) << out;
+  const json replayed = json::parse(out);
+  EXPECT_EQ(replayed["steps"], r.steps);
+  EXPECT_EQ(replayed["skeletons_compared"], r.skeletons_compared);
+  EXPECT_EQ(replayed["max_deviation"], 0.0);
+  EXPECT_EQ(replayed["frames"], r.steps + r.resets);  // a frame per replayed step and reset
 }
 
 TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-g", {}, dir);
   const json created = Create(dir, "--scene-file " + PushScene());
-  if (created["tools"].empty()) {
-    GTEST_SKIP() << "the scene's [[tool]] is not parsed yet: tools and contacts are still being "
-                    "written in src/mechanics and src/scene (issue 3); no force to measure";
-  }
+  ASSERT_FALSE(created["tools"].empty()) << created.dump();
   const int64_t id = created["session"].get<int64_t>();
   EXPECT_EQ(created["tools"], json::array({"grasper"}));
   // press the tip 1 cm into the tube lying on the floor (its top is at z = 0.025 m)

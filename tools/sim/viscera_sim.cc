@@ -20,6 +20,7 @@
 #include "scene/scene.h"
 #include "script/tool_script.h"
 #include "skin/skin.h"
+#include "session/replay.h"
 #include "sim/progress_bar.h"
 #include "sim/trace_writer.h"
 
@@ -36,6 +37,7 @@ struct Options {
   int trace_every = 1;
   bool json = false;
   std::string tool_script;
+  std::string replay;  // a viscerad session record (LCM log)
   std::string skin = "parametric";
   std::string export_mesh;
   std::vector<double> focus;  // hybrid skin: focus centre (m); default the skeleton's centre
@@ -149,6 +151,33 @@ double Percentile(std::vector<double> v, double p) {
   const size_t k = std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - (p > 0 ? 1 : 0));
   std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
   return v[k];
+}
+
+// Replays a viscerad session record: the same scene, inputs and steps, so the same trajectory.
+int Replay(const Options& opt) {
+  std::unique_ptr<TraceWriter> trace;
+  if (!opt.trace.empty()) trace = std::make_unique<TraceWriter>(opt.trace);
+  int64_t step = 0;
+  const session::ReplayResult r = session::ReplayRecord(opt.replay, [&](const mechanics::Model& model, const mechanics::State& state) {
+    if (trace && step++ % opt.trace_every == 0) {
+      trace->Write(model, state, nullptr, model.curve().Length(state.q), mechanics::ComputeEnergies(model, state.q, state.qd), 0.0);
+    }
+  });
+  nlohmann::json summary = {{"record", opt.replay},        {"session", r.session_id},
+                            {"scene", r.scene},            {"rate_hz", r.rate_hz},
+                            {"steps", r.steps},            {"resets", r.resets},
+                            {"recoveries", r.recoveries},  {"skeletons_compared", r.skeletons_compared},
+                            {"max_deviation", r.max_deviation}, {"frames", trace ? trace->frames() : 0}};
+  if (opt.json) {
+    std::cout << summary.dump(2) << "\n";
+  } else {
+    std::printf("replayed         %s: session %lld, scene %s, %lld steps at %g Hz\n", opt.replay.c_str(),
+                static_cast<long long>(r.session_id), r.scene.c_str(), static_cast<long long>(r.steps), r.rate_hz);
+    std::printf("reproduced       %lld recorded skeleton states, largest deviation %.3g m%s\n",
+                static_cast<long long>(r.skeletons_compared), r.max_deviation,
+                r.max_deviation == 0.0 ? " (exact)" : "");
+  }
+  return 0;
 }
 
 int Run(const Options& opt) {
@@ -301,7 +330,8 @@ int Run(const Options& opt) {
 int main(int argc, char** argv) {
   viscera::tools::Options opt;
   CLI::App app{"viscera-sim: run a viscera scene offline and report what happened"};
-  app.add_option("scene", opt.scene, "scene file (TOML)")->required();
+  app.add_option("scene", opt.scene, "scene file (TOML); not with --replay");
+  app.add_option("--replay", opt.replay, "replay a viscerad session record (LCM log) instead of a scene");
   app.add_option("--duration", opt.duration, "simulated seconds")->capture_default_str();
   app.add_option("--trace", opt.trace, "write a JSON Lines trace to this file");
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
@@ -319,6 +349,8 @@ int main(int argc, char** argv) {
   app.add_option("--jpeg-quality", opt.jpeg_quality, "JPEG quality 1..100")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
+    if (!opt.replay.empty()) return viscera::tools::Replay(opt);
+    viscera::ThrowUnless(!opt.scene.empty(), "a scene file (or --replay RECORD) is required");
     return viscera::tools::Run(opt);
   } catch (const viscera::InputError& e) {
     std::cerr << "error: " << e.what() << "\n";
