@@ -17,14 +17,6 @@
 namespace viscera::client {
 namespace {
 
-void SleepUntil(int64_t monotonic_ns) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(monotonic_ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(monotonic_ns % 1'000'000'000);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
-
 double Percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   const size_t k = std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - 1);

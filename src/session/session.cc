@@ -34,14 +34,6 @@ using viscera_proto::session_status_t;
 
 namespace {
 
-void SleepUntil(int64_t monotonic_ns) {
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(monotonic_ns / 1'000'000'000);
-  ts.tv_nsec = static_cast<long>(monotonic_ns % 1'000'000'000);
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
-
 int64_t PeriodNs(double rate_hz) { return static_cast<int64_t>(std::llround(1e9 / rate_hz)); }
 
 }  // namespace

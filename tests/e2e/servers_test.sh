@@ -6,15 +6,9 @@
 set -eu
 mode=$1 viscerad=$2 viscera=$3
 
+# A private network namespace holding only loopback, with a multicast route (in_netns.sh).
 if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then
-  exec unshare -rn env VISCERA_IN_NETNS=1 sh "$0" "$@"
-fi
-ip link set lo up
-ip link set lo multicast on
-ip route add 224.0.0.0/4 dev lo
-# the namespace must hold loopback only
-if ip -o link show | grep -v ': lo:' | grep -q .; then
-  echo "FAIL: network namespace has interfaces besides lo" >&2; exit 1
+  exec sh "$(dirname "$0")/in_netns.sh" sh "$0" "$@"
 fi
 
 url='udpm://239.255.76.67:7667?ttl=0'
