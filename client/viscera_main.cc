@@ -233,24 +233,32 @@ struct StatusOptions {
   int count = 0;
 };
 
+// Asks for one session's status: 0 with the status in *out, or the exit code to return.
+int FetchStatus(viscera::client::SessionClient& client, const std::string& url, const Common& c, int64_t id,
+                viscera_proto::session_status_t* out) {
+  const auto replies = client.Request(viscera::client::MakeRequest(session_request_t::kStatus, id), c.timeout_s);
+  if (replies.empty()) return NoServer(c, url, "the status request");
+  if (const int rc = ReplyError(replies.front(), id); rc != 0) return rc;
+  if (replies.front().num_sessions < 1) return kRefused;
+  *out = replies.front().sessions[0];
+  return 0;
+}
+
 int RunStatus(const std::string& url, const Common& c, const StatusOptions& o) {
   viscera::client::SessionClient client(url, LoadAuth(c));
-  const auto replies =
-      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
-  if (replies.empty()) return NoServer(c, url, "the status request");
-  if (const int rc = ReplyError(replies.front(), o.id); rc != 0) return rc;
-  if (replies.front().num_sessions < 1) return kRefused;
+  viscera_proto::session_status_t status;
+  if (const int rc = FetchStatus(client, url, c, o.id, &status); rc != 0) return rc;
   if (!o.watch) {
-    const Json j = viscera::client::StatusToJson(replies.front().sessions[0]);
+    const Json j = viscera::client::StatusToJson(status);
     if (c.json) {
       std::cout << j.dump(2) << "\n";
     } else {
-      std::cout << viscera::client::StatusTable({replies.front().sessions[0]});
+      std::cout << viscera::client::StatusTable({status});
     }
     return 0;
   }
   // --watch: every status the session publishes, one line (or JSON object) each
-  PrintStatus(c, replies.front().sessions[0]);
+  PrintStatus(c, status);
   int printed = 1;
   bool stopped = false;
   client.bus().Subscribe<viscera_proto::session_status_t>(
@@ -326,15 +334,12 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
       o.script.empty() ? viscera::client::ClearingGesture() : viscera::client::LoadScript(o.script);
   viscera::client::SessionClient client(url, LoadAuth(c));
   // the session must exist and have the tool
-  const auto replies =
-      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
-  if (replies.empty()) return NoServer(c, url, "the status request");
-  if (const int rc = ReplyError(replies.front(), o.id); rc != 0) return rc;
-  if (replies.front().num_sessions < 1) return kRefused;
+  viscera_proto::session_status_t status;
+  if (const int rc = FetchStatus(client, url, c, o.id, &status); rc != 0) return rc;
   viscera::client::DriveOptions options;
   options.session_id = o.id;
   options.token = TokenFor(c, o.id, nullptr);
-  options.tool_names = replies.front().sessions[0].tool_names;
+  options.tool_names = status.tool_names;
   options.pose_rate_hz = o.pose_rate_hz;
   for (const std::string& name : script.tools()) {
     if (std::find(options.tool_names.begin(), options.tool_names.end(), name) ==
