@@ -13,18 +13,9 @@
 #include "bus/header.h"
 #include "common/check.h"
 #include "common/clock.h"
+#include "common/quantile.h"
 
 namespace viscera::client {
-namespace {
-
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - 1);
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
-
-}  // namespace
 
 DriveResult Drive(SessionClient& client, const script::ToolScript& script,
                   const DriveOptions& options) {
@@ -105,8 +96,8 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
 
   r.duration_s = static_cast<double>(MonotonicNanos() - start) * 1e-9;
   r.mean_force_n = r.forces_received > 0 ? force_sum / static_cast<double>(r.forces_received) : 0.0;
-  r.round_trip_p50_us = Percentile(round_trips, 0.5);
-  r.round_trip_p99_us = Percentile(round_trips, 0.99);
+  r.round_trip_p50_us = Quantile(round_trips, 0.5);
+  r.round_trip_p99_us = Quantile(round_trips, 0.99);
   r.round_trip_max_us =
       round_trips.empty() ? 0.0 : *std::max_element(round_trips.begin(), round_trips.end());
   return r;

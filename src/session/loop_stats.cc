@@ -7,13 +7,6 @@
 
 namespace viscera::session {
 
-double Quantile(double* values, int n, double p) {
-  if (n <= 0) return 0.0;
-  const int k = std::clamp(static_cast<int>(std::ceil(p * n)) - 1, 0, n - 1);
-  std::nth_element(values, values + k, values + n);
-  return values[k];
-}
-
 LoopStats::LoopStats(int capacity) : capacity_(capacity) {
   VISCERA_DEMAND(capacity >= 1);
   cost_us_.resize(static_cast<size_t>(capacity));

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/quantile.h"
+
 namespace viscera::session {
 
 struct LoopSummary {
@@ -15,9 +17,6 @@ struct LoopSummary {
   float jitter_p99_us = 0.0f;     ///< wake-up lateness (µs)
   float wall_max_us = 0.0f;       ///< longest scheduled start -> step done (µs)
 };
-
-/// The p-quantile (0..1) of values[0..n), nearest rank; 0 when n = 0. Reorders values.
-double Quantile(double* values, int n, double p);
 
 class LoopStats {
  public:

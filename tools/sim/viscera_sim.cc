@@ -13,6 +13,7 @@
 
 #include "common/check.h"
 #include "common/clock.h"
+#include "common/quantile.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
 #include "render/frame_renderer.h"
@@ -146,13 +147,6 @@ Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
   return (q.transpose() * weights) / weights.sum();
 }
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(std::ceil(p * v.size())) - (p > 0 ? 1 : 0));
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
-
 // Replays a viscerad session record: the same scene, inputs and steps, so the same trajectory.
 int Replay(const Options& opt) {
   std::unique_ptr<TraceWriter> trace;
@@ -263,7 +257,7 @@ int Run(const Options& opt) {
       {"frames", trace ? trace->frames() : 0},
       {"steps", steps},
       {"simulated_seconds", simulated},
-      {"step_cost_us", {{"mean", total_us / steps}, {"p99", Percentile(cost_us, 0.99)}, {"max", *std::max_element(cost_us.begin(), cost_us.end())}}},
+      {"step_cost_us", {{"mean", total_us / steps}, {"p99", Quantile(cost_us, 0.99)}, {"max", *std::max_element(cost_us.begin(), cost_us.end())}}},
       {"realtime_factor", simulated / (total_us * 1e-6)},
       {"initial_energy", e0.total()},
       {"final_energy", {{"kinetic", e.kinetic}, {"gravity", e.gravity}, {"stretch", e.stretch}, {"bend", e.bend}, {"continuous", e.continuous}, {"attachment", e.attachment}, {"total", e.total()}}},
@@ -290,7 +284,7 @@ int Run(const Options& opt) {
               static_cast<long long>(steps), trace ? trace->frames() : 0, trace ? " -> " : "",
               opt.trace.c_str());
   std::printf("step cost        mean %.1f us, p99 %.1f us  (%.0fx real time on one core)\n",
-              total_us / steps, Percentile(cost_us, 0.99), simulated / (total_us * 1e-6));
+              total_us / steps, Quantile(cost_us, 0.99), simulated / (total_us * 1e-6));
   std::printf("centre of mass   z %.4f m -> %.4f m", com0.z(), com.z());
   if (!interactions && model.pins().empty() && model.attachments().empty()) {
     // A free body: its centre of mass falls like a point with viscous friction gamma.
