@@ -38,30 +38,13 @@ void ReadSimulation(const toml::table& table, ModelParams* p, double* settle) {
   ThrowUnless(p->rate_hz > 0.0, "simulation.rate_hz = ", p->rate_hz, ": must be > 0");
   p->substeps = r.Int("substeps", 1);
   ThrowUnless(p->substeps >= 1, "simulation.substeps = ", p->substeps, ": must be >= 1");
-  const std::string integrator = r.String("integrator", "rk4");
-  if (integrator == "rk4") {
-    p->integrator = IntegratorKind::kRk4;
-  } else if (integrator == "implicit") {
-    p->integrator = IntegratorKind::kImplicitEuler;
-  } else {
-    Fail("simulation.integrator = \"", integrator, "\": expected \"rk4\" or \"implicit\"");
-  }
-  const std::string solver = r.String("mass_solver", "banded");
-  if (solver == "banded") {
-    p->mass_solver = MassSolverKind::kBanded;
-  } else if (solver == "cholmod") {
-    p->mass_solver = MassSolverKind::kCholmod;
-  } else {
-    Fail("simulation.mass_solver = \"", solver, "\": expected \"banded\" or \"cholmod\"");
-  }
-  const std::string linear = r.String("linear_solver", "banded");
-  if (linear == "banded") {
-    p->linear_solver = mechanics::LinearSolverKind::kBlockBand;
-  } else if (linear == "cholmod") {
-    p->linear_solver = mechanics::LinearSolverKind::kCholmod;
-  } else {
-    Fail("simulation.linear_solver = \"", linear, "\": expected \"banded\" or \"cholmod\"");
-  }
+  p->integrator = r.Choice<IntegratorKind>(
+      "integrator", {{"rk4", IntegratorKind::kRk4}, {"implicit", IntegratorKind::kImplicitEuler}});
+  p->mass_solver = r.Choice<MassSolverKind>(
+      "mass_solver", {{"banded", MassSolverKind::kBanded}, {"cholmod", MassSolverKind::kCholmod}});
+  p->linear_solver = r.Choice<mechanics::LinearSolverKind>(
+      "linear_solver", {{"banded", mechanics::LinearSolverKind::kBlockBand},
+                        {"cholmod", mechanics::LinearSolverKind::kCholmod}});
   p->gravity = r.Vector("gravity", Vec3(0.0, 0.0, -9.81));
   r.Finish();
 }
@@ -114,10 +97,8 @@ void ReadIntestine(const toml::table& table, ModelParams* p) {
   p->bend_stiffness = NonNegative(r, "bend_stiffness", 0.0);
   p->bend_reference_curvature = NonNegative(r, "bend_reference_curvature", 0.0);
   p->continuous_stretch = NonNegative(r, "continuous_stretch", 0.0);
-  const std::string scope = r.String("continuous_scope", "global");
-  ThrowUnless(scope == "global" || scope == "segment", "intestine.continuous_scope = \"", scope,
-              "\": expected \"global\" or \"segment\"");
-  p->continuous_scope = scope == "global" ? ContinuousScope::kGlobal : ContinuousScope::kSegment;
+  p->continuous_scope = r.Choice<ContinuousScope>(
+      "continuous_scope", {{"global", ContinuousScope::kGlobal}, {"segment", ContinuousScope::kSegment}});
   p->damping = NonNegative(r, "damping", 0.0);
   p->spring_damping = NonNegative(r, "spring_damping", 0.0);
   p->pinned = ReadPinned(r);

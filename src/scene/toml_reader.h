@@ -1,11 +1,13 @@
 #pragma once
 /// Typed, strict reading of one TOML table: every error names the key (with its table path),
 /// the value and the reason; Finish() rejects keys nobody asked for.
+#include <initializer_list>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "common/check.h"
 #include "common/types.h"
 
 namespace toml {
@@ -34,6 +36,18 @@ class TomlReader {
   Vec3 Vector(const std::string& key) const;
   Vec3 Vector(const std::string& key, const Vec3& fallback) const;
   Points PointList(const std::string& key) const;
+  /// A string key naming one of `choices` (the first is the default).
+  /// @throws InputError naming the key, the value and the accepted names.
+  template <typename E>
+  E Choice(const std::string& key, std::initializer_list<std::pair<const char*, E>> choices) const {
+    const std::string value = String(key, choices.begin()->first);
+    std::string accepted;
+    for (const auto& [name, e] : choices) {
+      if (value == name) return e;
+      accepted += (accepted.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    }
+    Fail(Name(key), " = \"", value, "\": expected ", accepted);
+  }
   /// The raw node (for keys with several accepted types); nullptr when absent.
   const toml::node* Node(const std::string& key) const;
   std::string Name(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
