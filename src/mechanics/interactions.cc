@@ -108,9 +108,9 @@ Interactions::Penalty Interactions::Geometry(const ContactCandidate& c) const {
   return p;
 }
 
-Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever, const Points& qd) const {
+Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const {
   switch (c.kind) {
-    case ContactKind::kSelf: return SphereVelocity(c.b, qd);
+    case ContactKind::kSelf: return sphere_velocity_[c.b];
     case ContactKind::kTool: return lever * tool_velocity_[c.b];
     case ContactKind::kEnvironment: break;
   }
@@ -122,10 +122,7 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c) const {
   Penalty p = Geometry(c);
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
-  const Vec3 other = c.kind == ContactKind::kSelf ? sphere_velocity_[c.b]
-                     : c.kind == ContactKind::kTool ? Vec3(p.lever * tool_velocity_[c.b])
-                                                    : Vec3::Zero();
-  const Vec3 relative = sphere_velocity_[c.a] - other;
+  const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
   const double vn = relative.dot(p.normal);
   // A pair that is apart but closing fast enough to touch within the implicit step acts now: its
   // linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of the
@@ -295,7 +292,7 @@ void Interactions::UpdateGrasp(int index, double h, bool active, ToolState* ts) 
 double Interactions::CandidateMargin(const State& state, double h) const {
   // Twice the fastest travel in h: two spheres may close in on each other.
   double speed = 0.0;
-  for (int k = 0; k < chain_.size(); ++k) speed = std::max(speed, SphereVelocity(k, state.qd).squaredNorm());
+  for (const Vec3& v : sphere_velocity_) speed = std::max(speed, v.squaredNorm());
   double tool_speed = 0.0;
   for (const ToolState& t : state.tools) tool_speed = std::max(tool_speed, t.tip_velocity.norm());
   return margin_ + 2.0 * h * (std::sqrt(speed) + tool_speed);
@@ -305,11 +302,12 @@ int Interactions::RequiredSubsteps(const State& state) {
   const int base = model_.params().substeps;
   const double h = model_.step_size();
   chain_.Place(state.q);
+  GatherVelocities(state.qd);
   detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, CandidateMargin(state, h));
   double closing = 0.0;
   for (const ContactCandidate& c : candidates_) {
     const Penalty p = Geometry(c);
-    const Vec3 relative = SphereVelocity(c.a, state.qd) - OtherVelocity(c, p.lever, state.qd);
+    const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
     closing = std::max(closing, -relative.dot(p.normal));
   }
   const int needed = static_cast<int>(std::ceil(closing * h / (0.2 * radius_)));
@@ -323,7 +321,8 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   }
   speculative_h_ = model_.params().integrator == IntegratorKind::kImplicitEuler ? h : 0.0;
   // Candidates must include every pair that can meet within the sub-step (those found for the
-  // whole step do, for its first sub-step).
+  // whole step do, for its first sub-step, whose velocities RequiredSubsteps gathered).
+  if (!candidates_fresh_) GatherVelocities(state->qd);
   const double margin = CandidateMargin(*state, h);
   if (!candidates_fresh_) {
     chain_.Place(state->q);

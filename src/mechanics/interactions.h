@@ -56,12 +56,14 @@ class Interactions {
   };
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever.
   Penalty Geometry(const collision::ContactCandidate& c) const;
-  // Velocity of the candidate's other side at the contact (zero for obstacles).
-  Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever, const Points& qd) const;
+  // Velocity of the candidate's other side at the contact (zero for obstacles), from the
+  // velocities last gathered.
+  Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
   // Geometry plus the force law, at the velocities last gathered by GatherVelocities.
   Penalty Evaluate(const collision::ContactCandidate& c) const;
   Vec3 SphereVelocity(int sphere, const Points& qd) const;
   void GatherVelocities(const Points& qd);
+  // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
   void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
