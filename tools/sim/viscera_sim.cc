@@ -14,6 +14,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "mechanics/mass_matrix.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
 #include "render/frame_renderer.h"
@@ -139,11 +140,8 @@ class ScriptedTools {
 };
 
 Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
-  // Mass-weighted mean of the control points with the gravity weights m integral b_i ds.
-  const Points& w = model.gravity_force();
-  VecX weights(model.num_points());
-  for (int i = 0; i < model.num_points(); ++i) weights(i) = 1.0;
-  if (model.params().gravity.norm() > 0.0) weights = w * model.params().gravity / model.params().gravity.squaredNorm();
+  // Control points weighted by their share of the mass, m integral b_i ds (the rows of M).
+  const VecX weights = mechanics::MassRowSums(model.mass_band());
   return (q.transpose() * weights) / weights.sum();
 }
 
