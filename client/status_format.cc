@@ -37,23 +37,36 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"rejected", s.rejected},
           {"recoveries", s.recoveries},
           {"idle_events", s.idle_events},
+          {"frames", {{"skin", s.skin},
+                      {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},
+                      {"rate_hz", s.achieved_frame_rate_hz},
+                      {"configured_rate_hz", s.frame_rate_hz},
+                      {"sent", s.frames},
+                      {"dropped", s.frames_dropped},
+                      {"skin_ms", s.skin_ms},
+                      {"render_ms", s.render_ms},
+                      {"encode_ms", s.encode_ms},
+                      {"bytes", s.frame_bytes}}},
           {"last_error", s.last_error}};
 }
 
 std::string StatusTable(const std::vector<session_status_t>& sessions) {
   std::string out;
   char line[768];
-  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %9s %8s  %s\n", "SESSION",
-                "SCENE", "STATE", "SIM_TIME", "RATE_HZ", "MISSES", "P99_US", "REJECTED",
-                "RECOVER", "LAST_ERROR");
+  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s  %s\n",
+                "SESSION", "SCENE", "STATE", "SIM_TIME", "RATE_HZ", "MISSES", "P99_US", "FPS",
+                "REJECTED", "RECOVER", "LAST_ERROR");
   out += line;
   for (const session_status_t& s : sessions) {
     const std::string rate = std::to_string(static_cast<int>(s.achieved_rate_hz + 0.5)) + "/" +
                              std::to_string(static_cast<int>(s.rate_hz + 0.5));
-    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %9lld %8lld  %s\n",
+    const std::string fps = s.frame_rate_hz > 0 ? std::to_string(static_cast<int>(s.achieved_frame_rate_hz + 0.5)) + "/" +
+                                                      std::to_string(static_cast<int>(s.frame_rate_hz + 0.5))
+                                                : "-";
+    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld  %s\n",
                   static_cast<long long>(s.header.session_id), s.scene.c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),
-                  static_cast<long long>(s.deadline_misses), s.step_cost_p99_us,
+                  static_cast<long long>(s.deadline_misses), s.step_cost_p99_us, fps.c_str(),
                   static_cast<long long>(s.rejected), static_cast<long long>(s.recoveries),
                   s.last_error.c_str());
     out += line;

@@ -25,10 +25,13 @@ IoLoop::IoLoop(const ServerConfig& config)
   ThrowUnless(config_.status_rate_hz > 0.0 && config_.max_rate_hz >= 1.0,
               "status rate and max rate must be positive");
   bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
+  frame_bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
   if (!config_.key_file.empty()) {
-    bus_->SetAuth(std::make_shared<bus::MessageAuth>(bus::MessageAuth::FromKeyFile(config_.key_file)));
+    auto auth = std::make_shared<bus::MessageAuth>(bus::MessageAuth::FromKeyFile(config_.key_file));
+    bus_->SetAuth(auth);
+    frame_bus_->SetAuth(auth);
   }
-  sessions_ = std::make_unique<SessionManager>(config_, bus_.get());
+  sessions_ = std::make_unique<SessionManager>(config_, bus_.get(), frame_bus_.get());
   // subscribed here, before the thread pumps: LCM 1.3.1 must not subscribe while dispatching
   bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason) {
     sessions_->OnDrop(channel, reason);

@@ -46,7 +46,8 @@ class IoLoop {
 
   ServerConfig config_;
   std::unique_ptr<bus::LcmBus> bus_;
-  std::unique_ptr<SessionManager> sessions_;  // after bus_: sessions publish on it
+  std::unique_ptr<bus::LcmBus> frame_bus_;    // publish only: frames (SessionManager says why)
+  std::unique_ptr<SessionManager> sessions_;  // after the buses: sessions publish on them
   HeartbeatSource heartbeat_;
   std::thread thread_;
   std::atomic<bool> stop_{false};

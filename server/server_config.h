@@ -16,6 +16,13 @@ struct ServerConfig {
   double max_rate_hz = 1000.0;       ///< highest mechanics rate a create may ask for (Hz)
   double skeleton_rate_hz = 30.0;    ///< default skeleton_state_t rate (Hz); <= 0: none
   double status_rate_hz = 4.0;       ///< session_status_t rate (Hz)
+  // Frame streams, when a create asks for no particular value (docs/rendering.md says why).
+  double frame_rate_hz = 25.0;       ///< jpeg_frame_t per second; <= 0: no render threads
+  double max_frame_rate_hz = 60.0;   ///< highest frame rate a create may ask for (Hz)
+  std::string skin = "parametric";   ///< skin drawn
+  int frame_width = 640;             ///< pixels
+  int frame_height = 480;
+  int jpeg_quality = 80;             ///< 1..100
   int realtime_priority = 0;  ///< > 0: SCHED_FIFO for mechanics and I/O threads (1..99)
   std::string key_file;       ///< pre-shared key: every message must carry its MAC ("" = none)
 };

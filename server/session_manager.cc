@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <utility>
@@ -12,6 +13,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "session/session_scene.h"
+#include "skin/skin.h"
 
 namespace viscera::server {
 
@@ -68,9 +70,10 @@ std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools) {
   return "";
 }
 
-SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus)
-    : config_(config), bus_(bus) {
-  VISCERA_DEMAND(bus_ != nullptr);
+SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
+                               bus::LcmBus* frame_bus)
+    : config_(config), bus_(bus), frame_bus_(frame_bus) {
+  VISCERA_DEMAND(bus_ != nullptr && frame_bus_ != nullptr);
 }
 
 SessionManager::~SessionManager() { StopAll(); }
@@ -78,6 +81,7 @@ SessionManager::~SessionManager() { StopAll(); }
 void SessionManager::StopAll() {
   for (PendingCreate& p : pending_) p.scene.wait();  // helpers finish; their models are dropped
   pending_.clear();
+  streamers_.clear();  // render threads first: they read their sessions
   for (auto& [id, session] : sessions_) session->Stop();
   sessions_.clear();
   num_sessions_ = 0;
@@ -181,6 +185,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   session::Command command;
   switch (request.command) {
     case session_request_t::kDestroy: {
+      streamers_.erase(id);
       session->Stop();
       reply_.sessions.push_back(session->Status());
       reply_.num_sessions = 1;
@@ -240,13 +245,14 @@ void SessionManager::Create(const session_request_t& request) {
           Cat("server full: ", sessions_.size(), " of ", config_.max_sessions, " sessions"));
     return;
   }
-  const bool sizes_ok = request.frame_width >= 0 && request.frame_width <= 4096 &&
-                        request.frame_height >= 0 && request.frame_height <= 4096 &&
-                        std::isfinite(request.skeleton_rate_hz) && request.skeleton_rate_hz <= 1000.0;
-  if (!sizes_ok) {
+  if (!std::isfinite(request.skeleton_rate_hz) || request.skeleton_rate_hz > 1000.0) {
     ++rejected_;
-    Reply(request, session_reply_t::kRefused,
-          "frame size must be within 0..4096 pixels and skeleton rate at most 1000 Hz");
+    Reply(request, session_reply_t::kRefused, "skeleton rate must be at most 1000 Hz");
+    return;
+  }
+  if (const std::string problem = FrameProblem(request); !problem.empty()) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused, problem);
     return;
   }
 
@@ -257,6 +263,27 @@ void SessionManager::Create(const session_request_t& request) {
                                                          request.scene_toml, rate,
                                                          config_.max_rate_hz);
                       })});
+}
+
+std::string SessionManager::FrameProblem(const session_request_t& request) const {
+  if (request.frame_width < 0 || request.frame_width > 4096 || request.frame_height < 0 ||
+      request.frame_height > 4096 || (request.frame_width > 0 && request.frame_width < 16) ||
+      (request.frame_height > 0 && request.frame_height < 16)) {
+    return Cat("frame size ", request.frame_width, "x", request.frame_height,
+               ": each side must be 0 (server default) or within 16..4096 pixels");
+  }
+  if (!std::isfinite(request.frame_rate_hz) || request.frame_rate_hz > config_.max_frame_rate_hz) {
+    return Cat("frame rate ", request.frame_rate_hz, " Hz: at most ", config_.max_frame_rate_hz,
+               " Hz (0 = server default, < 0 = no frames)");
+  }
+  if (request.jpeg_quality < 0 || request.jpeg_quality > 100) {
+    return Cat("JPEG quality ", request.jpeg_quality, ": must be within 1..100 (0 = server default)");
+  }
+  if (!request.skin.empty() && !skin::IsSkinName(request.skin)) {
+    return Cat("unknown skin '", request.skin,
+               "' (expected parametric, implicit, convolution or hybrid)");
+  }
+  return "";
 }
 
 void SessionManager::Poll() {
@@ -299,9 +326,14 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
       request.skeleton_rate_hz != 0.0 ? request.skeleton_rate_hz : config_.skeleton_rate_hz;
   sc.status_rate_hz = config_.status_rate_hz;
   sc.realtime_priority = config_.realtime_priority;
-  sc.skin = request.skin;
-  if (request.frame_width > 0) sc.frame_width = request.frame_width;
-  if (request.frame_height > 0) sc.frame_height = request.frame_height;
+  FrameStreamConfig frames;
+  frames.rate_hz = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
+  frames.options.width = request.frame_width > 0 ? request.frame_width : config_.frame_width;
+  frames.options.height = request.frame_height > 0 ? request.frame_height : config_.frame_height;
+  frames.options.jpeg_quality = request.jpeg_quality > 0 ? request.jpeg_quality : config_.jpeg_quality;
+  frames.options.skin = !request.skin.empty() ? request.skin : config_.skin;
+  // every frame can show a pose of its own
+  sc.snapshot_rate_hz = std::max({30.0, sc.skeleton_rate_hz, frames.rate_hz});
 
   std::unique_ptr<session::Recorder> recorder;
   if (!config_.log_dir.empty()) {
@@ -325,6 +357,11 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
 
   auto session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
   session->Start();
+  if (frames.rate_hz > 0.0) {
+    auto streamer = std::make_unique<FrameStreamer>(session.get(), frame_bus_, frames);
+    streamer->Start();
+    streamers_.emplace(sc.id, std::move(streamer));
+  }
   std::string message;
   for (const std::string& w : scene.warnings) message += (message.empty() ? "" : "; ") + w;
   reply_.sessions.push_back(session->Status());

@@ -14,6 +14,7 @@
 #include <viscera_proto/tool_pose_t.hpp>
 
 #include "bus/lcm_bus.h"
+#include "server/frame_streamer.h"
 #include "server/server_config.h"
 #include "session/session.h"
 #include "session/session_scene.h"
@@ -27,8 +28,10 @@ std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools);
 
 class SessionManager {
  public:
-  /// @pre bus outlives the manager; only the I/O thread calls the On* members.
-  SessionManager(const ServerConfig& config, bus::LcmBus* bus);
+  /// @pre bus and frame_bus outlive the manager; only the I/O thread calls the On* members.
+  /// @param frame_bus where render threads publish frames: a bus of its own, so that a
+  ///        frame's tens of fragments never hold the publish lock a force message waits for.
+  SessionManager(const ServerConfig& config, bus::LcmBus* bus, bus::LcmBus* frame_bus);
   /// Stops every session (StopAll).
   ~SessionManager();
   SessionManager(const SessionManager&) = delete;
@@ -63,7 +66,14 @@ class SessionManager {
 
   ServerConfig config_;
   bus::LcmBus* bus_;
+  /// Why a create's frame settings cannot be served ("" if they can).
+  std::string FrameProblem(const viscera_proto::session_request_t& request) const;
+  void Erase(int64_t id);
+
+  bus::LcmBus* frame_bus_;
   std::map<int64_t, std::unique_ptr<session::Session>> sessions_;
+  /// The render thread of each session that streams frames (destroyed before its session).
+  std::map<int64_t, std::unique_ptr<FrameStreamer>> streamers_;
   struct PendingCreate {
     viscera_proto::session_request_t request;
     std::future<session::SessionScene> scene;  // the helper's result or its exception

@@ -16,6 +16,8 @@
 
 #include "bus/channels.h"
 #include "bus/lcm_bus.h"
+#include "render/frame_renderer.h"
+#include "render/offscreen_context.h"
 #include "server/io_loop.h"
 
 namespace {
@@ -38,6 +40,9 @@ int Run(const viscera::server::ServerConfig& config) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
+  // before any thread starts: setenv is not thread-safe, and llvmpipe reads it once
+  viscera::render::LimitRasterizerThreads();
+  viscera::render::KeepRenderMemoryMapped();
   if (config.realtime_priority > 0) {
     // before any thread starts: LCM's receive thread, the I/O thread and the mechanics
     // threads all inherit SCHED_FIFO, so a busy machine cannot delay poses or steps
@@ -110,6 +115,22 @@ int main(int argc, char** argv) {
   app.add_option("--status-rate", config.status_rate_hz, "session_status_t rate (Hz)")
       ->check(CLI::Range(0.1, 100.0))
       ->capture_default_str();
+  app.add_option("--frame-rate", config.frame_rate_hz,
+                 "Default frames per second of a session's stream; 0 = no render threads")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  app.add_option("--max-frame-rate", config.max_frame_rate_hz, "Highest frame rate a session may ask (Hz)")
+      ->check(CLI::Range(1.0, 1000.0))
+      ->capture_default_str();
+  app.add_option("--skin", config.skin, "Default skin: parametric, implicit, convolution or hybrid")
+      ->check(CLI::IsMember({"parametric", "implicit", "convolution", "hybrid"}))
+      ->capture_default_str();
+  std::string frame_size = "640x480";
+  app.add_option("--frame-size", frame_size, "Default frame size WIDTHxHEIGHT (pixels)")
+      ->capture_default_str();
+  app.add_option("--jpeg-quality", config.jpeg_quality, "Default JPEG quality")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   app.add_option("--realtime", config.realtime_priority,
                  "SCHED_FIFO priority (1..99) for the mechanics and I/O threads; 0 = normal")
       ->check(CLI::Range(0, 99))
@@ -118,6 +139,16 @@ int main(int argc, char** argv) {
                  "Pre-shared key file: sign every message and accept only signed ones");
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
+  if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;
+  try {
+    viscera::render::ParseFrameSize(frame_size, &config.frame_width, &config.frame_height);
+    viscera::ThrowUnless(config.frame_width >= 16 && config.frame_width <= 4096 &&
+                             config.frame_height >= 16 && config.frame_height <= 4096,
+                         "each side must be within 16..4096 pixels");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "viscerad: --frame-size: %s\n", e.what());
+    return 2;
+  }
   if (config.rate_hz > config.max_rate_hz) {
     std::fprintf(stderr, "viscerad: --rate %g is above --max-rate %g\n", config.rate_hz, config.max_rate_hz);
     return 2;

@@ -11,7 +11,6 @@
 #include <deque>
 #include <utility>
 #include <exception>
-#include <utility>
 
 #include <viscera_proto/force_feedback_t.hpp>
 #include <viscera_proto/skeleton_state_t.hpp>
@@ -71,7 +70,8 @@ Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> m
       bus_(bus),
       recorder_(std::move(recorder)),
       inbox_(static_cast<int>(model_->params().tools.size())) {
-  VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 && bus_ != nullptr);
+  VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 &&
+                 config_.snapshot_rate_hz > 0.0 && bus_ != nullptr);
   status_.header = bus::MakeHeader(config_.id, 0);
   status_.server_id = config_.server_id;
   status_.scene = config_.scene;
@@ -112,6 +112,11 @@ void Session::SetError(const std::string& why) {
   last_error_ = why;
 }
 
+void Session::ReportFrames(const FrameStreamReport& report) {
+  std::lock_guard<std::mutex> lock(status_mutex_);
+  frames_ = report;
+}
+
 session_status_t Session::Status() const {
   std::lock_guard<std::mutex> lock(status_mutex_);
   session_status_t s = status_;
@@ -119,6 +124,17 @@ session_status_t Session::Status() const {
   s.poses = poses_.load();
   s.rejected = rejected_.load();
   s.last_error = last_error_;
+  s.skin = frames_.skin;
+  s.frame_width = frames_.width;
+  s.frame_height = frames_.height;
+  s.frame_rate_hz = frames_.rate_hz;
+  s.achieved_frame_rate_hz = frames_.achieved_rate_hz;
+  s.frames = frames_.frames;
+  s.frames_dropped = frames_.dropped;
+  s.skin_ms = frames_.skin_ms;
+  s.render_ms = frames_.render_ms;
+  s.encode_ms = frames_.encode_ms;
+  s.frame_bytes = frames_.frame_bytes;
   return s;
 }
 
@@ -172,11 +188,13 @@ void Session::Loop() {
   const int64_t period = PeriodNs(model_->params().rate_hz);
   const int64_t status_period = PeriodNs(config_.status_rate_hz);
   const bool send_skeleton = config_.skeleton_rate_hz > 0.0;
-  const int64_t skeleton_period = PeriodNs(send_skeleton ? config_.skeleton_rate_hz : 30.0);
+  const int64_t skeleton_period = PeriodNs(send_skeleton ? config_.skeleton_rate_hz : 1.0);
+  const int64_t snapshot_period = PeriodNs(config_.snapshot_rate_hz);
   // a first status at once (no rates yet), then one per status period
   PublishStatus(MonotonicNanos(), /*summarize=*/false);
   int64_t next = MonotonicNanos();
   int64_t next_skeleton = next;
+  int64_t next_snapshot = next;
   L.last_summary_ns = next;
   int64_t next_status = next + status_period;
 
@@ -217,9 +235,12 @@ void Session::Loop() {
     }
 
     const int64_t now = MonotonicNanos();
-    if (now >= next_skeleton) {
+    if (now >= next_snapshot) {
       snapshots_.Publish(L.stepper.state());
-      if (send_skeleton) PublishSkeleton();
+      next_snapshot = std::max(next_snapshot + snapshot_period, now);
+    }
+    if (send_skeleton && now >= next_skeleton) {
+      PublishSkeleton();
       next_skeleton = std::max(next_skeleton + skeleton_period, now);
     }
     if (now >= next_status) {
@@ -262,7 +283,8 @@ void Session::ApplyCommands() {
         break;
       case Command::Kind::kCamera: {
         std::lock_guard<std::mutex> lock(status_mutex_);
-        camera_ = CameraPose{c.camera_eye, c.camera_target, c.camera_up, c.camera_fov_deg};
+        camera_ = CameraPose{c.camera_eye, c.camera_target, c.camera_up, c.camera_fov_deg,
+                             /*set_by_client=*/true};
         break;
       }
     }

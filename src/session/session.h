@@ -29,9 +29,9 @@ struct SessionConfig {
   std::string scene;               ///< scene label for status ("fall", "<inline>")
   double skeleton_rate_hz = 30.0;  ///< skeleton_state_t per second; <= 0: none
   double status_rate_hz = 4.0;     ///< session_status_t per second (> 0)
-  std::string skin;                ///< kept for the render thread (rendering issue)
-  int frame_width = 640;           ///< pixels
-  int frame_height = 480;
+  /// Skeleton snapshots handed to readers (the render thread) per second (> 0): at least
+  /// the frame rate, so that every frame can show a new pose.
+  double snapshot_rate_hz = 30.0;
   /// > 0: the mechanics thread runs SCHED_FIFO one above this priority and its output
   /// thread at it (1..98), so builds, other processes and the server's other threads cannot
   /// delay its steps; 0: normal scheduling.
@@ -44,6 +44,20 @@ struct CameraPose {
   Vec3 target = Vec3::Zero();
   Vec3 up = Vec3::UnitZ();
   double fov_deg = 60.0;
+  /// False until a client sets the camera: the render thread then frames the scene itself.
+  bool set_by_client = false;
+};
+
+/// What a session's render thread reports of its frame stream; merged into every status.
+struct FrameStreamReport {
+  std::string skin;
+  int width = 0, height = 0;       ///< pixels
+  double rate_hz = 0.0;            ///< configured (Hz)
+  double achieved_rate_hz = 0.0;   ///< over about the last second (Hz)
+  int64_t frames = 0;              ///< sent
+  int64_t dropped = 0;             ///< skipped: the renderer was busy
+  float skin_ms = 0, render_ms = 0, encode_ms = 0;  ///< medians over about the last second
+  int32_t frame_bytes = 0;         ///< JPEG size of the last frame rendered
 };
 
 class Session {
@@ -74,14 +88,19 @@ class Session {
   /// Counts a message of this session dropped as invalid (any thread), keeping `why` as
   /// the last error.
   void CountRejected(const std::string& why);
+  /// Keeps the render thread's latest figures for the status (any thread).
+  void ReportFrames(const FrameStreamReport& report);
+  /// Keeps `why` as the session's last error without counting a rejected message: the
+  /// render thread's problems (any thread).
+  void ReportError(const std::string& why) { SetError(why); }
   /// Counts an accepted pose (I/O thread).
   void CountPose() { ++poses_; }
 
   /// The latest status (refreshed at status rate and on every state change).
   viscera_proto::session_status_t Status() const;
   CameraPose camera() const;
-  /// The latest skeleton snapshot (published at the skeleton rate, or 30 Hz when the
-  /// session sends no skeleton messages), for the skin/render thread. Any thread.
+  /// The latest skeleton snapshot (published at config().snapshot_rate_hz), for the
+  /// skin/render thread. Any thread.
   std::shared_ptr<const Snapshot> LatestSnapshot() const { return snapshots_.Latest(); }
   bool faulted() const { return state_.load() == viscera_proto::session_status_t::kFaulted; }
 
@@ -105,10 +124,11 @@ class Session {
   std::atomic<int64_t> poses_{0};
   std::atomic<int64_t> rejected_{0};
 
-  mutable std::mutex status_mutex_;  // guards status_, last_error_, camera_
+  mutable std::mutex status_mutex_;  // guards status_, last_error_, camera_, frames_
   viscera_proto::session_status_t status_;
   std::string last_error_;
   CameraPose camera_;
+  FrameStreamReport frames_;
   SnapshotExchange snapshots_;
 
   // Mechanics thread only (the loop and what it calls).

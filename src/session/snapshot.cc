@@ -1,5 +1,7 @@
 #include "session/snapshot.h"
 
+#include <chrono>
+
 namespace viscera::session {
 
 void SnapshotExchange::Publish(const mechanics::State& state) {
@@ -8,6 +10,9 @@ void SnapshotExchange::Publish(const mechanics::State& state) {
   if (next == nullptr || next.use_count() != 1) next = std::make_shared<Snapshot>();
   next->step = state.steps;
   next->t = state.t;
+  next->wall_utime = std::chrono::duration_cast<std::chrono::microseconds>(
+                         std::chrono::system_clock::now().time_since_epoch())
+                         .count();
   next->q = state.q;  // same size: no allocation
   next->tools = state.tools;
   next->contacts = state.contacts;

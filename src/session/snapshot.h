@@ -15,6 +15,7 @@ namespace viscera::session {
 struct Snapshot {
   int64_t step = 0;
   double t = 0.0;                          ///< simulated time (s)
+  int64_t wall_utime = 0;                  ///< wall clock when taken (us since the Unix epoch)
   Points q;                                ///< control points (m), #N by 3
   std::vector<mechanics::ToolState> tools;  ///< tool tips, jaws, forces
   mechanics::ContactStats contacts;

@@ -21,6 +21,10 @@ void CheckSnapshot(const Points& q, int bound_rows) {
   ThrowUnless(q.allFinite(), "skeleton snapshot has non-finite coordinates");
 }
 
+bool IsSkinName(const std::string& name) {
+  return name == "parametric" || name == "convolution" || name == "implicit" || name == "hybrid";
+}
+
 std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& options) {
   ValidateOptions(options);
   if (name == "parametric") return std::make_unique<ParametricSkin>(options.radius, options.parametric);

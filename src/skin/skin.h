@@ -94,6 +94,9 @@ class Skin {
   virtual std::string name() const = 0;
 };
 
+/// True for the names MakeSkin knows.
+bool IsSkinName(const std::string& name);
+
 /// Creates a skin by name: "parametric", "implicit", "convolution" or "hybrid".
 /// @throws InputError for an unknown name or invalid options.
 std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& options);

@@ -1,6 +1,9 @@
 #include "server/session_manager.h"
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <viscera_proto/jpeg_frame_t.hpp>
 
 #include <cmath>
 #include <chrono>
@@ -54,7 +57,7 @@ class SessionManagerTest : public ::testing::Test {
     config_.server_id = "srv";
     config_.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/scenes";
     config_.max_sessions = 1;
-    manager_ = std::make_unique<SessionManager>(config_, &bus_);
+    manager_ = std::make_unique<SessionManager>(config_, &bus_, &bus_);  // memq: one bus
     bus_.Subscribe<viscera_proto::session_reply_t>(
         bus::kReplyChannel,
         [this](const viscera_proto::session_reply_t& r, int64_t) { replies_.push_back(r); });
@@ -150,6 +153,77 @@ TEST_F(SessionManagerTest, BadScenesAndRatesAreRefusedWithTheReason) {
   r.server_id = "";
   EXPECT_EQ(Ask(r).result, R::kBadRequest);  // create must name its server
   EXPECT_EQ(manager_->num_sessions(), 0);
+}
+
+TEST_F(SessionManagerTest, BadFrameSettingsAreRefusedWithTheReason) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  const auto refused = [&](auto change, const char* word) {
+    auto r = Request(Q::kCreate);
+    r.scene_name = "hanging";
+    change(&r);
+    const R reply = Ask(r);
+    EXPECT_EQ(reply.result, R::kRefused) << word;
+    EXPECT_NE(reply.message.find(word), std::string::npos) << reply.message;
+  };
+  refused([](Q* r) { r->skin = "marble"; }, "skin");
+  refused([](Q* r) { r->jpeg_quality = 101; }, "quality");
+  refused([](Q* r) { r->frame_rate_hz = 1000.0; }, "frame rate");
+  refused([](Q* r) { r->frame_rate_hz = std::nan(""); }, "frame rate");
+  refused([](Q* r) { r->frame_width = 8; }, "frame size");
+  refused([](Q* r) { r->frame_height = 5000; }, "frame size");
+  EXPECT_EQ(manager_->num_sessions(), 0);
+}
+
+// A session's render thread: real OSMesa pixels, real JPEG bytes, on the frame channel.
+TEST_F(SessionManagerTest, FramesOfTheRequestedSizeFollowTheMechanics) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  std::vector<viscera_proto::jpeg_frame_t> frames;
+  auto create = Request(Q::kCreate);
+  create.scene_name = "hanging";
+  create.frame_width = 160;
+  create.frame_height = 120;
+  create.frame_rate_hz = 20.0;
+  create.skin = "convolution";
+  const R created = Ask(create);
+  ASSERT_EQ(created.result, R::kOk) << created.message;
+  const int64_t id = created.header.session_id;
+  bus_.Subscribe<viscera_proto::jpeg_frame_t>(
+      bus::SessionChannel(bus::kFramePrefix, id),
+      [&](const viscera_proto::jpeg_frame_t& f, int64_t) { frames.push_back(f); });
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1500);
+  while (std::chrono::steady_clock::now() < end) bus_.Pump(20);
+
+  ASSERT_GE(frames.size(), 5u);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const auto& f = frames[i];
+    EXPECT_EQ(f.header.session_id, id);
+    EXPECT_EQ(f.width, 160);
+    EXPECT_EQ(f.height, 120);
+    EXPECT_LE(f.snapshot_utime, f.header.utime);
+    const cv::Mat image = cv::imdecode(f.data, cv::IMREAD_COLOR);
+    ASSERT_EQ(image.cols, 160);
+    ASSERT_EQ(image.rows, 120);
+    cv::Scalar mean, dev;
+    cv::meanStdDev(image, mean, dev);
+    EXPECT_GT(dev[2], 5.0) << "frame " << i << " is uniform";
+    if (i > 0) {
+      EXPECT_GT(f.header.seq, frames[i - 1].header.seq);
+      EXPECT_GT(f.step, frames[i - 1].step);  // the hanging tube swings: every frame is new
+      EXPECT_GT(f.sim_time, frames[i - 1].sim_time);
+    }
+  }
+  const R status = Ask(Request(Q::kStatus, id));
+  ASSERT_EQ(status.num_sessions, 1);
+  const auto& s = status.sessions[0];
+  EXPECT_EQ(s.skin, "convolution");
+  EXPECT_EQ(s.frame_width, 160);
+  EXPECT_DOUBLE_EQ(s.frame_rate_hz, 20.0);
+  EXPECT_GE(s.frames, static_cast<int64_t>(frames.size()));
+  EXPECT_GT(s.render_ms, 0.0f);
+  EXPECT_GT(s.encode_ms, 0.0f);
+  EXPECT_GT(s.frame_bytes, 0);
 }
 
 }  // namespace

@@ -1,0 +1,210 @@
+#include "server/frame_streamer.h"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <exception>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <viscera_proto/jpeg_frame_t.hpp>
+
+#include "bus/channels.h"
+#include "bus/header.h"
+#include "common/check.h"
+#include "common/clock.h"
+#include "common/quantile.h"
+#include "render/laparoscope.h"
+
+namespace viscera::server {
+namespace {
+
+// Render threads yield to everything else in the server: mechanics first, then I/O.
+constexpr int kRenderNice = 10;
+
+// Drops SCHED_FIFO inherited from a realtime server and lowers this thread's weight.
+void LowerThisThreadsPriority() {
+  sched_param param{};
+  pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kRenderNice);
+}
+
+render::Laparoscope ToLaparoscope(const session::CameraPose& pose) {
+  render::Laparoscope scope;
+  scope.eye = pose.eye.cast<float>();
+  scope.target = pose.target.cast<float>();
+  scope.up = pose.up.cast<float>();
+  scope.fov_y_degrees = static_cast<float>(pose.fov_deg);
+  scope.light_range = 1.5f * (scope.eye - scope.target).norm();  // as FramingLaparoscope
+  return scope;
+}
+
+bool SamePose(const session::CameraPose& a, const session::CameraPose& b) {
+  return a.set_by_client == b.set_by_client && a.eye == b.eye && a.target == b.target &&
+         a.up == b.up && a.fov_deg == b.fov_deg;
+}
+
+// The frames of about the last second: achieved rate and median costs for the status.
+class FrameWindow {
+ public:
+  void Add(int64_t now_ns, const render::FrameTimings* timings) {
+    frames_.push_back({now_ns, timings != nullptr, timings != nullptr ? *timings : render::FrameTimings{}});
+    while (frames_.size() > 2 && frames_[1].ns <= now_ns - 1'000'000'000) frames_.pop_front();
+  }
+  void Fill(session::FrameStreamReport* report) const {
+    const auto n = static_cast<double>(frames_.size());
+    const double span = n >= 2 ? static_cast<double>(frames_.back().ns - frames_.front().ns) : 0.0;
+    report->achieved_rate_hz = span > 0.0 ? (n - 1.0) * 1e9 / span : 0.0;
+    std::vector<double> skin, render, encode;
+    for (const Entry& e : frames_) {
+      if (!e.rendered) continue;  // a frame sent again unchanged cost nothing
+      skin.push_back(e.timings.skin_ms);
+      render.push_back(e.timings.render_ms);
+      encode.push_back(e.timings.encode_ms);
+    }
+    if (skin.empty()) return;  // keep the last figures while nothing moves
+    report->skin_ms = static_cast<float>(Quantile(std::move(skin), 0.5));
+    report->render_ms = static_cast<float>(Quantile(std::move(render), 0.5));
+    report->encode_ms = static_cast<float>(Quantile(std::move(encode), 0.5));
+  }
+
+ private:
+  struct Entry {
+    int64_t ns;
+    bool rendered;
+    render::FrameTimings timings;
+  };
+  std::deque<Entry> frames_;
+};
+
+}  // namespace
+
+FrameStreamer::FrameStreamer(session::Session* session, bus::LcmBus* bus, FrameStreamConfig config)
+    : session_(session),
+      bus_(bus),
+      config_(std::move(config)),
+      channel_(bus::SessionChannel(bus::kFramePrefix, session->config().id)) {
+  VISCERA_DEMAND(session_ != nullptr && bus_ != nullptr && config_.rate_hz > 0.0);
+}
+
+FrameStreamer::~FrameStreamer() { Stop(); }
+
+void FrameStreamer::Start() {
+  VISCERA_DEMAND(!thread_.joinable());
+  thread_ = std::thread([this] { Run(); });
+}
+
+void FrameStreamer::Stop() {
+  {
+    std::lock_guard<std::mutex> lock(stop_mutex_);
+    stop_ = true;
+  }
+  stop_wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void FrameStreamer::Run() {
+  LowerThisThreadsPriority();
+  // An exception never crosses a thread: the session runs on without frames.
+  try {
+    render::FrameRenderer renderer(session_->model().params(), config_.options);  // its context is this thread's
+    Loop(renderer);
+  } catch (const std::exception& e) {
+    session_->ReportError(Cat("frames stopped: ", e.what()));
+  }
+}
+
+void FrameStreamer::Loop(render::FrameRenderer& renderer) {
+  const auto period = std::chrono::nanoseconds(std::llround(1e9 / config_.rate_hz));
+  session::FrameStreamReport report;
+  report.skin = config_.options.skin;
+  report.width = renderer.width();
+  report.height = renderer.height();
+  report.rate_hz = config_.rate_hz;
+  session_->ReportFrames(report);
+
+  viscera_proto::jpeg_frame_t frame;
+  frame.width = renderer.width();
+  frame.height = renderer.height();
+  FrameWindow window;
+  std::shared_ptr<const session::Snapshot> shown;  // the snapshot of the last frame drawn
+  session::CameraPose shown_pose;
+  render::Laparoscope framing;  // the scene as first seen, until a client sets the camera
+  bool have_framing = false;
+  std::string last_error;
+  int64_t seq = 0;
+
+  auto next = std::chrono::steady_clock::now();
+  std::unique_lock<std::mutex> lock(stop_mutex_);
+  while (!stop_wake_.wait_until(lock, next, [this] { return stop_; })) {
+    lock.unlock();
+    const std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot();
+    const session::CameraPose pose = session_->camera();
+    if (snapshot != nullptr) {
+      if (!have_framing) {
+        framing = render::FramingLaparoscope(snapshot->q.colwise().minCoeff().transpose(),
+                                             snapshot->q.colwise().maxCoeff().transpose(),
+                                             renderer.width(), renderer.height());
+        have_framing = true;
+      }
+      // nothing moved and the camera stayed: send the same picture again, it costs nothing
+      const bool unchanged = shown != nullptr && shown->step == snapshot->step &&
+                             SamePose(shown_pose, pose) && !frame.data.empty();
+      bool ok = true;
+      if (!unchanged) {
+        try {
+          renderer.Render(snapshot->q, snapshot->tools,
+                          pose.set_by_client ? ToLaparoscope(pose) : framing);
+          const std::vector<uint8_t>& jpeg = renderer.Encode();
+          frame.data.assign(jpeg.begin(), jpeg.end());
+          frame.size = static_cast<int32_t>(frame.data.size());
+          const render::FrameTimings& t = renderer.timings();
+          frame.skin_ms = static_cast<float>(t.skin_ms);
+          frame.render_ms = static_cast<float>(t.render_ms);
+          frame.encode_ms = static_cast<float>(t.encode_ms);
+          shown = snapshot;
+          shown_pose = pose;
+          report.frame_bytes = frame.size;
+        } catch (const std::exception& e) {
+          // e.g. a camera whose up vector lies along its view: say so once, keep trying
+          ok = false;
+          if (last_error != e.what()) session_->ReportError(Cat("frame not rendered: ", e.what()));
+          last_error = e.what();
+        }
+      } else {
+        frame.skin_ms = frame.render_ms = frame.encode_ms = 0.0f;
+      }
+      if (ok) {
+        frame.header = bus::MakeHeader(session_->config().id, seq++);
+        frame.step = shown->step;
+        frame.sim_time = shown->t;
+        frame.snapshot_utime = shown->wall_utime;
+        frame.dropped = report.dropped;
+        bus_->Publish(channel_, frame);
+        ++report.frames;
+        window.Add(MonotonicNanos(), unchanged ? nullptr : &renderer.timings());
+      }
+    }
+
+    // the ticks that passed while this frame was made are dropped, not made up for
+    next += period;
+    const auto now = std::chrono::steady_clock::now();
+    if (now > next) {
+      const int64_t behind = (now - next) / period + 1;
+      report.dropped += behind;
+      next += behind * period;
+    }
+    window.Fill(&report);
+    session_->ReportFrames(report);
+    lock.lock();
+  }
+}
+
+}  // namespace viscera::server
