@@ -26,14 +26,17 @@
 namespace viscera::server {
 namespace {
 
-// Render threads yield to everything else in the server: mechanics first, then I/O.
-constexpr int kRenderNice = 10;
-
-// Drops SCHED_FIFO inherited from a realtime server and lowers this thread's weight.
+// Render threads run on the CPU time nothing else in the server wants: SCHED_IDLE (which
+// also drops a SCHED_FIFO inherited from a realtime server). A waking mechanics, output or
+// I/O thread preempts them at once; nice 10 alone still cost a 1 kHz session 5 % of its
+// deadlines (docs/benchmarks.md, Frame streams). Falls back to nice 19 where SCHED_IDLE is
+// refused.
 void LowerThisThreadsPriority() {
   sched_param param{};
-  pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
-  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kRenderNice);
+  if (pthread_setschedparam(pthread_self(), SCHED_IDLE, &param) != 0) {
+    pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
+  }
 }
 
 render::Laparoscope ToLaparoscope(const session::CameraPose& pose) {
@@ -193,11 +196,12 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer) {
       }
     }
 
-    // the ticks that passed while this frame was made are dropped, not made up for
+    // a frame a little late goes out at once; ticks that passed entirely while this frame
+    // was made are dropped, not made up for
     next += period;
     const auto now = std::chrono::steady_clock::now();
-    if (now > next) {
-      const int64_t behind = (now - next) / period + 1;
+    if (now >= next + period) {
+      const int64_t behind = (now - next) / period;
       report.dropped += behind;
       next += behind * period;
     }

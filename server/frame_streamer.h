@@ -3,8 +3,8 @@
 /// thread's latest snapshot and the session's camera, skins and draws them through its own
 /// OSMesa context, encodes a JPEG and publishes it on VISCERA_FRAME_<id>. It only reads
 /// what the session hands off (snapshot, camera), so a slow frame never delays a step: the
-/// ticks that pass while a frame is being made are dropped and counted. It runs at a lower
-/// CPU priority than everything else in viscerad (nice + 10, and never SCHED_FIFO).
+/// ticks that pass while a frame is being made are dropped and counted. It runs on the CPU
+/// time nothing else in viscerad wants (SCHED_IDLE).
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>

@@ -20,6 +20,10 @@ struct ServerConfig {
   double frame_rate_hz = 25.0;       ///< jpeg_frame_t per second; <= 0: no render threads
   double max_frame_rate_hz = 60.0;   ///< highest frame rate a create may ask for (Hz)
   std::string skin = "parametric";   ///< skin drawn
+  /// Vertices per ring of the parametric and convolution skins (hybrid: both). 16, not the
+  /// convolution skin's 32: 640x480 convolution frames at 60 fps on one core
+  /// (docs/benchmarks.md, Rendering).
+  int skin_sides = 16;
   int frame_width = 640;             ///< pixels
   int frame_height = 480;
   int jpeg_quality = 80;             ///< 1..100

@@ -332,6 +332,8 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   frames.options.height = request.frame_height > 0 ? request.frame_height : config_.frame_height;
   frames.options.jpeg_quality = request.jpeg_quality > 0 ? request.jpeg_quality : config_.jpeg_quality;
   frames.options.skin = !request.skin.empty() ? request.skin : config_.skin;
+  frames.options.skin_options.parametric.sides = config_.skin_sides;
+  frames.options.skin_options.convolution.sides = config_.skin_sides;
   // every frame can show a pose of its own
   sc.snapshot_rate_hz = std::max({30.0, sc.skeleton_rate_hz, frames.rate_hz});
 

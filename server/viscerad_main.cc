@@ -125,6 +125,10 @@ int main(int argc, char** argv) {
   app.add_option("--skin", config.skin, "Default skin: parametric, implicit, convolution or hybrid")
       ->check(CLI::IsMember({"parametric", "implicit", "convolution", "hybrid"}))
       ->capture_default_str();
+  app.add_option("--skin-sides", config.skin_sides,
+                 "Vertices per ring of the parametric and convolution skins")
+      ->check(CLI::Range(6, 64))
+      ->capture_default_str();
   std::string frame_size = "640x480";
   app.add_option("--frame-size", frame_size, "Default frame size WIDTHxHEIGHT (pixels)")
       ->capture_default_str();
