@@ -12,6 +12,7 @@ packages=(
   libtomlplusplus-dev nlohmann-json3-dev
   libsodium-dev libcli11-dev
   iproute2 util-linux python3
+  chromium
 )
 
 missing=()
