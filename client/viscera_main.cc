@@ -20,6 +20,7 @@
 #include "bus/lcm_bus.h"
 #include "bus/message_auth.h"
 #include "client/driver.h"
+#include "client/frame_commands.h"
 #include "client/gesture.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
@@ -136,6 +137,8 @@ struct CreateOptions {
   double rate_hz = 0.0;
   double skeleton_rate_hz = 0.0;
   int width = 0, height = 0;
+  double frame_rate_hz = 0.0;
+  int jpeg_quality = 0;
 };
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
@@ -163,6 +166,8 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   request.skin = o.skin;
   request.frame_width = o.width;
   request.frame_height = o.height;
+  request.frame_rate_hz = o.frame_rate_hz;
+  request.jpeg_quality = o.jpeg_quality;
   const auto replies = client.Request(request, c.timeout_s);
   if (replies.empty()) return NoServer(c, url, "the create request");
   const session_reply_t& reply = replies.front();
@@ -419,9 +424,14 @@ int main(int argc, char** argv) {
   create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
       ->check(CLI::Range(1.0, 10000.0));
   create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");
-  create->add_option("--skin", create_options.skin, "Skin for rendering");
+  create->add_option("--skin", create_options.skin,
+                     "Skin of the frames: parametric, implicit, convolution or hybrid");
   create->add_option("--width", create_options.width, "Frame width (pixels)");
   create->add_option("--height", create_options.height, "Frame height (pixels)");
+  create->add_option("--frame-rate", create_options.frame_rate_hz,
+                     "Frames per second (Hz; default: the server's, 25; < 0: no frames)");
+  create->add_option("--jpeg-quality", create_options.jpeg_quality, "JPEG quality (1..100)")
+      ->check(CLI::Range(1, 100));
 
   CLI::App* list = app.add_subcommand("list", "Status of every session of every server");
   add_common(list);
@@ -477,6 +487,30 @@ int main(int argc, char** argv) {
     s.app->add_option("--token", common.token_hex, "Session token (hex)");
   }
 
+  // frames, record, view: listen to one session's frame stream
+  viscera::client::FrameListenOptions listen;
+  std::string frames_dir, record_file, view_address = "127.0.0.1:8080";
+  double record_fps = 25.0;
+  auto add_listen = [&](CLI::App* cmd) {
+    add_common(cmd);
+    cmd->add_option("id", listen.session_id, "Session id")->required();
+    cmd->add_option("--count", listen.count, "Stop after N frames")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--seconds", listen.seconds, "Stop after S seconds")->check(CLI::NonNegativeNumber);
+  };
+  CLI::App* frames = app.add_subcommand("frames", "Save a session's frames as JPEG files");
+  add_listen(frames);
+  frames->add_option("--out", frames_dir, "Directory for frame_000000.jpg, ...")->required();
+  CLI::App* record = app.add_subcommand("record", "Record a session's frames into a video");
+  add_listen(record);
+  record->add_option("--out", record_file, "Video file (.mp4: MPEG-4 part 2, .avi: MJPEG)")->required();
+  record->add_option("--fps", record_fps, "Frames per second of the video (the session's frame rate)")
+      ->check(CLI::Range(1.0, 240.0))
+      ->capture_default_str();
+  CLI::App* view = app.add_subcommand("view", "Serve a session's frames to a browser (MJPEG over HTTP)");
+  add_listen(view);
+  view->add_option("--http", view_address, "Address to serve on, HOST:PORT (keep it on loopback)")
+      ->capture_default_str();
+
   std::string keygen_path;
   CLI::App* keygen = app.add_subcommand("keygen", "Write a new pre-shared key file (mode 0600)");
   add_common(keygen);
@@ -506,6 +540,15 @@ int main(int argc, char** argv) {
     }
     for (const Simple& s : simple) {
       if (s.app->parsed()) return RunCommand(url, common, s.command, s.id);
+    }
+    if (frames->parsed() || record->parsed() || view->parsed()) {
+      listen.url = url;
+      listen.auth = LoadAuth(common);
+      listen.timeout_s = std::max(common.timeout_s, 5.0);  // the first frame may need a scene built
+      listen.json = common.json;
+      if (frames->parsed()) return viscera::client::SaveFrames(listen, frames_dir);
+      if (record->parsed()) return viscera::client::RecordVideo(listen, record_file, record_fps);
+      return viscera::client::ViewOverHttp(listen, view_address);
     }
     if (keygen->parsed()) {
       viscera::bus::MessageAuth::WriteKeyFile(keygen_path);

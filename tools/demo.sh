@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The main job, end to end: installs what it needs, builds, starts viscerad in the
 # background, creates a session, drives the clearing gesture with the viscera client,
-# prints the force and timing figures, destroys the session and stops the server.
+# prints the force and timing figures, records the session's frame stream (convolution skin,
+# OSMesa, JPEG over LCM) into out/demo/clearing.mp4 and saves a few frames in out/demo/frames,
+# destroys the session and stops the server.
 # Everything runs in a private network namespace holding only loopback (nothing leaves
 # this machine; VISCERA_DEMO_NETNS=0 uses the host's network instead, ttl=0).
 # The session's record is kept in out/records/.
@@ -26,7 +28,9 @@ fi
 
 url='udpm://239.255.76.67:7667?ttl=0'
 records="$root/out/records"
+demo="$root/out/demo"
 mkdir -p "$records"
+rm -rf "$demo" && mkdir -p "$demo"
 export VISCERA_SESSIONS="$root/out/sessions.json"
 viscera() { "$build/client/viscera" "$@" --lcm-url "$url"; }
 
@@ -38,13 +42,22 @@ trap 'kill -TERM $server 2>/dev/null || true; wait $server 2>/dev/null || true' 
 viscera servers --timeout 1.2
 
 echo "== create a session on scenes/$scene.toml"
-id=$(viscera create "$scene" --json | python3 -c 'import json, sys; print(json.load(sys.stdin)["session"])')
+id=$(viscera create "$scene" --skin convolution --frame-rate 25 --json | python3 -c 'import json, sys; print(json.load(sys.stdin)["session"])')
 echo "session $id"
 sleep 1
 viscera status "$id"
 
-echo "== drive the clearing gesture (poses at $pose_rate Hz)"
+echo "== drive the clearing gesture (poses at $pose_rate Hz), recording the frames"
+# the binary itself in the background, not the function: its subshell would take the signal
+"$build/client/viscera" record "$id" --out "$demo/clearing.mp4" --fps 25 --lcm-url "$url" >"$demo/record.txt" &
+recorder=$!
 viscera drive "$id" --gesture clearing --pose-rate "$pose_rate"
+kill -TERM $recorder  # ends it cleanly: the video gets its trailer (background jobs ignore SIGINT)
+wait $recorder
+cat "$demo/record.txt"
+echo "== a few frames of the scene after the gesture"
+viscera frames "$id" --out "$demo/frames" --count 5
+viscera status "$id"
 
 echo "== destroy the session, stop the server"
 viscera destroy "$id"
@@ -53,3 +66,4 @@ wait $server
 trap - EXIT
 tail -n 2 "$root/out/viscerad.log"
 echo "== record: $(ls -1 "$records"/session-"$id".lcmlog) (lcm-logplayer reads it)"
+echo "== video: $demo/clearing.mp4, frames: $demo/frames/"

@@ -1,0 +1,197 @@
+#include "client/frame_commands.h"
+
+#include <signal.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "bus/lcm_bus.h"
+#include "client/frame_receiver.h"
+#include "client/mjpeg_server.h"
+#include "common/check.h"
+
+namespace viscera::client {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using viscera_proto::jpeg_frame_t;
+
+// SIGINT / SIGTERM end a command cleanly (a video gets its trailer): blocked here, before
+// any thread starts, and polled between pumps.
+class StopSignals {
+ public:
+  StopSignals() {
+    sigemptyset(&set_);
+    sigaddset(&set_, SIGINT);
+    sigaddset(&set_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &set_, nullptr);
+  }
+  bool Received() const {
+    const timespec zero{0, 0};
+    return sigtimedwait(&set_, nullptr, &zero) > 0;
+  }
+
+ private:
+  sigset_t set_;
+};
+
+void PrintSummary(const FrameListenOptions& o, const FrameStreamStats& s, const std::string& where) {
+  const double total = static_cast<double>(s.received + s.lost);
+  const double loss_pct = total > 0 ? 100.0 * static_cast<double>(s.lost) / total : 0.0;
+  const double mean_kb = s.received > 0 ? static_cast<double>(s.bytes) / s.received / 1024.0 : 0.0;
+  if (o.json) {
+    nlohmann::ordered_json j = {{"session", o.session_id},        {"frames", s.received},
+                                {"lost", s.lost},                 {"loss_percent", loss_pct},
+                                {"server_dropped", s.server_dropped}, {"seconds", s.seconds},
+                                {"rate_hz", s.rate_hz},           {"mean_kb", mean_kb},
+                                {"age_p50_ms", s.age_p50_ms},     {"age_p99_ms", s.age_p99_ms},
+                                {"output", where}};
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  std::printf("%lld frames in %.2f s (%.1f fps) -> %s\n", static_cast<long long>(s.received), s.seconds,
+              s.rate_hz, where.c_str());
+  std::printf("lost on the way %lld (%.2f %%), dropped by the server's renderer %lld, "
+              "mean %.1f kB, age p50 %.1f ms p99 %.1f ms\n",
+              static_cast<long long>(s.lost), loss_pct, static_cast<long long>(s.server_dropped),
+              mean_kb, s.age_p50_ms, s.age_p99_ms);
+}
+
+// Pumps the session's frames into `on_frame` until the count or duration is reached, a
+// signal comes, `on_frame` returns false, or no frame comes for timeout_s. Prints the
+// summary. `on_idle` runs between pumps (may be empty).
+int Listen(const FrameListenOptions& o, const std::string& where,
+           const std::function<bool(const jpeg_frame_t&)>& on_frame) {
+  const StopSignals signals;
+  bus::LcmBus bus(WithReceiveBuffer(o.url));
+  bus.SetAuth(o.auth);
+  bool failed = false;
+  FrameReceiver receiver(&bus, o.session_id, [&](const jpeg_frame_t& frame) {
+    if (!failed && !on_frame(frame)) failed = true;
+  });
+
+  const auto start = Clock::now();
+  auto last_frame = start;
+  int64_t seen = 0;
+  while (!failed && !signals.Received()) {
+    bus.Pump(50);
+    const auto now = Clock::now();
+    if (receiver.received() > seen) {
+      seen = receiver.received();
+      last_frame = now;
+    }
+    if (o.count > 0 && seen >= o.count) break;
+    if (o.seconds > 0 && now - start >= std::chrono::duration<double>(o.seconds)) break;
+    if (now - last_frame >= std::chrono::duration<double>(o.timeout_s)) {
+      if (seen > 0) {
+        std::fprintf(stderr, "viscera: the stream of session %lld stopped (no frame for %g s)\n",
+                     static_cast<long long>(o.session_id), o.timeout_s);
+        break;
+      }
+      std::fprintf(stderr,
+                   "viscera: no frame of session %lld on %s within %g s (does the session exist "
+                   "and stream frames, i.e. frame rate > 0?%s)\n",
+                   static_cast<long long>(o.session_id), o.url.c_str(), o.timeout_s,
+                   o.auth != nullptr ? "" : " does the server need --key-file?");
+      return kFramesNone;
+    }
+  }
+  if (receiver.rejected() > 0) {
+    std::fprintf(stderr, "viscera: %lld frame(s) rejected: %s\n",
+                 static_cast<long long>(receiver.rejected()), receiver.last_rejection().c_str());
+  }
+  if (failed) return kFramesLocalError;
+  PrintSummary(o, receiver.stats(), where);
+  return kFramesOk;
+}
+
+}  // namespace
+
+int SaveFrames(const FrameListenOptions& options, const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) {
+    std::fprintf(stderr, "viscera: cannot create %s: %s\n", dir.c_str(), error.message().c_str());
+    return kFramesLocalError;
+  }
+  int64_t index = 0;
+  return Listen(options, dir, [&](const jpeg_frame_t& frame) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "/frame_%06lld.jpg", static_cast<long long>(index++));
+    std::ofstream out(dir + name, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(frame.data.data()), static_cast<std::streamsize>(frame.data.size()));
+    if (!out.good()) {
+      std::fprintf(stderr, "viscera: cannot write %s%s\n", dir.c_str(), name);
+      return false;
+    }
+    return true;
+  });
+}
+
+int RecordVideo(const FrameListenOptions& options, const std::string& file, double fps) {
+  const std::string ext = std::filesystem::path(file).extension().string();
+  int fourcc = 0;
+  if (ext == ".mp4") {
+    fourcc = cv::VideoWriter::fourcc('m', 'p', '4', 'v');
+  } else if (ext == ".avi") {
+    fourcc = cv::VideoWriter::fourcc('M', 'J', 'P', 'G');
+  } else {
+    std::fprintf(stderr, "viscera: record writes .mp4 or .avi, not '%s'\n", file.c_str());
+    return kFramesLocalError;
+  }
+  cv::VideoWriter writer;
+  int64_t undecodable = 0;
+  const int code = Listen(options, file, [&](const jpeg_frame_t& frame) {
+    const cv::Mat image = cv::imdecode(frame.data, cv::IMREAD_COLOR);
+    if (image.empty() || image.cols != frame.width || image.rows != frame.height) {
+      ++undecodable;  // a damaged frame is skipped, the video goes on
+      return true;
+    }
+    if (!writer.isOpened()) {
+      // the size of the first frame is the video's (a session's frames never change size)
+      if (!writer.open(file, cv::CAP_FFMPEG, fourcc, fps, image.size(), true)) {
+        std::fprintf(stderr, "viscera: OpenCV cannot write %s (FFmpeg backend missing?)\n", file.c_str());
+        return false;
+      }
+    }
+    writer.write(image);
+    return true;
+  });
+  writer.release();  // writes the container's index: a video cut by Ctrl-C still plays
+  if (undecodable > 0) {
+    std::fprintf(stderr, "viscera: %lld frame(s) did not decode and were skipped\n",
+                 static_cast<long long>(undecodable));
+  }
+  return code;
+}
+
+int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port) {
+  std::string host;
+  int port = 0;
+  ParseHostPort(host_port, &host, &port);
+  const StopSignals signals;  // before the server's threads start: they inherit the mask
+  MjpegServer server(host, port, Cat("viscera session ", options.session_id));
+  std::fprintf(stderr, "viscera: session %lld on http://%s:%d/ (Ctrl-C stops)\n",
+               static_cast<long long>(options.session_id), host.c_str(), server.port());
+  FrameListenOptions o = options;
+  if (o.count == 0 && o.seconds == 0) o.timeout_s = 1e9;  // a viewer waits for its session
+  const int code = Listen(o, Cat("http://", host, ":", server.port(), "/"), [&](const jpeg_frame_t& frame) {
+    server.PostFrame(frame.data);
+    return true;
+  });
+  const MjpegServerStats s = server.stats();
+  std::fprintf(stderr, "viscera: served %lld frame parts to %lld stream(s)\n",
+               static_cast<long long>(s.parts_sent), static_cast<long long>(s.streams_opened));
+  return code;
+}
+
+}  // namespace viscera::client
