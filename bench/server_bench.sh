@@ -6,6 +6,7 @@
 #     on the 250-point intestine of scenes/fall.toml (contacts with the floor) plus one tool;
 #  2. deadline misses at 100 Hz and 1 kHz over the drive;
 #  3. how many concurrent 100 Hz sessions of scenes/fall.toml run without deadline misses.
+# Sessions here stream no frames (--frame-rate -1): bench/frames_bench.sh measures those.
 # Usage: bench/server_bench.sh [BUILD_DIR] [MAX_SESSIONS] [REALTIME_PRIORITY]
 set -eu
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -37,7 +38,7 @@ CSV
 
 echo "== round trip and deadline misses (250 points, contacts, 1 tool, poses at 1 kHz for 6 s)"
 for rate in 100 1000; do
-  id=$(v create --scene-file "$work/fall_tool.toml" --rate $rate --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  id=$(v create --scene-file "$work/fall_tool.toml" --rate $rate --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
   sleep 1
   v drive "$id" --script "$work/press.csv" --pose-rate 1000 --json >"$work/drive.json"
   python3 - "$work/drive.json" "$rate" <<'PY'
@@ -57,7 +58,7 @@ ids=""
 n=0
 while [ $n -lt "$max_sessions" ]; do
   n=$((n + 1))
-  id=$(v create fall --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  id=$(v create fall --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
   ids="$ids $id"
   sleep 1.5
   v list --json >"$work/before.json"

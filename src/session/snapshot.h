@@ -1,6 +1,6 @@
 #pragma once
-/// Snapshot hand-off from the mechanics thread to readers (the skin/render thread of the
-/// rendering issue, tests): an immutable copy of the skeleton, published as a
+/// Snapshot hand-off from the mechanics thread to readers (the session's skin/render thread,
+/// tests): an immutable copy of the skeleton, published as a
 /// shared_ptr<const Snapshot>. The mechanics thread never shares its mutable state; a reader
 /// keeps its snapshot as long as it likes while newer ones are published.
 #include <cstdint>
