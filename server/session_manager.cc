@@ -334,8 +334,10 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   frames.options.skin = !request.skin.empty() ? request.skin : config_.skin;
   frames.options.skin_options.parametric.sides = config_.skin_sides;
   frames.options.skin_options.convolution.sides = config_.skin_sides;
-  // every frame can show a pose of its own
-  sc.snapshot_rate_hz = std::max({30.0, sc.skeleton_rate_hz, frames.rate_hz});
+  // while frames stream, a snapshot every step (it costs a copy of the control points): a
+  // frame then shows the pose of its tick, not one up to a snapshot period older
+  sc.snapshot_rate_hz = frames.rate_hz > 0.0 ? scene.model->params().rate_hz
+                                             : std::max(30.0, sc.skeleton_rate_hz);
 
   std::unique_ptr<session::Recorder> recorder;
   if (!config_.log_dir.empty()) {

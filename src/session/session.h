@@ -29,8 +29,8 @@ struct SessionConfig {
   std::string scene;               ///< scene label for status ("fall", "<inline>")
   double skeleton_rate_hz = 30.0;  ///< skeleton_state_t per second; <= 0: none
   double status_rate_hz = 4.0;     ///< session_status_t per second (> 0)
-  /// Skeleton snapshots handed to readers (the render thread) per second (> 0): at least
-  /// the frame rate, so that every frame can show a new pose.
+  /// Skeleton snapshots handed to readers (the render thread) per second (> 0); the
+  /// mechanics rate while frames stream, so that a frame shows the pose of its tick.
   double snapshot_rate_hz = 30.0;
   /// > 0: the mechanics thread runs SCHED_FIFO one above this priority and its output
   /// thread at it (1..98), so builds, other processes and the server's other threads cannot

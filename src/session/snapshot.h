@@ -3,6 +3,7 @@
 /// tests): an immutable copy of the skeleton, published as a
 /// shared_ptr<const Snapshot>. The mechanics thread never shares its mutable state; a reader
 /// keeps its snapshot as long as it likes while newer ones are published.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -24,7 +25,8 @@ struct Snapshot {
 class SnapshotExchange {
  public:
   /// Publishes a copy of `state` (mechanics thread). Reuses a snapshot no reader holds any
-  /// more, so in steady state it does not allocate.
+  /// more: with one reader (the render thread) holding one snapshot at a time, the three
+  /// buffers of the pool always leave one free, so publishing every step never allocates.
   void Publish(const mechanics::State& state);
 
   /// The latest snapshot, or nullptr before the first. Any thread.
@@ -33,7 +35,8 @@ class SnapshotExchange {
  private:
   mutable std::mutex mutex_;
   std::shared_ptr<const Snapshot> latest_;
-  std::shared_ptr<Snapshot> spare_;  // mechanics thread only
+  std::array<std::shared_ptr<Snapshot>, 3> pool_;  // mechanics thread only
+  size_t next_evicted_ = 0;
 };
 
 }  // namespace viscera::session
