@@ -17,6 +17,7 @@
 #include "bus/lcm_bus.h"
 #include "client/frame_receiver.h"
 #include "client/mjpeg_server.h"
+#include "client/session_client.h"
 #include "common/check.h"
 
 namespace viscera::client {
@@ -137,6 +138,23 @@ int SaveFrames(const FrameListenOptions& options, const std::string& dir) {
   });
 }
 
+namespace {
+
+// The session's configured frame rate (Hz) from its status, or 0 when no server answers.
+double SessionFrameRate(const FrameListenOptions& o) {
+  SessionClient client(o.url, o.auth);
+  const auto replies = client.Request(MakeRequest(viscera_proto::session_request_t::kStatus, o.session_id),
+                                      o.timeout_s);
+  for (const viscera_proto::session_reply_t& r : replies) {
+    if (r.result == viscera_proto::session_reply_t::kOk && r.num_sessions == 1) {
+      return r.sessions[0].frame_rate_hz;
+    }
+  }
+  return 0.0;
+}
+
+}  // namespace
+
 int RecordVideo(const FrameListenOptions& options, const std::string& file, double fps) {
   const std::string ext = std::filesystem::path(file).extension().string();
   int fourcc = 0;
@@ -148,14 +166,36 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
     std::fprintf(stderr, "viscera: record writes .mp4 or .avi, not '%s'\n", file.c_str());
     return kFramesLocalError;
   }
+  if (fps <= 0.0) {
+    fps = SessionFrameRate(options);
+    if (fps <= 0.0) {
+      std::fprintf(stderr, "viscera: session %lld streams no frames (or no server answered); "
+                   "--fps sets the video's rate\n", static_cast<long long>(options.session_id));
+      return kFramesNone;
+    }
+  }
   cv::VideoWriter writer;
-  int64_t undecodable = 0;
+  cv::Mat previous;
+  int64_t previous_seq = -1, previous_dropped = 0, filled = 0, undecodable = 0;
   const int code = Listen(options, file, [&](const jpeg_frame_t& frame) {
+    // ticks without a picture (lost on the way, dropped by the renderer) repeat the last one,
+    // at most a second's worth at a time (a stalled server, not a frozen video)
+    const int64_t missing = previous_seq < 0 ? 0
+                                              : (frame.header.seq - previous_seq - 1) +
+                                                    std::max<int64_t>(0, frame.dropped - previous_dropped);
+    previous_seq = frame.header.seq;
+    previous_dropped = frame.dropped;
+    if (writer.isOpened()) {
+      for (int64_t k = 0; k < std::min<int64_t>(missing, static_cast<int64_t>(fps)); ++k, ++filled) {
+        writer.write(previous);
+      }
+    }
     const cv::Mat image = cv::imdecode(frame.data, cv::IMREAD_COLOR);
     if (image.empty() || image.cols != frame.width || image.rows != frame.height) {
       ++undecodable;  // a damaged frame is skipped, the video goes on
       return true;
     }
+    previous = image;
     if (!writer.isOpened()) {
       // the size of the first frame is the video's (a session's frames never change size)
       if (!writer.open(file, cv::CAP_FFMPEG, fourcc, fps, image.size(), true)) {
@@ -167,6 +207,10 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
     return true;
   });
   writer.release();  // writes the container's index: a video cut by Ctrl-C still plays
+  if (filled > 0) {
+    std::fprintf(stderr, "viscera: %lld frame(s) missing from the stream were filled with the one before\n",
+                 static_cast<long long>(filled));
+  }
   if (undecodable > 0) {
     std::fprintf(stderr, "viscera: %lld frame(s) did not decode and were skipped\n",
                  static_cast<long long>(undecodable));

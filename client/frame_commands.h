@@ -29,7 +29,9 @@ inline constexpr int kFramesNone = 2;
 int SaveFrames(const FrameListenOptions& options, const std::string& dir);
 
 /// Writes the frames into a video (codec from the extension: .mp4 mp4v, .avi MJPG) at
-/// `fps` frames per second (0: the session's frame rate as the frames arrive).
+/// `fps` frames per second (0: the session's frame rate, from its status). Frames lost on
+/// the way or dropped by the server's renderer are filled with the previous picture, so
+/// the video runs in real time.
 int RecordVideo(const FrameListenOptions& options, const std::string& file, double fps);
 
 /// Serves the stream on http://HOST:PORT/ (page), /stream.mjpg, /frame.jpg, /stats.json

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "bus/channels.h"
+#include "bus/header.h"
 #include "common/check.h"
 #include "common/quantile.h"
 
@@ -14,7 +15,7 @@ std::string WithReceiveBuffer(const std::string& url, int bytes) {
 }
 
 FrameReceiver::FrameReceiver(bus::LcmBus* bus, int64_t session_id, Handler handler)
-    : handler_(std::move(handler)) {
+    : handler_(std::move(handler)), session_id_(session_id) {
   VISCERA_DEMAND(bus != nullptr && handler_);
   bus->Subscribe<viscera_proto::jpeg_frame_t>(
       bus::SessionChannel(bus::kFramePrefix, session_id),
@@ -22,22 +23,37 @@ FrameReceiver::FrameReceiver(bus::LcmBus* bus, int64_t session_id, Handler handl
 }
 
 void FrameReceiver::OnFrame(const viscera_proto::jpeg_frame_t& frame, int64_t recv_utime) {
-  if (frame.size <= 0 || frame.width <= 0 || frame.height <= 0 || frame.header.seq < 0) {
+  std::string problem = bus::HeaderProblem(frame.header);
+  if (problem.empty() && frame.header.session_id != session_id_) {
+    problem = Cat("session ", frame.header.session_id, " on the channel of ", session_id_);
+  }
+  if (problem.empty() && (frame.size <= 0 || frame.width <= 0 || frame.height <= 0)) {
+    problem = Cat("frame of ", frame.size, " bytes, ", frame.width, "x", frame.height, " pixels");
+  }
+  if (problem.empty() && frame.header.seq <= last_seq_) {
+    problem = Cat("frame ", frame.header.seq, " after frame ", last_seq_);  // stale or replayed
+  }
+  if (!problem.empty()) {
     ++rejected_;
-    last_rejection_ = Cat("frame ", frame.header.seq, " of ", frame.size, " bytes, ", frame.width,
-                          "x", frame.height, " pixels");
+    last_rejection_ = problem;
     return;
   }
   // a gap in the sequence is a frame LCM lost on the way (all fragments or one)
-  if (last_seq_ >= 0 && frame.header.seq > last_seq_ + 1) lost_ += frame.header.seq - last_seq_ - 1;
-  if (frame.header.seq > last_seq_) last_seq_ = frame.header.seq;
+  if (last_seq_ >= 0) lost_ += frame.header.seq - last_seq_ - 1;
+  last_seq_ = frame.header.seq;
   if (first_dropped_ < 0) first_dropped_ = frame.dropped;
   last_dropped_ = frame.dropped;
   if (received_ == 0) first_utime_ = recv_utime;
   last_utime_ = recv_utime;
   ++received_;
   bytes_ += frame.size;
-  ages_ms_.push_back(static_cast<double>(recv_utime - frame.snapshot_utime) * 1e-3);
+  const double age_ms = static_cast<double>(recv_utime - frame.snapshot_utime) * 1e-3;
+  if (ages_ms_.size() < kAgeWindow) {
+    ages_ms_.push_back(age_ms);
+  } else {
+    ages_ms_[next_age_] = age_ms;
+    next_age_ = (next_age_ + 1) % kAgeWindow;
+  }
   handler_(frame);
 }
 

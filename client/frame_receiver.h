@@ -29,16 +29,21 @@ struct FrameStreamStats {
   int64_t bytes = 0;           ///< JPEG bytes received
   double seconds = 0.0;        ///< from the first frame received to the last
   double rate_hz = 0.0;        ///< (received - 1) / seconds
-  double age_p50_ms = 0.0;     ///< receive time - snapshot time, median and 99th percentile
+  /// receive time - snapshot time, median and 99th percentile over the last kAgeWindow frames
+  double age_p50_ms = 0.0;
   double age_p99_ms = 0.0;
 };
 
 class FrameReceiver {
  public:
+  /// Frames whose age the percentiles cover (the most recent ones: a viewer runs for days).
+  static constexpr size_t kAgeWindow = 10000;
+
   using Handler = std::function<void(const viscera_proto::jpeg_frame_t& frame)>;
 
-  /// Subscribes to session `session_id`'s frames on `bus`. Frames of another size than
-  /// they say, or with no bytes, are counted as rejected and not handed on.
+  /// Subscribes to session `session_id`'s frames on `bus`. Frames of another protocol
+  /// version or session, without bytes or size, or with a sequence number older than the
+  /// last one are counted as rejected and not handed on.
   /// @pre bus outlives the receiver; the bus's owner thread pumps it.
   FrameReceiver(bus::LcmBus* bus, int64_t session_id, Handler handler);
 
@@ -60,7 +65,9 @@ class FrameReceiver {
   int64_t first_dropped_ = -1, last_dropped_ = 0;
   int64_t bytes_ = 0;
   int64_t first_utime_ = 0, last_utime_ = 0;
-  std::vector<double> ages_ms_;
+  std::vector<double> ages_ms_;  // a ring of the last kAgeWindow ages
+  size_t next_age_ = 0;
+  int64_t session_id_;
 };
 
 }  // namespace viscera::client

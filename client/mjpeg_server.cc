@@ -5,6 +5,7 @@
 #include <netinet/in.h>
 #include <netinet/tcp.h>
 #include <poll.h>
+#include <strings.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -18,6 +19,13 @@
 
 namespace viscera::client {
 namespace {
+
+// The host of a Host field: "host:port" or "host", "[v6]:port" or "[v6]".
+std::string HostOfHostField(const std::string& value) {
+  const size_t colon = value.rfind(':'), bracket = value.rfind(']');
+  const bool has_port = colon != std::string::npos && (bracket == std::string::npos || colon > bracket);
+  return has_port ? value.substr(0, colon) : value;
+}
 
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
@@ -43,6 +51,7 @@ const char* Reason(int status) {
   switch (status) {
     case 200: return "OK";
     case 400: return "Bad Request";
+    case 403: return "Forbidden";
     case 404: return "Not Found";
     case 405: return "Method Not Allowed";
     case 431: return "Request Header Fields Too Large";
@@ -185,6 +194,7 @@ MjpegServer::MjpegServer(const std::string& host, int port, std::string title)
     fail("getsockname");
   }
   port_ = ntohs(bound.sin_port);
+  ip_ = ip;
   if (pipe2(wake_pipe_, O_CLOEXEC) != 0) fail("pipe");
   try {
     accept_thread_ = std::thread(&MjpegServer::AcceptLoop, this);
@@ -317,6 +327,16 @@ void MjpegServer::Answer(int fd, const std::string& head) {
     Respond(fd, 400, "text/plain", Cat("bad request: ", problem, "\n"), false);
     return;
   }
+  // A page elsewhere could make a browser ask us for frames under a hostname of its own that
+  // resolves here (DNS rebinding): only our own names are served.
+  for (const auto& [name, value] : request.fields) {
+    if (strcasecmp(name.c_str(), "Host") != 0) continue;
+    const std::string host = HostOfHostField(value);
+    if (host != "127.0.0.1" && host != "localhost" && host != "[::1]" && host != ip_) {
+      Respond(fd, 403, "text/plain", "this viewer answers only to its own address\n", false);
+      return;
+    }
+  }
   const bool head_only = request.method == "HEAD";
   if (request.method != "GET" && !head_only) {
     Respond(fd, 405, "text/plain", Cat("method ", request.method, " not allowed\n"), false,
@@ -342,7 +362,7 @@ void MjpegServer::Answer(int fd, const std::string& head) {
   } else if (request.path == "/stats.json") {
     Respond(fd, 200, "application/json", StatsToJson(stats()), head_only);
   } else {
-    Respond(fd, 404, "text/plain", Cat("no ", request.path, " here\n"), head_only);
+    Respond(fd, 404, "text/plain", "not found: try / or /stream.mjpg\n", head_only);
   }
 }
 
@@ -354,7 +374,8 @@ bool MjpegServer::Respond(int fd, int status, std::string_view content_type,
   }
   const std::string head =
       Cat("HTTP/1.0 ", status, " ", Reason(status), "\r\nContent-Type: ", content_type,
-          "\r\nContent-Length: ", body.size(), "\r\nCache-Control: no-cache\r\nConnection: close\r\n",
+          "\r\nContent-Length: ", body.size(),
+          "\r\nCache-Control: no-cache\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n",
           extra_fields, "\r\n");
   if (head_only || body.empty()) return SendAll(fd, head);
   return SendAll(fd, head, MSG_MORE) && SendAll(fd, body);
@@ -378,7 +399,7 @@ void MjpegServer::Stream(int fd, bool head_only) {
   }
   const bool ok = SendAll(fd, Cat("HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; "
                                   "boundary=", kBoundary, "\r\nCache-Control: no-cache\r\n"
-                                  "Connection: close\r\n\r\n"));
+                                  "X-Content-Type-Options: nosniff\r\nConnection: close\r\n\r\n"));
   if (head_only) return;
 
   Frame sent;               // the frame of the last part

@@ -87,6 +87,7 @@ class MjpegServer {
   int listen_fd_ = -1;
   int wake_pipe_[2] = {-1, -1};  // written once by the destructor, to wake AcceptLoop's poll
   int port_ = 0;
+  std::string ip_;  // the address bound, dotted quad: a Host header may name it
 
   mutable std::mutex mutex_;  // guards everything below
   std::condition_variable frame_posted_;

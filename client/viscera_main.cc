@@ -490,7 +490,7 @@ int main(int argc, char** argv) {
   // frames, record, view: listen to one session's frame stream
   viscera::client::FrameListenOptions listen;
   std::string frames_dir, record_file, view_address = "127.0.0.1:8080";
-  double record_fps = 25.0;
+  double record_fps = 0.0;
   auto add_listen = [&](CLI::App* cmd) {
     add_common(cmd);
     cmd->add_option("id", listen.session_id, "Session id")->required();
@@ -503,9 +503,8 @@ int main(int argc, char** argv) {
   CLI::App* record = app.add_subcommand("record", "Record a session's frames into a video");
   add_listen(record);
   record->add_option("--out", record_file, "Video file (.mp4: MPEG-4 part 2, .avi: MJPEG)")->required();
-  record->add_option("--fps", record_fps, "Frames per second of the video (the session's frame rate)")
-      ->check(CLI::Range(1.0, 240.0))
-      ->capture_default_str();
+  record->add_option("--fps", record_fps, "Frames per second of the video (default: the session's frame rate)")
+      ->check(CLI::Range(1.0, 240.0));
   CLI::App* view = app.add_subcommand("view", "Serve a session's frames to a browser (MJPEG over HTTP)");
   add_listen(view);
   view->add_option("--http", view_address, "Address to serve on, HOST:PORT (keep it on loopback)")

@@ -22,6 +22,7 @@
 #include "common/clock.h"
 #include "common/quantile.h"
 #include "render/laparoscope.h"
+#include "server/frame_schedule.h"
 
 namespace viscera::server {
 namespace {
@@ -39,16 +40,6 @@ void LowerThisThreadsPriority() {
   }
 }
 
-render::Laparoscope ToLaparoscope(const session::CameraPose& pose) {
-  render::Laparoscope scope;
-  scope.eye = pose.eye.cast<float>();
-  scope.target = pose.target.cast<float>();
-  scope.up = pose.up.cast<float>();
-  scope.fov_y_degrees = static_cast<float>(pose.fov_deg);
-  scope.light_range = 1.5f * (scope.eye - scope.target).norm();  // as FramingLaparoscope
-  return scope;
-}
-
 bool SamePose(const session::CameraPose& a, const session::CameraPose& b) {
   return a.set_by_client == b.set_by_client && a.eye == b.eye && a.target == b.target &&
          a.up == b.up && a.fov_deg == b.fov_deg;
@@ -59,23 +50,27 @@ class FrameWindow {
  public:
   void Add(int64_t now_ns, const render::FrameTimings* timings) {
     frames_.push_back({now_ns, timings != nullptr, timings != nullptr ? *timings : render::FrameTimings{}});
-    while (frames_.size() > 2 && frames_[1].ns <= now_ns - 1'000'000'000) frames_.pop_front();
   }
-  void Fill(session::FrameStreamReport* report) const {
+  void Fill(int64_t now_ns, session::FrameStreamReport* report) {
+    while (!frames_.empty() && frames_.front().ns <= now_ns - 1'000'000'000) frames_.pop_front();
+    // frames per second over the window, once it spans a few frames (0 when none come)
     const auto n = static_cast<double>(frames_.size());
     const double span = n >= 2 ? static_cast<double>(frames_.back().ns - frames_.front().ns) : 0.0;
     report->achieved_rate_hz = span > 0.0 ? (n - 1.0) * 1e9 / span : 0.0;
-    std::vector<double> skin, render, encode;
+    skin_.clear();
+    render_.clear();
+    encode_.clear();
     for (const Entry& e : frames_) {
       if (!e.rendered) continue;  // a frame sent again unchanged cost nothing
-      skin.push_back(e.timings.skin_ms);
-      render.push_back(e.timings.render_ms);
-      encode.push_back(e.timings.encode_ms);
+      skin_.push_back(e.timings.skin_ms);
+      render_.push_back(e.timings.render_ms);
+      encode_.push_back(e.timings.encode_ms);
     }
-    if (skin.empty()) return;  // keep the last figures while nothing moves
-    report->skin_ms = static_cast<float>(Quantile(std::move(skin), 0.5));
-    report->render_ms = static_cast<float>(Quantile(std::move(render), 0.5));
-    report->encode_ms = static_cast<float>(Quantile(std::move(encode), 0.5));
+    if (skin_.empty()) return;  // keep the last figures while nothing moves
+    const int n_rendered = static_cast<int>(skin_.size());
+    report->skin_ms = static_cast<float>(Quantile(skin_.data(), n_rendered, 0.5));
+    report->render_ms = static_cast<float>(Quantile(render_.data(), n_rendered, 0.5));
+    report->encode_ms = static_cast<float>(Quantile(encode_.data(), n_rendered, 0.5));
   }
 
  private:
@@ -85,6 +80,7 @@ class FrameWindow {
     render::FrameTimings timings;
   };
   std::deque<Entry> frames_;
+  std::vector<double> skin_, render_, encode_;  // reused
 };
 
 }  // namespace
@@ -94,7 +90,7 @@ FrameStreamer::FrameStreamer(session::Session* session, bus::LcmBus* bus, FrameS
       bus_(bus),
       config_(std::move(config)),
       channel_(bus::SessionChannel(bus::kFramePrefix, session->config().id)) {
-  VISCERA_DEMAND(session_ != nullptr && bus_ != nullptr && config_.rate_hz > 0.0);
+  VISCERA_DEMAND(session_ != nullptr && bus_ != nullptr && config_.rate_hz >= kMinFrameRateHz);
 }
 
 FrameStreamer::~FrameStreamer() { Stop(); }
@@ -104,53 +100,72 @@ void FrameStreamer::Start() {
   thread_ = std::thread([this] { Run(); });
 }
 
-void FrameStreamer::Stop() {
+void FrameStreamer::RequestStop() {
   {
     std::lock_guard<std::mutex> lock(stop_mutex_);
     stop_ = true;
   }
   stop_wake_.notify_all();
+}
+
+void FrameStreamer::Stop() {
+  RequestStop();
   if (thread_.joinable()) thread_.join();
+}
+
+void FrameStreamer::ReportError(session::FrameStreamReport* report, const std::string& why) {
+  report->error = why;
+  ++report->error_serial;
+  session_->ReportFrames(*report);
 }
 
 void FrameStreamer::Run() {
   LowerThisThreadsPriority();
+  session::FrameStreamReport report;
+  report.skin = config_.options.skin;
+  report.rate_hz = config_.rate_hz;
   // An exception never crosses a thread: the session runs on without frames.
   try {
     render::FrameRenderer renderer(session_->model().params(), config_.options);  // its context is this thread's
-    Loop(renderer);
+    Loop(renderer, &report);
   } catch (const std::exception& e) {
-    session_->ReportError(Cat("frames stopped: ", e.what()));
+    ReportError(&report, Cat("frames stopped: ", e.what()));
+  } catch (...) {
+    ReportError(&report, "frames stopped: a non-std exception");
   }
+  report.achieved_rate_hz = 0.0;  // the stream has ended
+  session_->ReportFrames(report);
+  finished_ = true;
 }
 
-void FrameStreamer::Loop(render::FrameRenderer& renderer) {
-  const auto period = std::chrono::nanoseconds(std::llround(1e9 / config_.rate_hz));
-  session::FrameStreamReport report;
-  report.skin = config_.options.skin;
-  report.width = renderer.width();
-  report.height = renderer.height();
-  report.rate_hz = config_.rate_hz;
-  session_->ReportFrames(report);
+void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamReport* report) {
+  const int64_t period = std::llround(1e9 / config_.rate_hz);
+  report->width = renderer.width();
+  report->height = renderer.height();
+  session_->ReportFrames(*report);
 
   viscera_proto::jpeg_frame_t frame;
   frame.width = renderer.width();
   frame.height = renderer.height();
   FrameWindow window;
-  std::shared_ptr<const session::Snapshot> shown;  // the snapshot of the last frame drawn
+  // What the last frame drawn showed. Values, not the snapshot itself: holding it would
+  // keep a second snapshot buffer from the mechanics thread's pool while rendering.
+  int64_t shown_step = -1;
+  double shown_t = 0.0;
+  int64_t shown_utime = 0;
   session::CameraPose shown_pose;
   render::Laparoscope framing;  // the scene as first seen, until a client sets the camera
   bool have_framing = false;
   std::string last_error;
   int64_t seq = 0;
 
-  auto next = std::chrono::steady_clock::now();
+  int64_t next = MonotonicNanos();
   std::unique_lock<std::mutex> lock(stop_mutex_);
-  while (!stop_wake_.wait_until(lock, next, [this] { return stop_; })) {
+  while (!stop_wake_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(next)),
+                                [this] { return stop_; })) {
     lock.unlock();
-    const std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot();
     const session::CameraPose pose = session_->camera();
-    if (snapshot != nullptr) {
+    if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot()) {
       if (!have_framing) {
         framing = render::FramingLaparoscope(snapshot->q.colwise().minCoeff().transpose(),
                                              snapshot->q.colwise().maxCoeff().transpose(),
@@ -158,13 +173,14 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer) {
         have_framing = true;
       }
       // nothing moved and the camera stayed: send the same picture again, it costs nothing
-      const bool unchanged = shown != nullptr && shown->step == snapshot->step &&
-                             SamePose(shown_pose, pose) && !frame.data.empty();
+      const bool unchanged =
+          shown_step == snapshot->step && SamePose(shown_pose, pose) && !frame.data.empty();
       bool ok = true;
       if (!unchanged) {
         try {
           renderer.Render(snapshot->q, snapshot->tools,
-                          pose.set_by_client ? ToLaparoscope(pose) : framing);
+                          pose.set_by_client ? render::LookAtLaparoscope(pose.eye, pose.target, pose.up, pose.fov_deg)
+                                             : framing);
           const std::vector<uint8_t>& jpeg = renderer.Encode();
           frame.data.assign(jpeg.begin(), jpeg.end());
           frame.size = static_cast<int32_t>(frame.data.size());
@@ -172,41 +188,37 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer) {
           frame.skin_ms = static_cast<float>(t.skin_ms);
           frame.render_ms = static_cast<float>(t.render_ms);
           frame.encode_ms = static_cast<float>(t.encode_ms);
-          shown = snapshot;
+          shown_step = snapshot->step;
+          shown_t = snapshot->t;
+          shown_utime = snapshot->wall_utime;
           shown_pose = pose;
-          report.frame_bytes = frame.size;
+          report->frame_bytes = frame.size;
         } catch (const std::exception& e) {
           // e.g. a camera whose up vector lies along its view: say so once, keep trying
           ok = false;
-          if (last_error != e.what()) session_->ReportError(Cat("frame not rendered: ", e.what()));
+          if (last_error != e.what()) ReportError(report, Cat("frame not rendered: ", e.what()));
           last_error = e.what();
         }
       } else {
         frame.skin_ms = frame.render_ms = frame.encode_ms = 0.0f;
       }
+      snapshot.reset();  // back to the pool before the wait
       if (ok) {
         frame.header = bus::MakeHeader(session_->config().id, seq++);
-        frame.step = shown->step;
-        frame.sim_time = shown->t;
-        frame.snapshot_utime = shown->wall_utime;
-        frame.dropped = report.dropped;
+        frame.step = shown_step;
+        frame.sim_time = shown_t;
+        frame.snapshot_utime = shown_utime;
+        frame.dropped = report->dropped;
         bus_->Publish(channel_, frame);
-        ++report.frames;
+        ++report->frames;
         window.Add(MonotonicNanos(), unchanged ? nullptr : &renderer.timings());
       }
     }
 
-    // a frame a little late goes out at once; ticks that passed entirely while this frame
-    // was made are dropped, not made up for
-    next += period;
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= next + period) {
-      const int64_t behind = (now - next) / period;
-      report.dropped += behind;
-      next += behind * period;
-    }
-    window.Fill(&report);
-    session_->ReportFrames(report);
+    const int64_t now = MonotonicNanos();
+    report->dropped += AdvanceFrameSchedule(&next, now, period);
+    window.Fill(now, report);
+    session_->ReportFrames(*report);
     lock.lock();
   }
 }

@@ -2,12 +2,12 @@
 /// FrameStreamer: a session's skin+render thread. At its frame rate it takes the mechanics
 /// thread's latest snapshot and the session's camera, skins and draws them through its own
 /// OSMesa context, encodes a JPEG and publishes it on VISCERA_FRAME_<id>. It only reads
-/// what the session hands off (snapshot, camera), so a slow frame never delays a step: the
-/// ticks that pass while a frame is being made are dropped and counted. It runs on the CPU
-/// time nothing else in viscerad wants (SCHED_IDLE).
+/// what the session hands off (snapshot, camera), and never holds a lock the mechanics
+/// thread waits for, so a slow frame never delays a step: the ticks that pass while a frame
+/// is being made are dropped and counted. It runs on the CPU time nothing else in viscerad
+/// wants (SCHED_IDLE).
 #include <atomic>
 #include <condition_variable>
-#include <cstdint>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -19,15 +19,15 @@
 namespace viscera::server {
 
 struct FrameStreamConfig {
-  double rate_hz = 25.0;          ///< frames per second (> 0)
+  double rate_hz = 25.0;          ///< frames per second (>= kMinFrameRateHz)
   render::FrameOptions options;   ///< size, JPEG quality, skin
 };
 
 class FrameStreamer {
  public:
-  /// @pre session and bus outlive the streamer; config.rate_hz > 0.
+  /// @pre session and bus outlive the streamer; config.rate_hz >= kMinFrameRateHz.
   FrameStreamer(session::Session* session, bus::LcmBus* bus, FrameStreamConfig config);
-  /// Stops the thread.
+  /// Stops the thread (Stop).
   ~FrameStreamer();
   FrameStreamer(const FrameStreamer&) = delete;
   FrameStreamer& operator=(const FrameStreamer&) = delete;
@@ -35,21 +35,27 @@ class FrameStreamer {
   /// Starts the thread. A renderer that cannot be made (OSMesa failure) ends the thread
   /// and says why in the session's last_error; the session runs on without frames.
   void Start();
-  /// Stops the thread within one frame. Idempotent.
+  /// Asks the thread to stop after the frame it is making; returns at once.
+  void RequestStop();
+  /// True once the thread has ended (after RequestStop, or a renderer that failed).
+  bool finished() const { return finished_.load(); }
+  /// RequestStop, then waits for the thread. Idempotent.
   void Stop();
 
  private:
   void Run();
-  void Loop(render::FrameRenderer& renderer);
+  void Loop(render::FrameRenderer& renderer, session::FrameStreamReport* report);
+  void ReportError(session::FrameStreamReport* report, const std::string& why);
 
   session::Session* session_;
   bus::LcmBus* bus_;
   FrameStreamConfig config_;
   std::string channel_;
   std::thread thread_;
-  std::mutex stop_mutex_;  // with stop_wake_: Stop() interrupts the wait between frames
+  std::mutex stop_mutex_;  // with stop_wake_: a stop interrupts the wait between frames
   std::condition_variable stop_wake_;
   bool stop_ = false;
+  std::atomic<bool> finished_{false};
 };
 
 }  // namespace viscera::server

@@ -17,7 +17,7 @@ struct ServerConfig {
   double skeleton_rate_hz = 30.0;    ///< default skeleton_state_t rate (Hz); <= 0: none
   double status_rate_hz = 4.0;       ///< session_status_t rate (Hz)
   // Frame streams, when a create asks for no particular value (docs/rendering.md says why).
-  double frame_rate_hz = 25.0;       ///< jpeg_frame_t per second; <= 0: no render threads
+  double frame_rate_hz = 25.0;       ///< jpeg_frame_t per second; <= 0: no frames by default
   double max_frame_rate_hz = 60.0;   ///< highest frame rate a create may ask for (Hz)
   std::string skin = "parametric";   ///< skin drawn
   /// Vertices per ring of the parametric and convolution skins (hybrid: both). 16, not the
@@ -26,6 +26,8 @@ struct ServerConfig {
   int skin_sides = 16;
   int frame_width = 640;             ///< pixels
   int frame_height = 480;
+  int max_frame_width = 1920;        ///< largest frame a create may ask for (pixels)
+  int max_frame_height = 1080;
   int jpeg_quality = 80;             ///< 1..100
   int realtime_priority = 0;  ///< > 0: SCHED_FIFO for mechanics and I/O threads (1..99)
   std::string key_file;       ///< pre-shared key: every message must carry its MAC ("" = none)

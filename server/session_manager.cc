@@ -13,6 +13,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "session/session_scene.h"
+#include "server/frame_schedule.h"
 #include "skin/skin.h"
 
 namespace viscera::server {
@@ -81,15 +82,18 @@ SessionManager::~SessionManager() { StopAll(); }
 void SessionManager::StopAll() {
   for (PendingCreate& p : pending_) p.scene.wait();  // helpers finish; their models are dropped
   pending_.clear();
-  streamers_.clear();  // render threads first: they read their sessions
-  for (auto& [id, session] : sessions_) session->Stop();
-  sessions_.clear();
+  for (auto& [id, running] : sessions_) {
+    if (running.frames != nullptr) running.frames->RequestStop();  // all at once, then wait
+  }
+  for (auto& [id, running] : sessions_) running.session->Stop();
+  sessions_.clear();  // each render thread ends before its session is destroyed
+  retiring_.clear();
   num_sessions_ = 0;
 }
 
 session::Session* SessionManager::Find(int64_t id) {
   const auto it = sessions_.find(id);
-  return it == sessions_.end() ? nullptr : it->second.get();
+  return it == sessions_.end() ? nullptr : it->second.session.get();
 }
 
 void SessionManager::Reject(session::Session* session, const std::string& why) {
@@ -137,7 +141,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
       Create(request);
       return;
     case session_request_t::kList:
-      for (const auto& [id, session] : sessions_) reply_.sessions.push_back(session->Status());
+      for (const auto& [id, running] : sessions_) reply_.sessions.push_back(running.session->Status());
       reply_.num_sessions = static_cast<int32_t>(reply_.sessions.size());
       Reply(request, session_reply_t::kOk, "");
       return;
@@ -185,11 +189,13 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   session::Command command;
   switch (request.command) {
     case session_request_t::kDestroy: {
-      streamers_.erase(id);
+      const auto it = sessions_.find(id);
+      if (it->second.frames != nullptr) it->second.frames->RequestStop();
       session->Stop();
       reply_.sessions.push_back(session->Status());
       reply_.num_sessions = 1;
-      sessions_.erase(id);
+      retiring_.push_back(std::move(it->second));  // its render thread may be mid-frame
+      sessions_.erase(it);
       num_sessions_ = static_cast<int>(sessions_.size());
       Reply(request, session_reply_t::kOk, "", id);
       return;
@@ -203,25 +209,31 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
     case session_request_t::kResume:
       command.kind = session::Command::Kind::kResume;
       break;
-    default: {  // kCamera
-      command.kind = session::Command::Kind::kCamera;
-      command.camera_eye = Vec3(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
-      command.camera_target =
-          Vec3(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
-      command.camera_up = Vec3(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
-      command.camera_fov_deg = request.camera_fov_deg;
-      const bool ok = command.camera_eye.allFinite() && command.camera_target.allFinite() &&
-                      command.camera_up.allFinite() && command.camera_up.norm() > 1e-9 &&
-                      (command.camera_eye - command.camera_target).norm() > 1e-6 &&
-                      std::isfinite(command.camera_fov_deg) && command.camera_fov_deg > 1.0 &&
-                      command.camera_fov_deg < 179.0;
+    default: {  // kCamera: no mechanics involved, the render thread reads it directly
+      session::CameraPose pose;
+      pose.eye = Vec3(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
+      pose.target = Vec3(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
+      pose.up = Vec3(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
+      pose.fov_deg = request.camera_fov_deg;
+      pose.set_by_client = true;
+      const Vec3 view = pose.target - pose.eye;
+      const bool ok = pose.eye.allFinite() && pose.target.allFinite() && pose.up.allFinite() &&
+                      pose.eye.cwiseAbs().maxCoeff() <= kMaxPosition &&
+                      pose.target.cwiseAbs().maxCoeff() <= kMaxPosition && view.norm() > 1e-6 &&
+                      pose.up.norm() > 1e-9 &&
+                      view.normalized().cross(pose.up.normalized()).norm() > 1e-6 &&
+                      std::isfinite(pose.fov_deg) && pose.fov_deg > 1.0 && pose.fov_deg < 179.0;
       if (!ok) {
         Reject(session, "camera: non-finite or degenerate pose, or fov outside (1, 179) deg");
         Reply(request, session_reply_t::kRefused,
-              "camera: eye and target must differ, up must be non-zero, fov within (1, 179) deg",
+              Cat("camera: eye and target must differ and lie within ", kMaxPosition,
+                  " m, up must be non-zero and not along the view, fov within (1, 179) deg"),
               id);
         return;
       }
+      session->SetCamera(pose);
+      Reply(request, session_reply_t::kOk, "", id);
+      return;
     }
   }
   if (!session->inbox().PostCommand(command)) {
@@ -266,27 +278,30 @@ void SessionManager::Create(const session_request_t& request) {
 }
 
 std::string SessionManager::FrameProblem(const session_request_t& request) const {
-  if (request.frame_width < 0 || request.frame_width > 4096 || request.frame_height < 0 ||
-      request.frame_height > 4096 || (request.frame_width > 0 && request.frame_width < 16) ||
-      (request.frame_height > 0 && request.frame_height < 16)) {
+  // every stream holds a frame buffer and a render thread: the server caps their size
+  const auto side_ok = [](int32_t side, int max) { return side == 0 || (side >= 16 && side <= max); };
+  if (!side_ok(request.frame_width, config_.max_frame_width) ||
+      !side_ok(request.frame_height, config_.max_frame_height)) {
     return Cat("frame size ", request.frame_width, "x", request.frame_height,
-               ": each side must be 0 (server default) or within 16..4096 pixels");
+               ": each side must be 0 (server default) or within 16..", config_.max_frame_width,
+               "x", config_.max_frame_height, " pixels");
   }
-  if (!std::isfinite(request.frame_rate_hz) || request.frame_rate_hz > config_.max_frame_rate_hz) {
-    return Cat("frame rate ", request.frame_rate_hz, " Hz: at most ", config_.max_frame_rate_hz,
-               " Hz (0 = server default, < 0 = no frames)");
+  const double rate = request.frame_rate_hz;
+  if (!std::isfinite(rate) || rate > config_.max_frame_rate_hz || (rate > 0.0 && rate < kMinFrameRateHz)) {
+    return Cat("frame rate ", rate, " Hz: must be within ", kMinFrameRateHz, "..",
+               config_.max_frame_rate_hz, " Hz (0 = server default, < 0 = no frames)");
   }
   if (request.jpeg_quality < 0 || request.jpeg_quality > 100) {
     return Cat("JPEG quality ", request.jpeg_quality, ": must be within 1..100 (0 = server default)");
   }
   if (!request.skin.empty() && !skin::IsSkinName(request.skin)) {
-    return Cat("unknown skin '", request.skin,
-               "' (expected parametric, implicit, convolution or hybrid)");
+    return Cat("unknown skin '", request.skin, "' (expected ", skin::kSkinNameList, ")");
   }
   return "";
 }
 
 void SessionManager::Poll() {
+  std::erase_if(retiring_, [](const Running& r) { return r.frames == nullptr || r.frames->finished(); });
   for (size_t i = 0; i < pending_.size();) {
     PendingCreate& p = pending_[i];
     if (p.scene.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
@@ -359,13 +374,15 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
     recorder->Write(bus::SessionChannel(bus::kScenePrefix, sc.id), scene_record, now);
   }
 
-  auto session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
+  Running& running = sessions_[sc.id];  // in the map first: nothing below can lose a thread
+  running.session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
+  session::Session* session = running.session.get();
   session->Start();
   if (frames.rate_hz > 0.0) {
-    auto streamer = std::make_unique<FrameStreamer>(session.get(), frame_bus_, frames);
-    streamer->Start();
-    streamers_.emplace(sc.id, std::move(streamer));
+    running.frames = std::make_unique<FrameStreamer>(session, frame_bus_, frames);
+    running.frames->Start();
   }
+  num_sessions_ = static_cast<int>(sessions_.size());
   std::string message;
   for (const std::string& w : scene.warnings) message += (message.empty() ? "" : "; ") + w;
   reply_.sessions.push_back(session->Status());
@@ -378,8 +395,6 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   reply_.result = session_reply_t::kOk;
   reply_.message = message;
   reply_.server_id = config_.server_id;
-  sessions_.emplace(sc.id, std::move(session));
-  num_sessions_ = static_cast<int>(sessions_.size());
   bus_->Publish(bus::kReplyChannel, reply_);
   std::fprintf(stderr, "viscerad: session %lld created (scene %s, %g Hz)\n",
                static_cast<long long>(sc.id), sc.scene.c_str(), scene.model->params().rate_hz);

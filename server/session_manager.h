@@ -45,7 +45,8 @@ class SessionManager {
 
   /// Finishes creations whose model is built (building a model can take a while, e.g. a
   /// mesh obstacle's distance field: a helper thread builds it so the I/O thread never
-  /// stalls). Call from the I/O loop; cheap when nothing is pending.
+  /// stalls), and lets go of destroyed sessions whose render thread has ended. Call from the
+  /// I/O loop; cheap when nothing is pending.
   void Poll();
   bool creating() const { return !pending_.empty(); }
 
@@ -68,12 +69,19 @@ class SessionManager {
   bus::LcmBus* bus_;
   /// Why a create's frame settings cannot be served ("" if they can).
   std::string FrameProblem(const viscera_proto::session_request_t& request) const;
-  void Erase(int64_t id);
+
+  /// A session and its render thread (none without frames). The streamer reads the session:
+  /// declared after it, it is destroyed (stopped) first.
+  struct Running {
+    std::unique_ptr<session::Session> session;
+    std::unique_ptr<FrameStreamer> frames;
+  };
 
   bus::LcmBus* frame_bus_;
-  std::map<int64_t, std::unique_ptr<session::Session>> sessions_;
-  /// The render thread of each session that streams frames (destroyed before its session).
-  std::map<int64_t, std::unique_ptr<FrameStreamer>> streamers_;
+  std::map<int64_t, Running> sessions_;
+  /// Destroyed sessions whose render thread is still finishing its frame: a destroy never
+  /// waits for a frame on the I/O thread. Poll drops them once the thread has ended.
+  std::vector<Running> retiring_;
   struct PendingCreate {
     viscera_proto::session_request_t request;
     std::future<session::SessionScene> scene;  // the helper's result or its exception

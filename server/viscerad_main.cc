@@ -10,7 +10,9 @@
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -18,7 +20,9 @@
 #include "bus/lcm_bus.h"
 #include "render/frame_renderer.h"
 #include "render/offscreen_context.h"
+#include "server/frame_schedule.h"
 #include "server/io_loop.h"
+#include "skin/skin.h"
 
 namespace {
 
@@ -116,21 +120,24 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.1, 100.0))
       ->capture_default_str();
   app.add_option("--frame-rate", config.frame_rate_hz,
-                 "Default frames per second of a session's stream; 0 = no render threads")
+                 "Default frames per second of a session's stream; 0 = no frames by default")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   app.add_option("--max-frame-rate", config.max_frame_rate_hz, "Highest frame rate a session may ask (Hz)")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();
-  app.add_option("--skin", config.skin, "Default skin: parametric, implicit, convolution or hybrid")
-      ->check(CLI::IsMember({"parametric", "implicit", "convolution", "hybrid"}))
+  app.add_option("--skin", config.skin, std::string("Default skin: ") + viscera::skin::kSkinNameList)
+      ->check(CLI::IsMember(std::vector<std::string>(std::begin(viscera::skin::kSkinNames),
+                                                     std::end(viscera::skin::kSkinNames))))
       ->capture_default_str();
   app.add_option("--skin-sides", config.skin_sides,
                  "Vertices per ring of the parametric and convolution skins")
       ->check(CLI::Range(6, 64))
       ->capture_default_str();
-  std::string frame_size = "640x480";
+  std::string frame_size = "640x480", max_frame_size = "1920x1080";
   app.add_option("--frame-size", frame_size, "Default frame size WIDTHxHEIGHT (pixels)")
+      ->capture_default_str();
+  app.add_option("--max-frame-size", max_frame_size, "Largest frame size a session may ask (WIDTHxHEIGHT)")
       ->capture_default_str();
   app.add_option("--jpeg-quality", config.jpeg_quality, "Default JPEG quality")
       ->check(CLI::Range(1, 100))
@@ -144,13 +151,23 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
   if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;
+  if (config.frame_rate_hz > config.max_frame_rate_hz ||
+      (config.frame_rate_hz > 0.0 && config.frame_rate_hz < viscera::server::kMinFrameRateHz)) {
+    std::fprintf(stderr, "viscerad: --frame-rate %g must be 0 or within %g..--max-frame-rate %g\n",
+                 config.frame_rate_hz, viscera::server::kMinFrameRateHz, config.max_frame_rate_hz);
+    return 2;
+  }
   try {
+    viscera::render::ParseFrameSize(max_frame_size, &config.max_frame_width, &config.max_frame_height);
+    viscera::ThrowUnless(config.max_frame_width >= 16 && config.max_frame_width <= 4096 &&
+                             config.max_frame_height >= 16 && config.max_frame_height <= 4096,
+                         "--max-frame-size: each side must be within 16..4096 pixels");
     viscera::render::ParseFrameSize(frame_size, &config.frame_width, &config.frame_height);
-    viscera::ThrowUnless(config.frame_width >= 16 && config.frame_width <= 4096 &&
-                             config.frame_height >= 16 && config.frame_height <= 4096,
-                         "each side must be within 16..4096 pixels");
+    viscera::ThrowUnless(config.frame_width >= 16 && config.frame_width <= config.max_frame_width &&
+                             config.frame_height >= 16 && config.frame_height <= config.max_frame_height,
+                         "--frame-size: each side must be within 16..--max-frame-size");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "viscerad: --frame-size: %s\n", e.what());
+    std::fprintf(stderr, "viscerad: %s\n", e.what());
     return 2;
   }
   if (config.rate_hz > config.max_rate_hz) {

@@ -49,7 +49,7 @@ viscera status "$id"
 
 echo "== drive the clearing gesture (poses at $pose_rate Hz), recording the frames"
 # the binary itself in the background, not the function: its subshell would take the signal
-"$build/client/viscera" record "$id" --out "$demo/clearing.mp4" --fps 25 --lcm-url "$url" >"$demo/record.txt" &
+"$build/client/viscera" record "$id" --out "$demo/clearing.mp4" --lcm-url "$url" >"$demo/record.txt" &
 recorder=$!
 viscera drive "$id" --gesture clearing --pose-rate "$pose_rate"
 kill -TERM $recorder  # ends it cleanly: the video gets its trailer (background jobs ignore SIGINT)

@@ -27,6 +27,17 @@ Projection Project(const CameraMatrices& camera, int width, int height, const Ei
   return p;
 }
 
+Laparoscope LookAtLaparoscope(const Vec3& eye, const Vec3& target, const Vec3& up,
+                              double fov_y_degrees) {
+  Laparoscope scope;
+  scope.eye = eye.cast<float>();
+  scope.target = target.cast<float>();
+  scope.up = up.cast<float>();
+  scope.fov_y_degrees = static_cast<float>(fov_y_degrees);
+  scope.light_range = static_cast<float>(1.5 * (eye - target).norm());
+  return scope;
+}
+
 Laparoscope FramingLaparoscope(const Vec3& lo, const Vec3& hi, int width, int height) {
   Laparoscope scope;
   const Vec3 centre = 0.5 * (lo + hi);

@@ -32,6 +32,11 @@ struct Projection {
 };
 Projection Project(const CameraMatrices& camera, int width, int height, const Eigen::Vector3f& point);
 
+/// A scope at `eye` looking at `target`, its light reaching half strength at 1.5 times
+/// that distance (as FramingLaparoscope), other values the defaults.
+Laparoscope LookAtLaparoscope(const Vec3& eye, const Vec3& target, const Vec3& up = Vec3::UnitZ(),
+                              double fov_y_degrees = 70.0);
+
 /// The default view of a scene: looking at the centre of the box [lo, hi] from above and
 /// in front (from -y and +z, 50 degrees above the horizontal: the surgeon's side of the
 /// abdomen in the shipped scenes), far enough that the box's bounding sphere fits in the

@@ -19,14 +19,11 @@ struct PoseInput {
   int64_t received_ns = 0;       ///< when it arrived (monotonic ns): drives the idle timeout
 };
 
-/// A command for the mechanics thread (from session_request_t).
+/// A command for the mechanics thread (from session_request_t). The camera is no command:
+/// it never touches the mechanics (Session::SetCamera).
 struct Command {
-  enum class Kind { kReset, kPause, kResume, kCamera };
+  enum class Kind { kReset, kPause, kResume };
   Kind kind = Kind::kReset;
-  Vec3 camera_eye = Vec3::Zero();     ///< m
-  Vec3 camera_target = Vec3::Zero();  ///< m
-  Vec3 camera_up = Vec3::UnitZ();
-  double camera_fov_deg = 60.0;
 };
 
 class Inbox {

@@ -113,34 +113,49 @@ void Session::SetError(const std::string& why) {
 }
 
 void Session::ReportFrames(const FrameStreamReport& report) {
-  std::lock_guard<std::mutex> lock(status_mutex_);
+  std::lock_guard<std::mutex> lock(frames_mutex_);
   frames_ = report;
 }
 
 session_status_t Session::Status() const {
   std::lock_guard<std::mutex> lock(status_mutex_);
+  {
+    // never wait for the render thread: if it holds the lock, the last report read serves
+    std::unique_lock<std::mutex> frames_lock(frames_mutex_, std::try_to_lock);
+    if (frames_lock.owns_lock()) {
+      if (frames_.error_serial != frames_seen_.error_serial) {
+        last_error_ = frames_.error;  // a new render problem
+      }
+      frames_seen_ = frames_;
+    }
+  }
   session_status_t s = status_;
   s.state = state_.load();
   s.poses = poses_.load();
   s.rejected = rejected_.load();
   s.last_error = last_error_;
-  s.skin = frames_.skin;
-  s.frame_width = frames_.width;
-  s.frame_height = frames_.height;
-  s.frame_rate_hz = frames_.rate_hz;
-  s.achieved_frame_rate_hz = frames_.achieved_rate_hz;
-  s.frames = frames_.frames;
-  s.frames_dropped = frames_.dropped;
-  s.skin_ms = frames_.skin_ms;
-  s.render_ms = frames_.render_ms;
-  s.encode_ms = frames_.encode_ms;
-  s.frame_bytes = frames_.frame_bytes;
+  s.skin = frames_seen_.skin;
+  s.frame_width = frames_seen_.width;
+  s.frame_height = frames_seen_.height;
+  s.frame_rate_hz = frames_seen_.rate_hz;
+  s.achieved_frame_rate_hz = frames_seen_.achieved_rate_hz;
+  s.frames = frames_seen_.frames;
+  s.frames_dropped = frames_seen_.dropped;
+  s.skin_ms = frames_seen_.skin_ms;
+  s.render_ms = frames_seen_.render_ms;
+  s.encode_ms = frames_seen_.encode_ms;
+  s.frame_bytes = frames_seen_.frame_bytes;
   return s;
 }
 
 CameraPose Session::camera() const {
-  std::lock_guard<std::mutex> lock(status_mutex_);
+  std::lock_guard<std::mutex> lock(camera_mutex_);
   return camera_;
+}
+
+void Session::SetCamera(const CameraPose& pose) {
+  std::lock_guard<std::mutex> lock(camera_mutex_);
+  camera_ = pose;
 }
 
 void Session::Run() {
@@ -281,12 +296,6 @@ void Session::ApplyCommands() {
         L.paused = false;
         state_ = session_status_t::kRunning;
         break;
-      case Command::Kind::kCamera: {
-        std::lock_guard<std::mutex> lock(status_mutex_);
-        camera_ = CameraPose{c.camera_eye, c.camera_target, c.camera_up, c.camera_fov_deg,
-                             /*set_by_client=*/true};
-        break;
-      }
     }
   }
   L.commands.clear();

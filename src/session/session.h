@@ -50,6 +50,8 @@ struct CameraPose {
 
 /// What a session's render thread reports of its frame stream; merged into every status.
 struct FrameStreamReport {
+  std::string error;               ///< the render thread's last problem ("" if none)
+  int64_t error_serial = 0;        ///< +1 per new error: Status() takes each one once
   std::string skin;
   int width = 0, height = 0;       ///< pixels
   double rate_hz = 0.0;            ///< configured (Hz)
@@ -88,17 +90,18 @@ class Session {
   /// Counts a message of this session dropped as invalid (any thread), keeping `why` as
   /// the last error.
   void CountRejected(const std::string& why);
-  /// Keeps the render thread's latest figures for the status (any thread).
+  /// Keeps the render thread's latest figures (and problems) for the status. Any thread;
+  /// the mechanics thread never waits for the lock this takes (Status() says how).
   void ReportFrames(const FrameStreamReport& report);
-  /// Keeps `why` as the session's last error without counting a rejected message: the
-  /// render thread's problems (any thread).
-  void ReportError(const std::string& why) { SetError(why); }
   /// Counts an accepted pose (I/O thread).
   void CountPose() { ++poses_; }
 
   /// The latest status (refreshed at status rate and on every state change).
   viscera_proto::session_status_t Status() const;
   CameraPose camera() const;
+  /// Sets the laparoscope camera (I/O thread; the render thread reads it). The mechanics
+  /// thread never takes the lock behind it.
+  void SetCamera(const CameraPose& pose);
   /// The latest skeleton snapshot (published at config().snapshot_rate_hz), for the
   /// skin/render thread. Any thread.
   std::shared_ptr<const Snapshot> LatestSnapshot() const { return snapshots_.Latest(); }
@@ -124,10 +127,15 @@ class Session {
   std::atomic<int64_t> poses_{0};
   std::atomic<int64_t> rejected_{0};
 
-  mutable std::mutex status_mutex_;  // guards status_, last_error_, camera_, frames_
+  // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
+  // a thread that low, preempted while holding a lock, could hold it for a long time.
+  mutable std::mutex status_mutex_;  // guards status_, last_error_, frames_seen_
   viscera_proto::session_status_t status_;
-  std::string last_error_;
+  mutable std::string last_error_;  // Status() folds the render thread's new problems in
+  mutable FrameStreamReport frames_seen_;  // the last report Status() could read
+  mutable std::mutex camera_mutex_;        // I/O and render threads only
   CameraPose camera_;
+  mutable std::mutex frames_mutex_;        // render thread; others only try_lock it
   FrameStreamReport frames_;
   SnapshotExchange snapshots_;
 

@@ -1,5 +1,6 @@
 #include "session/snapshot.h"
 
+#include <atomic>
 #include <chrono>
 
 namespace viscera::session {
@@ -18,6 +19,8 @@ void SnapshotExchange::Publish(const mechanics::State& state) {
     next_evicted_ = (next_evicted_ + 1) % pool_.size();
   }
   if (*free == nullptr || free->use_count() != 1) *free = std::make_shared<Snapshot>();
+  // use_count() is a relaxed load: order the last reader's reads before our writes
+  std::atomic_thread_fence(std::memory_order_acquire);
   Snapshot& next = **free;
   next.step = state.steps;
   next.t = state.t;
@@ -27,8 +30,10 @@ void SnapshotExchange::Publish(const mechanics::State& state) {
   next.q = state.q;  // same size: no allocation
   next.tools = state.tools;
   next.contacts = state.contacts;
-  std::lock_guard<std::mutex> lock(mutex_);
-  latest_ = *free;
+  // never wait for a reader (the render thread runs SCHED_IDLE and may be preempted while it
+  // holds the lock): if one holds it, this snapshot is skipped and its buffer refilled next time
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (lock.owns_lock()) latest_ = *free;
 }
 
 std::shared_ptr<const Snapshot> SnapshotExchange::Latest() const {

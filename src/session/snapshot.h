@@ -24,9 +24,11 @@ struct Snapshot {
 
 class SnapshotExchange {
  public:
-  /// Publishes a copy of `state` (mechanics thread). Reuses a snapshot no reader holds any
-  /// more: with one reader (the render thread) holding one snapshot at a time, the three
-  /// buffers of the pool always leave one free, so publishing every step never allocates.
+  /// Publishes a copy of `state` (mechanics thread), unless a reader holds the lock at this
+  /// very moment: then this snapshot is skipped (the next step's will do), so the mechanics
+  /// thread never waits for a reader. Reuses a snapshot no reader holds any more: with one
+  /// reader (the render thread) holding one snapshot at a time, the three buffers of the
+  /// pool always leave one free, so publishing every step never allocates.
   void Publish(const mechanics::State& state);
 
   /// The latest snapshot, or nullptr before the first. Any thread.

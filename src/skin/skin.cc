@@ -22,7 +22,10 @@ void CheckSnapshot(const Points& q, int bound_rows) {
 }
 
 bool IsSkinName(const std::string& name) {
-  return name == "parametric" || name == "convolution" || name == "implicit" || name == "hybrid";
+  for (const char* known : kSkinNames) {
+    if (name == known) return true;
+  }
+  return false;
 }
 
 std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& options) {
@@ -36,7 +39,7 @@ std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& optio
     return std::make_unique<HybridSkin>(options.radius, options.parametric, options.convolution,
                                         options.hybrid);
   }
-  Fail("unknown skin '", name, "' (expected parametric, implicit, convolution or hybrid)");
+  Fail("unknown skin '", name, "' (expected ", kSkinNameList, ")");
 }
 
 }  // namespace viscera::skin

@@ -94,7 +94,9 @@ class Skin {
   virtual std::string name() const = 0;
 };
 
-/// True for the names MakeSkin knows.
+/// The names MakeSkin knows, and that list as one string for messages.
+inline constexpr const char* kSkinNames[] = {"parametric", "implicit", "convolution", "hybrid"};
+inline constexpr char kSkinNameList[] = "parametric, implicit, convolution or hybrid";
 bool IsSkinName(const std::string& name);
 
 /// Creates a skin by name: "parametric", "implicit", "convolution" or "hybrid".

@@ -403,6 +403,24 @@ TEST(MjpegServer, AnswersBadRequestsWithTheRightStatus) {
   EXPECT_EQ(server.stats().requests, 11);
 }
 
+// DNS rebinding: a page of another site, whose name now resolves here, must not read frames.
+TEST(MjpegServer, AnswersOnlyToItsOwnNames) {
+  MjpegServer server("127.0.0.1", 0, "t");
+  const int port = server.port();
+  const auto get_as = [&](const std::string& host) {
+    return StatusOf(Fetch(port, "GET /stats.json HTTP/1.1\r\nHost: " + host + "\r\n\r\n"));
+  };
+  EXPECT_EQ(get_as("127.0.0.1:" + std::to_string(port)), 200);
+  EXPECT_EQ(get_as("localhost:" + std::to_string(port)), 200);
+  EXPECT_EQ(get_as("localhost"), 200);
+  EXPECT_EQ(get_as("[::1]:" + std::to_string(port)), 200);
+  EXPECT_EQ(get_as("evil.example:" + std::to_string(port)), 403);
+  EXPECT_EQ(get_as("127.0.0.1.evil.example"), 403);
+  const std::string not_found = Get(port, "/<script>");
+  EXPECT_EQ(BodyOf(not_found).find("<script>"), std::string::npos);  // nothing echoed
+  EXPECT_TRUE(HasField(not_found, "X-Content-Type-Options: nosniff")) << not_found;
+}
+
 TEST(MjpegServer, StatsJsonCountsWhatHappened) {
   MjpegServer server("127.0.0.1", 0, "t");
   server.PostFrame(SolidJpeg(kRed));

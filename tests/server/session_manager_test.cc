@@ -192,10 +192,11 @@ TEST_F(SessionManagerTest, FramesOfTheRequestedSizeFollowTheMechanics) {
   bus_.Subscribe<viscera_proto::jpeg_frame_t>(
       bus::SessionChannel(bus::kFramePrefix, id),
       [&](const viscera_proto::jpeg_frame_t& f, int64_t) { frames.push_back(f); });
-  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1500);
-  while (std::chrono::steady_clock::now() < end) bus_.Pump(20);
+  // the render thread runs SCHED_IDLE: on a busy machine its first frames may take a while
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (frames.size() < 8 && std::chrono::steady_clock::now() < give_up) bus_.Pump(20);
 
-  ASSERT_GE(frames.size(), 5u);
+  ASSERT_GE(frames.size(), 8u);
   for (size_t i = 0; i < frames.size(); ++i) {
     const auto& f = frames[i];
     EXPECT_EQ(f.header.session_id, id);
@@ -209,21 +210,38 @@ TEST_F(SessionManagerTest, FramesOfTheRequestedSizeFollowTheMechanics) {
     cv::meanStdDev(image, mean, dev);
     EXPECT_GT(dev[2], 5.0) << "frame " << i << " is uniform";
     if (i > 0) {
-      EXPECT_GT(f.header.seq, frames[i - 1].header.seq);
-      EXPECT_GT(f.step, frames[i - 1].step);  // the hanging tube swings: every frame is new
-      EXPECT_GT(f.sim_time, frames[i - 1].sim_time);
+      EXPECT_EQ(f.header.seq, frames[i - 1].header.seq + 1);  // in-process: nothing lost
+      EXPECT_GE(f.step, frames[i - 1].step);  // a late frame may show the same step again
+      EXPECT_GE(f.sim_time, frames[i - 1].sim_time);
     }
   }
+  EXPECT_GT(frames.back().step, frames.front().step);  // the stream follows the mechanics
   const R status = Ask(Request(Q::kStatus, id));
   ASSERT_EQ(status.num_sessions, 1);
   const auto& s = status.sessions[0];
   EXPECT_EQ(s.skin, "convolution");
   EXPECT_EQ(s.frame_width, 160);
   EXPECT_DOUBLE_EQ(s.frame_rate_hz, 20.0);
-  EXPECT_GE(s.frames, static_cast<int64_t>(frames.size()));
+  // the thread reports after it publishes, and a status never waits for its report
+  EXPECT_GE(s.frames + 2, static_cast<int64_t>(frames.size()));
+  EXPECT_GT(s.frames, 0);
   EXPECT_GT(s.render_ms, 0.0f);
   EXPECT_GT(s.encode_ms, 0.0f);
   EXPECT_GT(s.frame_bytes, 0);
+
+  // a camera the renderer could not use is refused with the reason; a good one is taken
+  auto camera = Request(Q::kCamera, id);
+  camera.header.token = created.header.token;
+  camera.header.token_len = 16;
+  camera.camera_eye[2] = 0.5;  // looking straight down, with up along the view
+  camera.camera_up[2] = 1.0;
+  camera.camera_fov_deg = 60.0;
+  R reply = Ask(camera);
+  EXPECT_EQ(reply.result, R::kRefused);
+  EXPECT_NE(reply.message.find("along the view"), std::string::npos) << reply.message;
+  camera.camera_up[2] = 0.0;
+  camera.camera_up[1] = 1.0;
+  EXPECT_EQ(Ask(camera).result, R::kOk);
 }
 
 }  // namespace

@@ -66,9 +66,8 @@ class FrameWriter {
                                         options.width, options.height);
     ThrowUnless(opt.camera.empty() || opt.camera.size() == 6, "--camera takes ex ey ez cx cy cz");
     if (opt.camera.size() == 6) {
-      scope_.eye = Eigen::Vector3d(opt.camera[0], opt.camera[1], opt.camera[2]).cast<float>();
-      scope_.target = Eigen::Vector3d(opt.camera[3], opt.camera[4], opt.camera[5]).cast<float>();
-      scope_.light_range = 1.5f * (scope_.eye - scope_.target).norm();
+      scope_ = render::LookAtLaparoscope(Vec3(opt.camera[0], opt.camera[1], opt.camera[2]),
+                                         Vec3(opt.camera[3], opt.camera[4], opt.camera[5]));
     }
   }
   void Write(const State& state) {
