@@ -27,7 +27,7 @@ using Clock = std::chrono::steady_clock;
 using viscera_proto::jpeg_frame_t;
 
 // SIGINT / SIGTERM end a command cleanly (a video gets its trailer): blocked here, before
-// any thread starts, and polled between pumps.
+// any thread starts, and polled between pumps. The mask stays: the command ends the process.
 class StopSignals {
  public:
   StopSignals() {

@@ -106,6 +106,13 @@ inline CliResult Viscera(const std::string& dir, const std::string& args) {
   return r;
 }
 
+/// Creates a session with `args` and returns its create JSON (asserting success).
+inline nlohmann::json Create(const std::string& dir, const std::string& args) {
+  const CliResult r = Viscera(dir, "create " + args + " --json");
+  EXPECT_EQ(r.rc, 0) << r.out;
+  return r.rc == 0 ? r.json() : nlohmann::json();
+}
+
 inline void Sleep(double seconds) {
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
 }

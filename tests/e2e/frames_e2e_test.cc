@@ -16,12 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-json CreateOk(const std::string& dir, const std::string& args) {
-  const CliResult r = Viscera(dir, "create " + args + " --json");
-  EXPECT_EQ(r.rc, 0) << r.out;
-  return r.rc == 0 ? r.json() : json();
-}
-
 cv::Mat Decode(const std::string& path) { return cv::imread(path, cv::IMREAD_COLOR); }
 
 double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b) {
@@ -35,7 +29,7 @@ double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b) {
 TEST(FramesE2E, FramesArriveAtTheRequestedRateWhileTheMechanicsKeepTheirs) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-frames", {}, dir);
-  const int64_t id = CreateOk(dir, "fall --width 640 --height 480 --frame-rate 25")["session"];
+  const int64_t id = Create(dir, "fall --width 640 --height 480 --frame-rate 25")["session"];
   ASSERT_GT(id, 0);
   Sleep(1.0);  // the render thread's context and first frames
 
@@ -87,7 +81,7 @@ TEST(FramesE2E, FramesArriveAtTheRequestedRateWhileTheMechanicsKeepTheirs) {
 TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-video", {}, dir);
-  const std::string id = std::to_string(CreateOk(dir, "hanging --width 320 --height 240")["session"].get<int64_t>());
+  const std::string id = std::to_string(Create(dir, "hanging --width 320 --height 240")["session"].get<int64_t>());
   ASSERT_EQ(Viscera(dir, "pause " + id).rc, 0);  // a still tube: only the camera changes
   Sleep(0.5);
   ASSERT_EQ(Viscera(dir, "frames " + id + " --out " + dir + "/a --count 1").rc, 0);
@@ -119,7 +113,7 @@ TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
 TEST(FramesE2E, ASessionWithoutFramesSaysSo) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-noframes", {}, dir);
-  const std::string id = std::to_string(CreateOk(dir, "hanging --frame-rate -1")["session"].get<int64_t>());
+  const std::string id = std::to_string(Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>());
   const CliResult none = Viscera(dir, "frames " + id + " --out " + dir + "/none --count 1");
   EXPECT_EQ(none.rc, 2);
   const CliResult status = Viscera(dir, "status " + id + " --json");

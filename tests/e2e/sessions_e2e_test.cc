@@ -24,12 +24,6 @@ namespace {
 
 using nlohmann::json;
 
-// Creates a session with `args` and returns its create JSON (asserting success).
-json Create(const std::string& dir, const std::string& args) {
-  const CliResult r = Viscera(dir, "create " + args + " --json");
-  EXPECT_EQ(r.rc, 0) << r.out;
-  return r.rc == 0 ? r.json() : json();
-}
 
 json Status(const std::string& dir, int64_t id) {
   const CliResult r = Viscera(dir, "status " + std::to_string(id) + " --json");
