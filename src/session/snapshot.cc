@@ -1,27 +1,32 @@
 #include "session/snapshot.h"
 
-#include <atomic>
 #include <chrono>
+
+#include "common/check.h"
 
 namespace viscera::session {
 
+SnapshotExchange::SnapshotExchange() {
+  for (int i = 0; i < 3; ++i) pool_.push_back(std::make_unique<Buffer>());
+}
+
+SnapshotExchange::~SnapshotExchange() {
+  for (const std::unique_ptr<Buffer>& b : pool_) VISCERA_DEMAND(b->readers.load() == 0);
+}
+
 void SnapshotExchange::Publish(const mechanics::State& state) {
-  // a buffer only the pool holds (use_count 1: neither latest_ nor a reader) is ours to fill
-  std::shared_ptr<Snapshot>* free = nullptr;
-  for (std::shared_ptr<Snapshot>& p : pool_) {
-    if (p == nullptr || p.use_count() == 1) {
-      free = &p;
+  Buffer* free = nullptr;
+  for (const std::unique_ptr<Buffer>& b : pool_) {
+    if (b.get() != latest_ && b->readers.load(std::memory_order_acquire) == 0) {
+      free = b.get();
       break;
     }
   }
-  if (free == nullptr) {  // more readers than the pool foresees: the oldest entry is theirs now
-    free = &pool_[next_evicted_];
-    next_evicted_ = (next_evicted_ + 1) % pool_.size();
+  if (free == nullptr) {  // more readers than foreseen hold snapshots
+    pool_.push_back(std::make_unique<Buffer>());
+    free = pool_.back().get();
   }
-  if (*free == nullptr || free->use_count() != 1) *free = std::make_shared<Snapshot>();
-  // use_count() is a relaxed load: order the last reader's reads before our writes
-  std::atomic_thread_fence(std::memory_order_acquire);
-  Snapshot& next = **free;
+  Snapshot& next = free->snapshot;
   next.step = state.steps;
   next.t = state.t;
   next.wall_utime = std::chrono::duration_cast<std::chrono::microseconds>(
@@ -33,12 +38,21 @@ void SnapshotExchange::Publish(const mechanics::State& state) {
   // never wait for a reader (the render thread runs SCHED_IDLE and may be preempted while it
   // holds the lock): if one holds it, this snapshot is skipped and its buffer refilled next time
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
-  if (lock.owns_lock()) latest_ = *free;
+  if (lock.owns_lock()) latest_ = free;
 }
 
 std::shared_ptr<const Snapshot> SnapshotExchange::Latest() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return latest_;
+  Buffer* buffer = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (latest_ == nullptr) return nullptr;
+    buffer = latest_;
+    buffer->readers.fetch_add(1, std::memory_order_relaxed);
+  }
+  // the reader's last reads happen before this release; Publish's acquire load sees them
+  return std::shared_ptr<const Snapshot>(&buffer->snapshot, [buffer](const Snapshot*) {
+    buffer->readers.fetch_sub(1, std::memory_order_release);
+  });
 }
 
 }  // namespace viscera::session

@@ -3,7 +3,7 @@
 /// tests): an immutable copy of the skeleton, published as a
 /// shared_ptr<const Snapshot>. The mechanics thread never shares its mutable state; a reader
 /// keeps its snapshot as long as it likes while newer ones are published.
-#include <array>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -24,21 +24,36 @@ struct Snapshot {
 
 class SnapshotExchange {
  public:
+  SnapshotExchange();
+  /// @pre no reader still holds a snapshot of this exchange (checked).
+  ~SnapshotExchange();
+  SnapshotExchange(const SnapshotExchange&) = delete;
+  SnapshotExchange& operator=(const SnapshotExchange&) = delete;
+
   /// Publishes a copy of `state` (mechanics thread), unless a reader holds the lock at this
   /// very moment: then this snapshot is skipped (the next step's will do), so the mechanics
-  /// thread never waits for a reader. Reuses a snapshot no reader holds any more: with one
-  /// reader (the render thread) holding one snapshot at a time, the three buffers of the
-  /// pool always leave one free, so publishing every step never allocates.
+  /// thread never waits for a reader. It fills a buffer that is neither the latest nor held
+  /// by a reader: with one reader (the render thread) holding one snapshot at a time, three
+  /// buffers always leave one free, so publishing every step never allocates.
   void Publish(const mechanics::State& state);
 
-  /// The latest snapshot, or nullptr before the first. Any thread.
+  /// The latest snapshot, or nullptr before the first; it stays unchanged while held. Any
+  /// thread.
   std::shared_ptr<const Snapshot> Latest() const;
 
  private:
+  struct Buffer {
+    Snapshot snapshot;
+    // Readers holding it: taken under mutex_ (only on the latest buffer), given back with
+    // release order, so the mechanics thread's acquire load orders their reads before its
+    // refill.
+    std::atomic<int> readers{0};
+  };
+
   mutable std::mutex mutex_;
-  std::shared_ptr<const Snapshot> latest_;
-  std::array<std::shared_ptr<Snapshot>, 3> pool_;  // mechanics thread only
-  size_t next_evicted_ = 0;
+  Buffer* latest_ = nullptr;  // written by the mechanics thread under mutex_
+  std::vector<std::unique_ptr<Buffer>> pool_;  // mechanics thread only; grows past 3 only
+                                               // when readers hold more than one each
 };
 
 }  // namespace viscera::session
