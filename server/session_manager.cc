@@ -1,8 +1,8 @@
 #include "server/session_manager.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <utility>
@@ -12,8 +12,8 @@
 #include "bus/message_auth.h"
 #include "common/check.h"
 #include "common/clock.h"
-#include "session/session_scene.h"
 #include "server/frame_schedule.h"
+#include "session/session_scene.h"
 #include "skin/skin.h"
 
 namespace viscera::server {
