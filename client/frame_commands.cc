@@ -69,7 +69,7 @@ void PrintSummary(const FrameListenOptions& o, const FrameStreamStats& s, const 
 
 // Pumps the session's frames into `on_frame` until the count or duration is reached, a
 // signal comes, `on_frame` returns false, or no frame comes for timeout_s. Prints the
-// summary. `on_idle` runs between pumps (may be empty).
+// summary.
 int Listen(const FrameListenOptions& o, const std::string& where,
            const std::function<bool(const jpeg_frame_t&)>& on_frame) {
   const StopSignals signals;
