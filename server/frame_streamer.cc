@@ -21,6 +21,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "common/rate_window.h"
 #include "render/laparoscope.h"
 #include "server/frame_schedule.h"
 
@@ -45,18 +46,17 @@ bool SamePose(const session::CameraPose& a, const session::CameraPose& b) {
          a.up == b.up && a.fov_deg == b.fov_deg;
 }
 
-// The frames of about the last second: achieved rate and median costs for the status.
+// The frames of about the last second: achieved rate (frames sent, sampled every tick, so
+// it falls to 0 when none come) and median costs for the status.
 class FrameWindow {
  public:
   void Add(int64_t now_ns, const render::FrameTimings* timings) {
     frames_.push_back({now_ns, timings != nullptr, timings != nullptr ? *timings : render::FrameTimings{}});
   }
   void Fill(int64_t now_ns, session::FrameStreamReport* report) {
+    rate_.Add(now_ns, report->frames);
+    report->achieved_rate_hz = rate_.Rate();
     while (!frames_.empty() && frames_.front().ns <= now_ns - 1'000'000'000) frames_.pop_front();
-    // frames per second over the window, once it spans a few frames (0 when none come)
-    const auto n = static_cast<double>(frames_.size());
-    const double span = n >= 2 ? static_cast<double>(frames_.back().ns - frames_.front().ns) : 0.0;
-    report->achieved_rate_hz = span > 0.0 ? (n - 1.0) * 1e9 / span : 0.0;
     skin_.clear();
     render_.clear();
     encode_.clear();
@@ -80,6 +80,7 @@ class FrameWindow {
     render::FrameTimings timings;
   };
   std::deque<Entry> frames_;
+  RateWindow rate_;
   std::vector<double> skin_, render_, encode_;  // reused
 };
 

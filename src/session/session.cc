@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <utility>
 #include <exception>
 
@@ -20,6 +19,7 @@
 #include "bus/header.h"
 #include "common/check.h"
 #include "common/clock.h"
+#include "common/rate_window.h"
 #include "mechanics/forces.h"
 #include "session/loop_stats.h"
 #include "session/outbox.h"
@@ -57,8 +57,8 @@ struct Session::LoopState {
   spline::ArcLengthTable arc_table;
   int64_t last_summary_ns = 0;
   std::string force_channel, skeleton_channel, status_channel, step_channel;
-  /// (monotonic ns, steps) at recent statuses: the achieved rate is taken over about 1 s.
-  std::deque<std::pair<int64_t, int64_t>> rate_window;
+  /// Steps at recent statuses: the achieved rate is taken over about 1 s.
+  RateWindow rate_window;
   /// Publishes and records off this thread, in order (outbox.h says why).
   std::unique_ptr<Outbox> outbox;
 };
@@ -370,19 +370,12 @@ void Session::PublishStatus(int64_t now_ns, bool summarize) {
     if (summarize) {
       const LoopSummary sum = L->stats.Summarize(now_ns - L->last_summary_ns);
       L->last_summary_ns = now_ns;
-      // over the last second rather than one status period: one stall of a few
-      // periods should not read as a slow session
-      auto& w = L->rate_window;
       if (L->paused) {
-        w.clear();
+        L->rate_window.Clear();
         s.achieved_rate_hz = 0.0;
       } else {
-        w.emplace_back(now_ns, st.steps);
-        while (w.size() > 2 && w[1].first <= now_ns - 1'000'000'000) w.pop_front();
-        s.achieved_rate_hz = w.size() >= 2 && now_ns > w.front().first
-                                 ? static_cast<double>(st.steps - w.front().second) * 1e9 /
-                                       static_cast<double>(now_ns - w.front().first)
-                                 : sum.achieved_rate_hz;
+        L->rate_window.Add(now_ns, st.steps);
+        s.achieved_rate_hz = L->rate_window.ready() ? L->rate_window.Rate() : sum.achieved_rate_hz;
       }
       s.step_cost_p50_us = sum.step_cost_p50_us;
       s.step_cost_p99_us = sum.step_cost_p99_us;
