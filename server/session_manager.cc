@@ -71,6 +71,28 @@ std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools) {
   return "";
 }
 
+std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg_quality,
+                                 const std::string& skin_name, const ServerConfig& limits) {
+  // every stream holds a frame buffer and a render thread: the server caps their size
+  const auto side_ok = [](int side, int max) { return side == 0 || (side >= kMinFrameSide && side <= max); };
+  if (!side_ok(width, limits.max_frame_width) || !side_ok(height, limits.max_frame_height)) {
+    return Cat("frame size ", width, "x", height, ": each side must be 0 (server default) or within ",
+               kMinFrameSide, "..", limits.max_frame_width, "x", limits.max_frame_height, " pixels");
+  }
+  if (!std::isfinite(rate_hz) || rate_hz > limits.max_frame_rate_hz ||
+      (rate_hz > 0.0 && rate_hz < kMinFrameRateHz)) {
+    return Cat("frame rate ", rate_hz, " Hz: must be within ", kMinFrameRateHz, "..",
+               limits.max_frame_rate_hz, " Hz (0 = server default, < 0 = no frames)");
+  }
+  if (jpeg_quality < 0 || jpeg_quality > 100) {
+    return Cat("JPEG quality ", jpeg_quality, ": must be within 1..100 (0 = server default)");
+  }
+  if (!skin_name.empty() && !skin::IsSkinName(skin_name)) {
+    return Cat("unknown skin '", skin_name, "' (expected ", skin::kSkinNameList, ")");
+  }
+  return "";
+}
+
 SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
                                bus::LcmBus* frame_bus)
     : config_(config), bus_(bus), frame_bus_(frame_bus) {
@@ -262,7 +284,10 @@ void SessionManager::Create(const session_request_t& request) {
     Reply(request, session_reply_t::kRefused, "skeleton rate must be at most 1000 Hz");
     return;
   }
-  if (const std::string problem = FrameProblem(request); !problem.empty()) {
+  if (const std::string problem = FrameSettingsProblem(request.frame_width, request.frame_height,
+                                                       request.frame_rate_hz, request.jpeg_quality,
+                                                       request.skin, config_);
+      !problem.empty()) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused, problem);
     return;
@@ -277,28 +302,6 @@ void SessionManager::Create(const session_request_t& request) {
                       })});
 }
 
-std::string SessionManager::FrameProblem(const session_request_t& request) const {
-  // every stream holds a frame buffer and a render thread: the server caps their size
-  const auto side_ok = [](int32_t side, int max) { return side == 0 || (side >= 16 && side <= max); };
-  if (!side_ok(request.frame_width, config_.max_frame_width) ||
-      !side_ok(request.frame_height, config_.max_frame_height)) {
-    return Cat("frame size ", request.frame_width, "x", request.frame_height,
-               ": each side must be 0 (server default) or within 16..", config_.max_frame_width,
-               "x", config_.max_frame_height, " pixels");
-  }
-  const double rate = request.frame_rate_hz;
-  if (!std::isfinite(rate) || rate > config_.max_frame_rate_hz || (rate > 0.0 && rate < kMinFrameRateHz)) {
-    return Cat("frame rate ", rate, " Hz: must be within ", kMinFrameRateHz, "..",
-               config_.max_frame_rate_hz, " Hz (0 = server default, < 0 = no frames)");
-  }
-  if (request.jpeg_quality < 0 || request.jpeg_quality > 100) {
-    return Cat("JPEG quality ", request.jpeg_quality, ": must be within 1..100 (0 = server default)");
-  }
-  if (!request.skin.empty() && !skin::IsSkinName(request.skin)) {
-    return Cat("unknown skin '", request.skin, "' (expected ", skin::kSkinNameList, ")");
-  }
-  return "";
-}
 
 void SessionManager::Poll() {
   std::erase_if(retiring_, [](const Running& r) { return r.frames == nullptr || r.frames->finished(); });

@@ -26,6 +26,15 @@ namespace viscera::server {
 /// (norm within 0.5..2) or jaw (0..1).
 std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools);
 
+/// Smallest frame side a stream may have (pixels).
+inline constexpr int kMinFrameSide = 16;
+
+/// Why frames of these settings cannot be served within `limits` (max_frame_width,
+/// max_frame_height, max_frame_rate_hz), or "" when they can: a create's (0 or "" = the
+/// server default) and viscerad's own defaults alike. Rates < 0 mean no frames.
+std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg_quality,
+                                 const std::string& skin_name, const ServerConfig& limits);
+
 class SessionManager {
  public:
   /// @pre bus and frame_bus outlive the manager; only the I/O thread calls the On* members.
@@ -67,8 +76,6 @@ class SessionManager {
 
   ServerConfig config_;
   bus::LcmBus* bus_;
-  /// Why a create's frame settings cannot be served ("" if they can).
-  std::string FrameProblem(const viscera_proto::session_request_t& request) const;
 
   /// A session and its render thread (none without frames). The streamer reads the session:
   /// declared after it, it is destroyed (stopped) first.

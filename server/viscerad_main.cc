@@ -7,6 +7,7 @@
 
 #include <csignal>
 #include <cstring>
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <exception>
@@ -20,8 +21,8 @@
 #include "bus/lcm_bus.h"
 #include "render/frame_renderer.h"
 #include "render/offscreen_context.h"
-#include "server/frame_schedule.h"
 #include "server/io_loop.h"
+#include "server/session_manager.h"
 #include "skin/skin.h"
 
 namespace {
@@ -151,23 +152,24 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
   if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;
-  if (config.frame_rate_hz > config.max_frame_rate_hz ||
-      (config.frame_rate_hz > 0.0 && config.frame_rate_hz < viscera::server::kMinFrameRateHz)) {
-    std::fprintf(stderr, "viscerad: --frame-rate %g must be 0 or within %g..--max-frame-rate %g\n",
-                 config.frame_rate_hz, viscera::server::kMinFrameRateHz, config.max_frame_rate_hz);
-    return 2;
-  }
   try {
     viscera::render::ParseFrameSize(max_frame_size, &config.max_frame_width, &config.max_frame_height);
-    viscera::ThrowUnless(config.max_frame_width >= 16 && config.max_frame_width <= 4096 &&
-                             config.max_frame_height >= 16 && config.max_frame_height <= 4096,
-                         "--max-frame-size: each side must be within 16..4096 pixels");
+    viscera::ThrowUnless(std::max(config.max_frame_width, config.max_frame_height) <= 4096 &&
+                             std::min(config.max_frame_width, config.max_frame_height) >=
+                                 viscera::server::kMinFrameSide,
+                         "--max-frame-size: each side must be within ",
+                         viscera::server::kMinFrameSide, "..4096 pixels");
     viscera::render::ParseFrameSize(frame_size, &config.frame_width, &config.frame_height);
-    viscera::ThrowUnless(config.frame_width >= 16 && config.frame_width <= config.max_frame_width &&
-                             config.frame_height >= 16 && config.frame_height <= config.max_frame_height,
-                         "--frame-size: each side must be within 16..--max-frame-size");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "viscerad: %s\n", e.what());
+    return 2;
+  }
+  // the defaults must be what a create could ask for
+  if (const std::string problem = viscera::server::FrameSettingsProblem(
+          config.frame_width, config.frame_height, config.frame_rate_hz, config.jpeg_quality,
+          config.skin, config);
+      !problem.empty()) {
+    std::fprintf(stderr, "viscerad: default frames (--frame-size, --frame-rate): %s\n", problem.c_str());
     return 2;
   }
   if (config.rate_hz > config.max_rate_hz) {
