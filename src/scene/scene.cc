@@ -219,6 +219,7 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   c.damping = NonNegative(r, "damping", c.damping);
   c.friction = NonNegative(r, "friction", c.friction);
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
+  c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
   r.Finish();
 }
 
