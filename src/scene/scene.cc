@@ -311,4 +311,11 @@ Scene LoadSceneFile(const std::string& path) {
   return ParseScene(text.str(), path);
 }
 
+void ChangeRate(mechanics::ModelParams* params, double rate_hz) {
+  const double substep = 1.0 / (params->rate_hz * params->substeps);
+  // The small slack keeps exact multiples (100 Hz x 2 -> 200 Hz x 1) from rounding up.
+  params->substeps = std::max(1, static_cast<int>(std::ceil(1.0 / (rate_hz * substep) - 1e-9)));
+  params->rate_hz = rate_hz;
+}
+
 }  // namespace viscera::scene

@@ -35,6 +35,7 @@ using mechanics::State;
 struct Options {
   std::string scene;
   double duration = 1.0;
+  double rate_hz = 0.0;  // 0: the scene's
   std::string trace;
   int trace_every = 1;
   bool json = false;
@@ -180,6 +181,10 @@ int Replay(const Options& opt) {
 
 int Run(const Options& opt) {
   scene::Scene scene = scene::LoadSceneFile(opt.scene);
+  if (opt.rate_hz != 0.0) {
+    ThrowUnless(std::isfinite(opt.rate_hz) && opt.rate_hz > 0.0, "--rate ", opt.rate_hz, ": must be > 0");
+    scene::ChangeRate(&scene.model, opt.rate_hz);
+  }
   for (const std::string& w : scene.warnings) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
   const mechanics::Model model = [&] {
     try {
@@ -331,6 +336,7 @@ int main(int argc, char** argv) {
   app.add_option("scene", opt.scene, "scene file (TOML); not with --replay");
   app.add_option("--replay", opt.replay, "replay a viscerad session record (LCM log) instead of a scene");
   app.add_option("--duration", opt.duration, "simulated seconds")->capture_default_str();
+  app.add_option("--rate", opt.rate_hz, "mechanics rate (Hz) instead of the scene's; sub-steps keep the scene's length");
   app.add_option("--trace", opt.trace, "write a JSON Lines trace to this file");
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
   app.add_flag("--json", opt.json, "print the final summary as JSON");
