@@ -19,6 +19,7 @@
 #include "bus/header.h"
 #include "common/check.h"
 #include "common/clock.h"
+#include "common/pacer.h"
 #include "common/rate_window.h"
 #include "mechanics/forces.h"
 #include "session/loop_stats.h"
@@ -207,16 +208,18 @@ void Session::Loop() {
   const int64_t snapshot_period = PeriodNs(config_.snapshot_rate_hz);
   // a first status at once (no rates yet), then one per status period
   PublishStatus(MonotonicNanos(), /*summarize=*/false);
-  int64_t next = MonotonicNanos();
+  // absolute deadlines, sleep then spin (common/pacer.h): a thread that only sleeps wakes late
+  Pacer pacer({.period_ns = period, .spin_ns = std::min(config_.spin_ns, period / 2)});
+  pacer.Start();
+  int64_t next = pacer.deadline();
   int64_t next_skeleton = next;
   int64_t next_snapshot = next;
   L.last_summary_ns = next;
   int64_t next_status = next + status_period;
 
   while (!stop_.load(std::memory_order_relaxed)) {
-    SleepUntil(next);
-    const int64_t wake = MonotonicNanos();
-    const int64_t deadline = next + period;
+    next = pacer.deadline();
+    const int64_t wake = pacer.Wait();
 
     // commands first (in arrival order), then a step with the latest poses
     inbox_.Take(&L.poses, &L.commands);
@@ -265,13 +268,11 @@ void Session::Loop() {
 
     L.outbox->Flush();
     const int64_t done = MonotonicNanos();
+    const bool missed = pacer.Advance(done);
     if (!L.paused) {
       L.stats.RecordWall(done - next);
-      if (done > deadline) L.stats.RecordMiss();
+      if (missed) L.stats.RecordMiss();
     }
-    next += period;
-    // far behind (a stall, a paused machine): start again from now instead of a burst
-    if (done > next + period) next = done;
   }
 }
 
