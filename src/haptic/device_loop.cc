@@ -189,10 +189,11 @@ LoopSummary DeviceLoop::Run() {
       link_->SendPose(p.first, p.second);
     });
 
-    // 3. the force: local model, passivity controller, limits
-    Vec3 f = model.Force(x, wake);
+    // 3. the force: local model, limits, then the passivity controller's damping (last, so
+    // that the rate limit cannot hold back the energy it removes) within the force limit
+    Vec3 f = limiter.Apply(model.Force(x, wake), dt);
     f = passivity.Control(f, v, period_s);
-    f = limiter.Apply(f, dt);
+    if (f.norm() > max_force) f *= max_force / f.norm();
     device_->Write(f);
     passivity.Commit(f);
 

@@ -4,9 +4,9 @@
 ///   1. takes the force answers that arrived (through the network impairment, if any) into the
 ///      local model: stale and out-of-order ones dropped, non-finite ones counted;
 ///   2. reads the device and publishes its pose (every period, or past a deadband);
-///   3. renders F = g(age) [F_s - K (x_now - x_answered)] (local_model.h), through the
-///      passivity controller (passivity.h) and the force and force-rate limits
-///      (force_limiter.h), and writes it to the device;
+///   3. renders F = g(age) [F_s - K (x_now - x_answered)] (local_model.h), through the force
+///      and force-rate limits (force_limiter.h), adds the passivity controller's damping
+///      (passivity.h) and, within the force limit, writes it to the device;
 ///   4. keeps its figures (period error, misses, round trip, model age) and, when asked, a log
 ///      line and a live report.
 /// docs/haptics.md explains the loop and its choices.
