@@ -19,6 +19,12 @@ struct PacerClock {
   static PacerClock Monotonic();
 };
 
+/// The spin margin that paid off on this machine (docs/benchmarks.md, "Haptics", bench_pacer):
+/// 50 us for a SCHED_FIFO thread (no peer preempts it, the spin absorbs the wake-up latency),
+/// none under normal scheduling (a spinning thread spends its fair share and is preempted more
+/// often: on the loaded 2-vCPU machine every margin made p99 and misses worse).
+inline int64_t AutoSpinNs(bool realtime) { return realtime ? 50'000 : 0; }
+
 struct PacerOptions {
   int64_t period_ns = 1'000'000;  ///< > 0
   /// Sleep until this long before each deadline, then spin (ns, >= 0; 0: sleep only).
@@ -32,7 +38,9 @@ class Pacer {
   /// @throws InputError when period_ns <= 0 or spin_ns, late_ns < 0.
   explicit Pacer(PacerOptions options, PacerClock clock = PacerClock::Monotonic());
 
-  /// The first deadline is now (or `first_deadline_ns` when given).
+  /// The first deadline is now (or `first_deadline_ns` when given). Sets the calling thread's
+  /// timer slack to 1 us (Linux batches a normal thread's wake-ups by up to 50 us otherwise):
+  /// call it on the loop's thread.
   void Start();
   void Start(int64_t first_deadline_ns);
 
