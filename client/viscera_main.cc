@@ -395,7 +395,7 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
 
 struct HapticCli {
   viscera::client::HapticCommand command;
-  double delay_ms = 0.0, jitter_ms = 0.0, stale_ms = 250.0, fade_ms = 150.0, spin_us = 200.0;
+  double delay_ms = 0.0, jitter_ms = 0.0, stale_ms = 250.0, fade_ms = 150.0, spin_us = -1.0;
   double deadband_mm = 0.0;
   bool no_passivity = false, quiet = false;
 };
@@ -420,7 +420,7 @@ int RunHapticCli(const std::string& url, const Common& c, HapticCli o) {
   h.loop.impairment.jitter_s = o.jitter_ms * 1e-3;
   h.loop.model.stale_after_s = o.stale_ms * 1e-3;
   h.loop.model.fade_s = o.fade_ms * 1e-3;
-  h.loop.spin_ns = static_cast<int64_t>(o.spin_us * 1e3);
+  h.loop.spin_ns = o.spin_us < 0.0 ? -1 : static_cast<int64_t>(o.spin_us * 1e3);
   h.loop.deadband_m = o.deadband_mm * 1e-3;
   h.loop.passivity = !o.no_passivity;
   return viscera::client::RunHaptic(client, h);
@@ -530,8 +530,9 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber);
     haptic->add_flag("--no-passivity", haptic_options.no_passivity,
                      "Passivity controller off (the observer still reports energy)");
-    haptic->add_option("--spin-us", haptic_options.spin_us, "Pacing: spin this long before each deadline (us)")
-        ->check(CLI::Range(0.0, 100000.0))->capture_default_str();
+    haptic->add_option("--spin-us", haptic_options.spin_us,
+                       "Pacing: spin this long before each deadline (us; -1 = 50 with --realtime granted, else 0)")
+        ->check(CLI::Range(-1.0, 100000.0))->capture_default_str();
     haptic->add_option("--realtime", h.loop.realtime_priority,
                        "SCHED_FIFO priority of the loop thread (0: off; refused in user namespaces)")
         ->check(CLI::Range(0, 99));

@@ -118,7 +118,8 @@ LoopSummary DeviceLoop::Run() {
   s.max_stiffness_n_m = model_options.max_stiffness_n_m;
   s.passivity = options_.passivity;
 
-  Pacer pacer({.period_ns = period_ns, .spin_ns = std::min(options_.spin_ns, period_ns / 2)});
+  const int64_t spin = options_.spin_ns >= 0 ? options_.spin_ns : AutoSpinNs(s.realtime.rfind("SCHED_FIFO", 0) == 0);
+  Pacer pacer({.period_ns = period_ns, .spin_ns = std::min(spin, period_ns / 2)});
   pacer.Start();
   const int64_t start = pacer.deadline();
   int64_t prev_wake = 0, last_sent_ns = 0, seq = 0, last_answered_pose = -1;

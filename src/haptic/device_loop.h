@@ -40,7 +40,7 @@ struct LoopReport {
 struct DeviceLoopOptions {
   double rate_hz = 1000.0;        ///< device loop rate (Hz), > 0
   double seconds = 0.0;           ///< run time (s); 0: the device's duration, or until stop
-  int64_t spin_ns = 200'000;      ///< pacer spin margin (ns)
+  int64_t spin_ns = -1;           ///< pacer spin margin (ns); < 0: AutoSpinNs (common/pacer.h)
   int realtime_priority = 0;      ///< > 0: SCHED_FIFO at this priority (reported when refused)
   double deadband_m = 0.0;        ///< publish when moved more than this (m); 0: every period
   double keepalive_s = 0.02;      ///< with a deadband: publish at least this often (s)
