@@ -21,7 +21,7 @@ echo "== $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), commit $
 export VISCERA_SESSIONS="$out/sessions.json"
 url='udpm://239.255.76.67:7667?ttl=0'
 v() { "$build/client/viscera" "$@" --lcm-url "$url"; }
-spin=${VISCERA_SPIN_US:-200}
+spin=${VISCERA_SPIN_US:--1}
 "$build/server/viscerad" --server-id hbench --max-sessions 8 --spin-us "$spin" --scene-dir "$root/scenes" \
   --lcm-url "$url" 2>"$out/viscerad.err" &
 pid=$!

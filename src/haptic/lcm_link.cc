@@ -4,6 +4,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/tool_pose.h"
 #include "common/check.h"
 #include "common/clock.h"
 
@@ -42,16 +43,7 @@ LcmLink::LcmLink(bus::LcmBus* bus, int64_t session_id, std::vector<uint8_t> toke
 LcmLink::~LcmLink() { bus_->Unsubscribe(subscription_); }
 
 void LcmLink::SendPose(int64_t seq, const DeviceSample& sample) {
-  pose_.header = bus::MakeHeader(session_id_, seq);
-  pose_.header.token = token_;
-  pose_.header.token_len = static_cast<int32_t>(token_.size());
-  pose_.tool = tool_;
-  for (int a = 0; a < 3; ++a) pose_.position[a] = sample.position(a);
-  pose_.orientation[0] = sample.orientation.w();
-  pose_.orientation[1] = sample.orientation.x();
-  pose_.orientation[2] = sample.orientation.y();
-  pose_.orientation[3] = sample.orientation.z();
-  pose_.jaw = sample.jaw;
+  bus::FillToolPose(session_id_, seq, token_, tool_, sample.position, sample.orientation, sample.jaw, &pose_);
   if (!bus_->Publish(pose_channel_, pose_)) ++publish_failures_;
 }
 
