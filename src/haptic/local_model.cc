@@ -54,6 +54,7 @@ LocalModel::Intake LocalModel::Offer(const Answer& answer, const Vec3& x_answere
   Affine next;
   next.K = RestoringStiffness(answer.stiffness, options_.max_stiffness_n_m, &clipped);
   next.a = answer.force + next.K * x_answered;
+  if (!answer.grasping && answer.force.norm() > 0.0) next.n = answer.force.normalized();
   if (clipped) ++stiffness_capped_;
   // the cross-fade lasts about the interval between answers (a running mean over ~10)
   if (has_answer_) {
@@ -62,8 +63,17 @@ LocalModel::Intake LocalModel::Offer(const Answer& answer, const Vec3& x_answere
     const double shortest = options_.crossfade_periods * options_.period_s * 1e9;
     crossfade_ns_ = static_cast<int64_t>(std::max(shortest, std::min(interval_ns_, options_.max_crossfade_s * 1e9)));
   }
-  // the blend reached so far is where the new answer's fade starts
-  from_ = has_answer_ ? Blend(now_ns) : Affine{};
+  // what is rendered now is where the new answer's fade starts: frozen as a model with the
+  // blended stiffness around the last position, one-sided along its own force
+  Affine from;
+  if (has_answer_) {
+    const double alpha = Alpha(now_ns);
+    const Vec3 f = Blend(last_x_, now_ns);
+    from.K = (1.0 - alpha) * from_.K + alpha * to_.K;
+    from.a = f + from.K * last_x_;
+    if (!newest_.grasping && f.norm() > 0.0) from.n = f.normalized();
+  }
+  from_ = from;
   to_ = next;
   to_since_ns_ = now_ns;
   has_answer_ = true;
@@ -81,13 +91,21 @@ void LocalModel::FlagNonFinite(int64_t now_ns) {
   hold_until_ns_ = std::max(hold_until_ns_, now_ns + static_cast<int64_t>(options_.nonfinite_hold_s * 1e9));
 }
 
-LocalModel::Affine LocalModel::Blend(int64_t now_ns) const {
-  const double alpha =
-      std::clamp(static_cast<double>(now_ns - to_since_ns_) / static_cast<double>(crossfade_ns_), 0.0, 1.0);
-  Affine b;
-  b.a = (1.0 - alpha) * from_.a + alpha * to_.a;
-  b.K = (1.0 - alpha) * from_.K + alpha * to_.K;
-  return b;
+Vec3 LocalModel::Affine::Eval(const Vec3& x) const {
+  Vec3 f = a - K * x;
+  // one-sided contact: the extrapolation may relax the push to zero, never turn it into a pull
+  const double along = f.dot(n);
+  if (along < 0.0) f -= along * n;
+  return f;
+}
+
+double LocalModel::Alpha(int64_t now_ns) const {
+  return std::clamp(static_cast<double>(now_ns - to_since_ns_) / static_cast<double>(crossfade_ns_), 0.0, 1.0);
+}
+
+Vec3 LocalModel::Blend(const Vec3& x, int64_t now_ns) const {
+  const double alpha = Alpha(now_ns);
+  return (1.0 - alpha) * from_.Eval(x) + alpha * to_.Eval(x);
 }
 
 double LocalModel::age_s(int64_t now_ns) const {
@@ -113,17 +131,9 @@ Vec3 LocalModel::Force(const Vec3& x_now, int64_t now_ns) {
   last_now_ns_ = now_ns;
   gain_ = std::min(target, gain_ + std::max(0.0, dt) / options_.fade_s);
 
+  last_x_ = x_now;
   if (!has_answer_) return Vec3::Zero();
-  const Affine m = Blend(now_ns);
-  Vec3 f = m.a - m.K * x_now;
-  // one-sided contact: the extrapolation may relax the push to zero, never turn it into a pull
-  const double fs = newest_.force.norm();
-  if (!newest_.grasping && fs > 0.0) {
-    const Vec3 n = newest_.force / fs;
-    const double along = f.dot(n);
-    if (along < 0.0) f -= along * n;
-  }
-  return gain_ * f;
+  return gain_ * Blend(x_now, now_ns);
 }
 
 }  // namespace viscera::haptic

@@ -10,10 +10,12 @@
 ///   negative stiffness), never stiffer than the device holds or the sampled-spring passivity
 ///   bound allows (Colgate: K < 2 b / T);
 /// - contact is one-sided: unless the tool grasps, the extrapolation never pulls the hand into
-///   the tissue (the force's component along F_s stays >= 0);
-/// - successive answers are cross-faded: the model is affine in x, F(x) = a - K x with
-///   a = F_s + K x_a, so a blend of two is again affine, and an answer arriving mid-fade starts
-///   from the blend reached so far. The fade lasts the typical interval between answers (at
+///   the tissue (each answer's force keeps a component >= 0 along its own F_s);
+/// - successive answers are cross-faded: each answer is a model affine in x, F(x) = a - K x with
+///   a = F_s + K x_a, and the force fades linearly in time from the old model's force to the new
+///   one's. An answer arriving mid-fade starts from what was rendered then (frozen as a model
+///   with the blended K around the last position), so nothing jumps when the answers' direction
+///   flips (a contact that pushes, then one that pulls). The fade lasts the typical interval between answers (at
 ///   least crossfade_periods device periods, at most max_crossfade_s): what the model could not
 ///   predict (a tip slipping sideways) is spread over the time until the next answer, a
 ///   first-order hold, instead of arriving as a step at a 100 Hz session;
@@ -84,11 +86,14 @@ class LocalModel {
   int64_t fade_events() const { return fade_events_; }  ///< times a stale fade began
 
  private:
-  struct Affine {  // F(x) = a - K x
+  struct Affine {  // F(x) = a - K x, one-sided along n (unit or zero) unless grasping
     Vec3 a = Vec3::Zero();
     Mat3 K = Mat3::Zero();
+    Vec3 n = Vec3::Zero();
+    Vec3 Eval(const Vec3& x) const;
   };
-  Affine Blend(int64_t now_ns) const;
+  double Alpha(int64_t now_ns) const;
+  Vec3 Blend(const Vec3& x, int64_t now_ns) const;
   double TargetGain(int64_t now_ns) const;
 
   LocalModelOptions options_;
@@ -103,6 +108,7 @@ class LocalModel {
   double gain_ = 0.0;
   bool fading_ = false;
   int64_t last_now_ns_ = 0;
+  Vec3 last_x_ = Vec3::Zero();  // where the last Force was asked
   int64_t hold_until_ns_ = 0;
   int64_t accepted_ = 0, out_of_order_ = 0, nonfinite_ = 0, stiffness_capped_ = 0, fade_events_ = 0;
 };

@@ -217,6 +217,34 @@ TEST(LocalModel, TheCrossFadeLastsAboutTheIntervalBetweenAnswersWithinItsBounds)
   }
 }
 
+// The server's answers can change direction from one step to the next (a contact that pushes,
+// then a speculative one that pulls): the one-sided rule of each answer must not make the
+// rendered force jump when the newest answer's direction flips.
+TEST(LocalModel, AnAnswerFlippingDirectionIsCrossFadedNotSwitched) {
+  LocalModel model({.max_stiffness_n_m = 1000.0, .period_s = 1e-3, .crossfade_periods = 4,
+                    .max_crossfade_s = 0.004, .stale_after_s = 1.0, .fade_s = 1e-3});
+  Answer up;
+  up.seq = up.pose_seq = 0;
+  up.force = Vec3(0, 0, 0.2);
+  up.stiffness(2, 2) = 100.0;
+  model.Offer(up, Vec3::Zero(), 0, 0);
+  Vec3 prev = Vec3::Zero();
+  double largest = 0.0;
+  for (int ms = 1; ms <= 30; ++ms) {
+    if (ms == 10) {
+      Answer down;
+      down.seq = down.pose_seq = 1;
+      down.force = Vec3(0, 0, -0.08);
+      model.Offer(down, Vec3::Zero(), ms * kMs, ms * kMs);
+    }
+    const Vec3 f = model.Force(Vec3::Zero(), ms * kMs);
+    if (ms > 3) largest = std::max(largest, (f - prev).norm());
+    prev = f;
+  }
+  EXPECT_NEAR(prev.z(), -0.08, 1e-12);
+  EXPECT_LE(largest, 0.28 / 4 + 1e-12);  // the whole change spread over the 4 ms fade
+}
+
 TEST(LocalModel, RejectsBadOptions) {
   EXPECT_THROW(LocalModel({.max_stiffness_n_m = 0.0}), InputError);
   EXPECT_THROW(LocalModel({.crossfade_periods = 0}), InputError);
