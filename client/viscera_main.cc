@@ -24,6 +24,7 @@
 #include "client/driver.h"
 #include "client/frame_commands.h"
 #include "client/gesture.h"
+#include "client/haptic_cli.h"
 #include "client/haptic_command.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
@@ -393,14 +394,8 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
   return 0;
 }
 
-struct HapticCli {
-  viscera::client::HapticCommand command;
-  double delay_ms = 0.0, jitter_ms = 0.0, stale_ms = 250.0, fade_ms = 150.0, spin_us = -1.0;
-  double deadband_mm = 0.0;
-  bool no_passivity = false, quiet = false;
-};
 
-int RunHapticCli(const std::string& url, const Common& c, HapticCli o) {
+int RunHapticCli(const std::string& url, const Common& c, viscera::client::HapticCli o) {
   viscera::client::HapticCommand& h = o.command;
   viscera::client::SessionClient client(url, LoadAuth(c));
   // the session must exist and have the tool
@@ -492,57 +487,11 @@ int main(int argc, char** argv) {
   drive->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
 
 
-  HapticCli haptic_options;
+  viscera::client::HapticCli haptic_options;
   CLI::App* haptic = app.add_subcommand("haptic", "Run a haptic device loop on a session's tool (docs/haptics.md)");
   add_common(haptic);
-  {
-    viscera::client::HapticCommand& h = haptic_options.command;
-    haptic->add_option("id", h.session_id, "Session id")->required();
-    haptic->add_option("--tool", h.tool_name, "Tool of the session to drive and feel")->required();
-    haptic->add_option("--device", h.device, "Device backend: sim (a simulated hand) or replay (a --log)")
-        ->capture_default_str();
-    haptic->add_option("--script", h.script, "sim: the hand's intended path (tool script CSV)");
-    haptic->add_option("--replay", h.replay_log, "replay: positions from this --log JSONL file");
-    haptic->add_option("--seconds", h.loop.seconds, "Run time (s; default: the script's or log's length)")
-        ->check(CLI::NonNegativeNumber);
-    haptic->add_option("--rate", h.loop.rate_hz, "Device loop rate (Hz)")->check(CLI::Range(10.0, 20000.0))
-        ->capture_default_str();
-    haptic->add_option("--log", h.log_path, "One JSON line per device period (t, position, force, ...)");
-    haptic->add_option("--delay-ms", haptic_options.delay_ms, "Impairment: one-way delay each way (ms)")
-        ->check(CLI::Range(0.0, 10000.0));
-    haptic->add_option("--jitter-ms", haptic_options.jitter_ms, "Impairment: +- uniform jitter (ms)")
-        ->check(CLI::Range(0.0, 10000.0));
-    haptic->add_option("--loss", h.loop.impairment.loss, "Impairment: fraction of messages lost (0..1)")
-        ->check(CLI::Range(0.0, 1.0));
-    haptic->add_option("--seed", h.loop.impairment.seed, "Impairment: random seed")->capture_default_str();
-    haptic->add_option("--max-force", h.loop.max_force_n, "Force limit (N; default: the device's)")
-        ->check(CLI::PositiveNumber);
-    haptic->add_option("--max-force-rate", h.loop.max_force_rate_n_s, "Force-rate limit (N/s)")
-        ->check(CLI::PositiveNumber)->capture_default_str();
-    haptic->add_option("--crossfade", h.loop.model.crossfade_periods, "Periods over which a new answer takes over")
-        ->check(CLI::Range(1, 1000))->capture_default_str();
-    haptic->add_option("--stale-ms", haptic_options.stale_ms, "Fade the force once the model is this old (ms)")
-        ->check(CLI::NonNegativeNumber)->capture_default_str();
-    haptic->add_option("--fade-ms", haptic_options.fade_ms, "Length of the stale fade (ms)")
-        ->check(CLI::Range(1.0, 100000.0))->capture_default_str();
-    haptic->add_option("--deadband-mm", haptic_options.deadband_mm,
-                       "Publish the pose only when it moved more than this (mm; 0: every period)")
-        ->check(CLI::NonNegativeNumber);
-    haptic->add_flag("--no-passivity", haptic_options.no_passivity,
-                     "Passivity controller off (the observer still reports energy)");
-    haptic->add_option("--spin-us", haptic_options.spin_us,
-                       "Pacing: spin this long before each deadline (us; -1 = 50 with --realtime granted, else 0)")
-        ->check(CLI::Range(-1.0, 100000.0))->capture_default_str();
-    haptic->add_option("--realtime", h.loop.realtime_priority,
-                       "SCHED_FIFO priority of the loop thread (0: off; refused in user namespaces)")
-        ->check(CLI::Range(0, 99));
-    haptic->add_option("--hand-stiffness", h.hand.stiffness_n_m, "sim: the hand's grip stiffness (N/m)")
-        ->check(CLI::PositiveNumber)->capture_default_str();
-    haptic->add_option("--device-max-force", h.hand.limits.max_force_n, "sim/replay: the device's force limit (N)")
-        ->check(CLI::PositiveNumber)->capture_default_str();
-    haptic->add_flag("--quiet", haptic_options.quiet, "No live report on the terminal");
-    haptic->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
-  }
+  viscera::client::AddHapticOptions(haptic, &haptic_options);
+  haptic->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
 
   int64_t camera_id = 0;
   std::vector<double> eye{0.0, -0.3, 0.3}, target{0.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
