@@ -8,6 +8,8 @@
 #include <nlohmann/json.hpp>
 #include <viscera_proto/heartbeat_t.hpp>
 
+#include "bus/placement.h"
+
 namespace viscera::client {
 
 /// What the latest heartbeat of one server said.
@@ -38,6 +40,13 @@ class ServerDirectory {
   int64_t rejected_ = 0;
   std::string last_rejection_;
 };
+
+/// The server a new session should go to (bus::PickServer: the least loaded with room),
+/// or nullptr when every one is full or none was heard.
+const ServerInfo* PickServer(const std::vector<ServerInfo>& servers);
+
+/// "a 1/4, b 0/2" (id and sessions of each), for messages.
+std::string ServersSummary(const std::vector<ServerInfo>& servers);
 
 /// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load,
 /// uptime_s, heartbeats, rejected.

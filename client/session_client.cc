@@ -58,6 +58,17 @@ std::optional<viscera_proto::heartbeat_t> SessionClient::FindServer(const std::s
   return found;
 }
 
+std::vector<ServerInfo> SessionClient::HearServers(double listen_s) {
+  ServerDirectory directory;
+  const bus::SubscriptionId sub = bus_.Subscribe<viscera_proto::heartbeat_t>(
+      bus::kHeartbeatChannel,
+      [&](const viscera_proto::heartbeat_t& hb, int64_t) { directory.Observe(hb); });
+  const auto deadline = After(listen_s);
+  while (Clock::now() < deadline) bus_.Pump(MillisLeft(deadline));
+  bus_.Unsubscribe(sub);
+  return directory.Servers();
+}
+
 std::vector<viscera_proto::session_reply_t> SessionClient::Request(
     viscera_proto::session_request_t request, double timeout_s, bool collect_all, double grace_s) {
   std::vector<viscera_proto::session_reply_t> replies;

@@ -10,6 +10,7 @@
 
 #include "bus/lcm_bus.h"
 #include "server/heartbeat_source.h"
+#include "server/peer_directory.h"
 #include "server/server_config.h"
 #include "server/session_manager.h"
 
@@ -49,6 +50,7 @@ class IoLoop {
   std::unique_ptr<bus::LcmBus> frame_bus_;    // publish only: frames (SessionManager says why)
   std::unique_ptr<SessionManager> sessions_;  // after the buses: sessions publish on them
   HeartbeatSource heartbeat_;
+  PeerDirectory peers_;  // other servers' heartbeats, for refusals that name one with room
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> failed_{false};
