@@ -21,6 +21,7 @@
 #include "bus/lcm_bus.h"
 #include "render/frame_renderer.h"
 #include "render/offscreen_context.h"
+#include "server/capacity_estimate.h"
 #include "server/io_loop.h"
 #include "server/session_manager.h"
 #include "skin/skin.h"
@@ -36,7 +37,23 @@ std::string DefaultServerId() {
 
 const char* SignalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
 
-int Run(const viscera::server::ServerConfig& config) {
+// --max-sessions 0: as many sessions as the measured cost of `scene` fits in this
+// process's cores (docs/capacity.md); cores alone if the scene cannot be measured.
+int AutoMaxSessions(const viscera::server::ServerConfig& config, const std::string& scene) {
+  try {
+    const viscera::server::CapacityEstimate e = viscera::server::EstimateCapacity(config, scene);
+    std::fprintf(stderr, "viscerad: %s (--max-sessions N overrides)\n", e.Describe().c_str());
+    return e.max_sessions;
+  } catch (const std::exception& e) {
+    const int cores = viscera::server::AvailableCores();
+    std::fprintf(stderr,
+                 "viscerad: cannot measure scene '%s' for --max-sessions (%s): %d, one per core\n",
+                 scene.c_str(), e.what(), cores);
+    return cores;
+  }
+}
+
+int Run(viscera::server::ServerConfig config, const std::string& capacity_scene) {
   // Block SIGINT/SIGTERM in every thread (the I/O thread inherits the mask) and take
   // them synchronously here: no handler, no global flag.
   sigset_t stop_signals;
@@ -58,6 +75,7 @@ int Run(const viscera::server::ServerConfig& config) {
                    config.realtime_priority, std::strerror(err));
     }
   }
+  if (config.max_sessions == 0) config.max_sessions = AutoMaxSessions(config, capacity_scene);
   viscera::server::IoLoop loop(config);
   loop.Start();
   std::fprintf(stderr,
@@ -99,8 +117,15 @@ int main(int argc, char** argv) {
                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(viscera::bus::kDefaultUrl) + ")");
   app.add_option("--server-id", config.server_id, "Name announced in heartbeats")
       ->capture_default_str();
-  app.add_option("--max-sessions", config.max_sessions, "Sessions accepted at most")
-      ->check(CLI::Range(1, 1024))
+  config.max_sessions = 0;
+  std::string capacity_scene = "cavity";
+  app.add_option("--max-sessions", config.max_sessions,
+                 "Sessions accepted at most; 0 = as many as this machine's cores hold, from the "
+                 "measured cost of --capacity-scene")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  app.add_option("--capacity-scene", capacity_scene,
+                 "Scene whose step (and frame) cost sets the default --max-sessions")
       ->capture_default_str();
   app.add_option("--scene-dir", config.scene_dir, "Directory of the scenes a create may name")
       ->capture_default_str();
@@ -179,7 +204,7 @@ int main(int argc, char** argv) {
   config.lcm_url = viscera::bus::ResolveUrl(lcm_url);
 
   try {
-    return Run(config);
+    return Run(config, capacity_scene);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "viscerad: %s\n", e.what());
     return 1;
