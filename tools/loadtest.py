@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Load test of viscerad: N sessions spread over every server heard, poses streamed to each
-at a fixed rate from one process per session, forces, status and frames measured.
+at a fixed rate from worker processes, forces, status and frames measured.
 
   tools/loadtest.py --sessions 4 --seconds 10 --pose-rate 100 --scene cavity \
       --json report.json --plots plots/
@@ -92,6 +92,9 @@ def parse_args(argv):
     p.add_argument("--tool", type=int, default=0, help="tool index driven (default 0)")
     p.add_argument("--center", type=float, nargs=3, default=[0.0, 0.0, 0.15],
                    metavar=("X", "Y", "Z"), help="centre of the tool's 1 cm circle (m)")
+    p.add_argument("--processes", type=int, default=0,
+                   help="worker processes streaming the sessions (default: one per session, "
+                        "at most twice the CPUs this process may use)")
     p.add_argument("--listen", type=float, default=1.2,
                    help="seconds to listen for server heartbeats before placing sessions")
     p.add_argument("--progress", choices=["auto", "bar", "lines", "none"], default="auto",
@@ -207,11 +210,14 @@ def run_once(args, n, scene_toml, log):
     progress = ctx.Array("q", 2 * n, lock=False)
     results = ctx.Queue()
     key = client.bus.auth._key if client.bus.auth else None
+    # session i goes to process i mod P
+    processes = min(n, args.processes or 2 * len(os.sched_getaffinity(0)))
     workers = [ctx.Process(target=run_worker, daemon=True,
-                           args=(i, client.bus.url, key, [h], args.tool, args.pose_rate,
+                           args=(w, client.bus.url, key, handles[w::processes],
+                                 list(range(n))[w::processes], args.tool, args.pose_rate,
                                  args.seconds, args.frames, args.center, go, start_wall, stop,
                                  progress, results))
-               for i, h in enumerate(handles)]
+               for w in range(processes)]
     states, errors, drops = {}, [], {}
     interrupted = []
 
@@ -228,7 +234,8 @@ def run_once(args, n, scene_toml, log):
             w.start()
         ready = 0
         deadline = time.monotonic() + 60.0
-        while ready + len(errors) < n and time.monotonic() < deadline and not stop.is_set():
+        while ready + len(errors) < processes and time.monotonic() < deadline and \
+                not stop.is_set():
             try:
                 kind, index, payload = results.get(timeout=0.2)
             except queue.Empty:
@@ -237,13 +244,14 @@ def run_once(args, n, scene_toml, log):
                 ready += 1
             elif kind == "error":
                 errors.append(payload)
-        if not stop.is_set() and (errors or ready < n):
-            raise VisceraError(f"{n - ready} worker(s) did not start: {''.join(errors)[-2000:]}")
+        if not stop.is_set() and (errors or ready < processes):
+            raise VisceraError(f"{processes - ready} worker(s) did not start: "
+                               f"{''.join(errors)[-2000:]}")
         start_wall.value = time.time() + 0.3  # every worker then knows when to begin
         go.set()
         bar = Progress(args.progress, args.seconds, f"{n} sessions")
         done = 0
-        while done < n:
+        while done < processes:
             try:
                 kind, index, payload = results.get(timeout=0.2)
             except queue.Empty:
@@ -262,7 +270,7 @@ def run_once(args, n, scene_toml, log):
             elif kind is None and not any(w.is_alive() for w in workers):
                 break
             bar.show(time.time() - start_wall.value, sum(progress[0::2]), sum(progress[1::2]),
-                     final=done == n)
+                     final=done == processes)
     finally:
         stop.set()
         for w in workers:

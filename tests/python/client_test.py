@@ -6,8 +6,9 @@ import subprocess
 import tempfile
 import unittest
 
+import viscera_proto
 from viscera_proto import session_reply_t, session_status_t
-from viscera_client import VisceraError, pick_server
+from viscera_client import VisceraError, make_header, pick_server
 from netns_support import (PUSH_SCENE, Server, new_client, poll, require_private_netns,
                            wait_for_servers)
 
@@ -96,8 +97,23 @@ class RoundTripTest(unittest.TestCase):
         with self.assertRaises(VisceraError) as e:
             unsigned.create(scene="hanging", server="py-rt", timeout_s=1.0)
         self.assertIsNone(e.exception.result)
-        self.assertEqual(unsigned.servers(listen_s=1.2), [])  # heartbeats are signed: dropped
-        self.assertGreater(unsigned.bus.drops["bad_mac"], 0)
+        # the server dropped it and counts it (a keyless client can still read heartbeats:
+        # a MAC authenticates, it does not hide)
+        heard = wait_for_servers(unsigned, ["py-rt"])
+        self.assertGreaterEqual(heard["py-rt"].rejected, 1)
+        # and a client with the key drops what a keyless sender publishes
+        signed = new_client(key_file=self.key_file)
+        self.assertIsNotNone(signed.bus.auth)
+        got = []
+        signed.bus.subscribe("VISCERA_HEARTBEAT", viscera_proto.heartbeat_t,
+                             lambda m, c, t: got.append(m))
+        hb = viscera_proto.heartbeat_t()
+        hb.header = make_header()
+        hb.server_id, hb.num_sessions, hb.max_sessions = "forged", 0, 9
+        hb.load, hb.uptime_us, hb.rejected = 0.0, 0, 0
+        unsigned.bus.publish("VISCERA_HEARTBEAT", hb)
+        poll(lambda: signed.bus.drops["bad_mac"] >= 1, signed, what="forged heartbeat dropped")
+        self.assertNotIn("forged", [m.server_id for m in got])
 
 
 class PlacementTest(unittest.TestCase):

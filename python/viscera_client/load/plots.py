@@ -91,8 +91,8 @@ def capacity_curve(reports, path, title=""):
     ax.set_ylabel("deadline misses (%)", color="tab:red")
     ax2 = ax.twinx()
     ax2.plot(n, p99, "s-", color="tab:blue", label="round trip p99 (ms)")
-    if rate:
-        ax2.axhline(1000.0 / rate, color="tab:blue", ls="--", lw=0.8)
+    if rate:  # the round-trip limit: two periods (report.py says why)
+        ax2.axhline(2000.0 / rate, color="tab:blue", ls="--", lw=0.8)
     ax2.set_ylabel("round trip p99 (ms)", color="tab:blue")
     for r, x, y in zip(reports, n, p99):
         if not r["overall"]["client_ok"]:

@@ -99,10 +99,11 @@ class SessionProbe:
     def on_status(self, status, now_mono):
         self.statuses.append((now_mono - self.start, status_fields(status)))
 
-    def timeline(self):
-        """Per second of the run: poses sent, forces received, round-trip p99 (us)."""
+    def timeline(self, elapsed_s):
+        """Per whole second of the run (a last partial second is left out): poses sent,
+        forces received, round-trip p99 (us)."""
         out = []
-        for second in sorted(self.per_second):
+        for second in sorted(s for s in self.per_second if s + 1 <= elapsed_s + 1e-6):
             poses, forces, rtts = self.per_second[second]
             out.append({"t": second, "poses": poses, "forces": forces,
                         "round_trip_p99_us": percentile(sorted(rtts), 99)})

@@ -1,6 +1,7 @@
 """A load-test worker process: streams poses to its sessions at a fixed rate and measures
 what comes back (forces, status, frames). One LCM object and one thread per process;
-tools/loadtest.py starts one process per session so Python's GIL never paces two sessions.
+tools/loadtest.py spreads the sessions over a few processes (--processes), so Python's GIL
+never paces all of them.
 """
 import math
 import signal
@@ -48,23 +49,24 @@ class PoseStream:
         self.bus.publish(self.channel, self.msg)
 
 
-def run_worker(index, url, key, handles, tool, pose_rate_hz, seconds, frames, center, go,
-               start_wall, stop, progress, results):
-    """Process entry: subscribes, says ("ready", index) on `results`, waits for `go`, then
-    streams to `handles` from wall time `start_wall.value` for `seconds` (or until `stop`
-    is set) and puts ("done", index, {session_id: probe state}) on `results` (or ("error",
-    index, text)). `progress`: a shared array, 2 slots per session (poses sent, forces
-    received) from 2 * index. SIGINT is left to the parent, which stops us cleanly."""
+def run_worker(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, center,
+               go, start_wall, stop, progress, results):
+    """Process entry of worker `index`: subscribes, says ("ready", index) on `results`,
+    waits for `go`, then streams to `handles` from wall time `start_wall.value` for
+    `seconds` (or until `stop` is set) and puts ("done", index, {session_id: probe state})
+    on `results` (or ("error", index, text)). `progress`: a shared array, 2 entries per
+    session (poses sent, forces received) at 2 * slots[i] for handles[i]. SIGINT is left to
+    the parent, which stops us cleanly."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
-        _run(index, url, key, handles, tool, pose_rate_hz, seconds, frames, center, go,
+        _run(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, center, go,
              start_wall, stop, progress, results)
     except Exception:  # the parent reports it; the other workers go on
         import traceback
         results.put(("error", index, traceback.format_exc()))
 
 
-def _run(index, url, key, handles, tool, pose_rate_hz, seconds, frames, center, go,
+def _run(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, center, go,
          start_wall, stop, progress, results):
     auth = MessageAuth(key) if key else None
     bus = Bus(with_recv_buf(url, FRAME_RECV_BUF) if frames else url, auth)
@@ -74,7 +76,7 @@ def _run(index, url, key, handles, tool, pose_rate_hz, seconds, frames, center, 
         probe = SessionProbe(h, tool, period, 0.0)
         probes.append(probe)
         streams.append(PoseStream(bus, h, tool, center))
-        slot = 2 * (index + i)
+        slot = 2 * slots[i]
 
         def on_force(data, chan, recv_utime, probe=probe, slot=slot):
             echo = force_echo(data)
@@ -105,7 +107,7 @@ def _run(index, url, key, handles, tool, pose_rate_hz, seconds, frames, center, 
     for i, p in enumerate(probes):
         p.start = start
         # stagger sessions over one period: poses of N sessions do not leave in one burst
-        p.next_pose = start + period * ((index + i) % 16) / 16.0
+        p.next_pose = start + period * (slots[i] % 16) / 16.0
     end = start + seconds
     streamed_end = start
     # until the start, only listen (statuses of the warm-up are not the run's)
@@ -128,7 +130,7 @@ def _run(index, url, key, handles, tool, pose_rate_hz, seconds, frames, center, 
                 probe.next_pose += behind * period
             stream.send(now - start)
             probe.on_pose_sent(probe.next_pose, time.monotonic())
-            progress[2 * (index + k)] += 1
+            progress[2 * slots[k]] += 1
             probe.next_pose += period
         wake = min(p.next_pose for p in probes)
         bus.pump(max(0.0, wake - time.monotonic()), max_messages=64)
@@ -166,5 +168,5 @@ def probe_state(p, elapsed_s):
         "frame_ages_ms": p.frame_ages_ms,
         "frame_delays_ms": p.frame_delays_ms,
         "statuses": p.statuses,
-        "timeline": p.timeline(),
+        "timeline": p.timeline(elapsed_s),
     }
