@@ -74,6 +74,9 @@ def parse_args(argv):
                    help="sessions per run (N), or several runs N1,N2,... for a capacity curve")
     p.add_argument("--seconds", type=float, required=True, help="streaming time of each run (s)")
     p.add_argument("--pose-rate", type=float, required=True, help="poses per second per session")
+    p.add_argument("--warmup", type=float, default=1.0,
+                   help="seconds of poses before measuring (first contacts, caches, first "
+                        "frames; default 1)")
     p.add_argument("--scene", help="scene name in the servers' scene directory (default: cavity)")
     p.add_argument("--scene-file", action="append", default=[],
                    help="send this scene inline (repeat: files joined in order, e.g. a scene "
@@ -106,8 +109,8 @@ def parse_args(argv):
         p.error(f"--sessions {a.sessions}: expected N or N1,N2,...")
     if any(n < 1 for n in a.runs):
         p.error("--sessions: every run needs at least 1 session")
-    if a.seconds <= 0 or a.pose_rate <= 0:
-        p.error("--seconds and --pose-rate must be > 0")
+    if a.seconds <= 0 or a.pose_rate <= 0 or a.warmup < 0:
+        p.error("--seconds and --pose-rate must be > 0, --warmup >= 0")
     if a.scene and a.scene_file:
         p.error("--scene and --scene-file exclude each other")
     if not a.scene and not a.scene_file:
@@ -128,8 +131,8 @@ class Progress:
         if self.quiet:
             return
         frac = min(1.0, max(0.0, elapsed / self.seconds))
-        text = (f"{self.label} {min(elapsed, self.seconds):5.1f}/{self.seconds:g} s  "
-                f"poses {poses}  forces {forces}")
+        clock = "warm-up" if elapsed < 0 else f"{min(elapsed, self.seconds):5.1f}/{self.seconds:g} s"
+        text = f"{self.label} {clock}  poses {poses}  forces {forces}"
         if self.bar:
             width = 30
             filled = int(frac * width)
@@ -215,8 +218,8 @@ def run_once(args, n, scene_toml, log):
     workers = [ctx.Process(target=run_worker, daemon=True,
                            args=(w, client.bus.url, key, handles[w::processes],
                                  list(range(n))[w::processes], args.tool, args.pose_rate,
-                                 args.seconds, args.frames, args.center, go, start_wall, stop,
-                                 progress, results))
+                                 args.warmup, args.seconds, args.frames, args.center, go,
+                                 start_wall, stop, progress, results))
                for w in range(processes)]
     states, errors, drops = {}, [], {}
     interrupted = []
@@ -244,10 +247,13 @@ def run_once(args, n, scene_toml, log):
                 ready += 1
             elif kind == "error":
                 errors.append(payload)
+            elif not any(w.is_alive() for w in workers):
+                break  # they died without a word (e.g. killed): nothing more will come
         if not stop.is_set() and (errors or ready < processes):
             raise VisceraError(f"{processes - ready} worker(s) did not start: "
                                f"{''.join(errors)[-2000:]}")
-        start_wall.value = time.time() + 0.3  # every worker then knows when to begin
+        # every worker then knows when to begin: poses at once, measurements after the warm-up
+        start_wall.value = time.time() + 0.3 + args.warmup
         go.set()
         bar = Progress(args.progress, args.seconds, f"{n} sessions")
         done = 0
@@ -267,7 +273,9 @@ def run_once(args, n, scene_toml, log):
             elif kind == "error":
                 done += 1
                 errors.append(payload)
-            elif kind is None and not any(w.is_alive() for w in workers):
+            elif kind is None and (not any(w.is_alive() for w in workers) or
+                                   time.time() > start_wall.value + args.seconds + 30.0):
+                log(f"{processes - done} worker(s) never reported")
                 break
             bar.show(time.time() - start_wall.value, sum(progress[0::2]), sum(progress[1::2]),
                      final=done == processes)
@@ -282,7 +290,8 @@ def run_once(args, n, scene_toml, log):
     interrupted = bool(interrupted)
     if errors:
         raise VisceraError("worker failed:\n" + "\n".join(errors)[-3000:])
-    asked = {"sessions": n, "seconds": args.seconds, "pose_rate_hz": args.pose_rate,
+    asked = {"sessions": n, "seconds": args.seconds, "warmup_s": args.warmup,
+             "pose_rate_hz": args.pose_rate,
              "session_rate_hz": args.session_rate, "scene": args.scene or "+".join(
                  os.path.basename(f) for f in args.scene_file),
              "frames": args.frames, "frame_rate_hz": args.frame_rate if args.frames else 0.0,

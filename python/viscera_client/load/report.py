@@ -4,7 +4,7 @@ A run is judged twice. The client: did it keep its pose rate (a late client woul
 healthy server look slow)? The server: deadline misses within 0.1 % of steps and pose to
 force round trip p99 within two mechanics periods (docs/capacity.md): a pose sent at a
 random moment first waits up to one period for the next step to start, and that step must
-then answer within its own period.
+then answer within its own period; frames, when asked, at 90 % of their rate or more.
 """
 import statistics
 
@@ -13,6 +13,8 @@ from .stats import latency_summary
 MAX_MISS_FRACTION = 0.001
 # periods: the wait for the next step (up to one) plus the step's own budget (one)
 ROUND_TRIP_LIMIT_PERIODS = 2.0
+# a frame stream below this share of its asked rate is past the render capacity
+MIN_FRAME_SHARE = 0.9
 # a client that sends fewer than this share of its poses, or whose p99 send lateness is
 # above a pose period, is too slow to judge the server by
 MIN_POSE_SHARE = 0.95
@@ -27,15 +29,16 @@ def session_report(handle, state, created, baseline, final, asked):
     """One session's figures. `state`: the worker's probe_state; status fields `created`
     (just after its creation), `baseline` (the first status heard in the run) and `final`
     (the last, sent after the last pose arrived); `asked`: the run's settings.
-    Poses count from creation (no one else sends to the session); steps and misses from
-    the baseline."""
+    Poses count from creation (no one else sends to the session), less the warm-up's;
+    steps and misses from the baseline."""
     seconds = state["elapsed_s"] or 1e-9
     statuses = [s for _, s in state["statuses"]]
     steps = final["steps"] - baseline["steps"]
     misses = final["deadline_misses"] - baseline["deadline_misses"]
     # the server's own measure of its rate (over about a second), median over the run
     achieved_rate = _median([s["achieved_rate_hz"] for s in statuses])
-    accepted = final["poses"] - created["poses"]
+    # poses the server counted since creation, less those of the warm-up
+    accepted = final["poses"] - created["poses"] - state["poses_sent_warmup"]
     period_us = 1e6 / handle.rate_hz if handle.rate_hz > 0 else None
     lateness = latency_summary(state["send_lateness_us"])
     achieved_pose_rate = state["poses_sent"] / seconds
@@ -100,19 +103,31 @@ def session_report(handle, state, created, baseline, final, asked):
             "skin_ms_p50": _median([s["skin_ms"] for s in statuses]),
             "encode_ms_p50": _median([s["encode_ms"] for s in statuses]),
         }
-    server_problems = []
-    if report["mechanics"]["miss_fraction"] is not None and \
-            report["mechanics"]["miss_fraction"] > MAX_MISS_FRACTION:
-        server_problems.append(f"{misses} deadline misses in {steps} steps "
-                               f"(> {100 * MAX_MISS_FRACTION:g} %)")
-    if limit_us and rt["p99"] is not None and rt["p99"] > limit_us:
-        server_problems.append(f"round-trip p99 {rt['p99']:.0f} us > {ROUND_TRIP_LIMIT_PERIODS:g} "
-                               f"periods ({limit_us:.0f} us)")
-    if rt["count"] == 0:
-        server_problems.append("no pose was answered by a force")
-    report["server_ok"] = not server_problems
-    report["server_problems"] = server_problems
+    report["server_problems"] = server_problems(report)
+    report["server_ok"] = not report["server_problems"]
     return report
+
+
+def server_problems(s):
+    """Why a session's figures (a session_report) are past the server's capacity, or []:
+    deadline misses above 0.1 % of steps, round-trip p99 above two periods, no pose answered,
+    or, with frames, a stream below 90 % of its asked rate (the renderer skipping ticks)."""
+    problems = []
+    m, rt = s["mechanics"], s["round_trip_us"]
+    if m["miss_fraction"] is not None and m["miss_fraction"] > MAX_MISS_FRACTION:
+        problems.append(f"{m['deadline_misses']} deadline misses in {m['steps']} steps "
+                        f"(> {100 * MAX_MISS_FRACTION:g} %)")
+    limit_us = s["round_trip_limit_us"]
+    if limit_us and rt["p99"] is not None and rt["p99"] > limit_us:
+        problems.append(f"round-trip p99 {rt['p99']:.0f} us > {ROUND_TRIP_LIMIT_PERIODS:g} "
+                        f"periods ({limit_us:.0f} us)")
+    if rt["count"] == 0:
+        problems.append("no pose was answered by a force")
+    f = s["frames"]
+    if f is not None and f["asked_rate_hz"] and f["rate_hz"] < MIN_FRAME_SHARE * f["asked_rate_hz"]:
+        problems.append(f"frames at {f['rate_hz']:.1f} of {f['asked_rate_hz']:g} Hz "
+                        f"({f['skipped_by_server']} ticks skipped by the renderer)")
+    return problems
 
 
 def overall_report(sessions, pooled_round_trips_us, asked, drops, interrupted, started_utc):

@@ -53,17 +53,19 @@ class SessionProbe:
     time minus send time on this machine's clock.
     """
 
-    def __init__(self, handle, tool, pose_period_s, start_mono):
+    def __init__(self, handle, tool, pose_period_s, start_mono, next_pose=None, max_echoed=-1,
+                 poses_sent_warmup=0):
         self.handle = handle
         self.tool = tool
         self.period = pose_period_s
         self.start = start_mono
-        self.next_pose = start_mono
+        self.next_pose = start_mono if next_pose is None else next_pose
         self.poses_sent = 0
+        self.poses_sent_warmup = poses_sent_warmup  # sent before the measurement began
         self.ticks_skipped = 0          # pose ticks this client was too late to send
         self.send_lateness_us = []      # how late each pose left after its tick
         self.round_trips_us = []
-        self.max_echoed = -1
+        self.max_echoed = max_echoed
         self.poses_answered = 0
         self.forces = SeqCounter()
         self.frames = SeqCounter()
@@ -71,6 +73,14 @@ class SessionProbe:
         self.frame_delays_ms = []       # received - sent
         self.statuses = []              # (t s since start, status fields), see on_status
         self.per_second = {}            # second -> [poses sent, forces, round trips]
+
+    def begin_measurement(self, start_mono):
+        """Forgets what the warm-up measured (keeping its pose count for the loss balance
+        and the last pose answered); times count from `start_mono` on."""
+        self.poses_sent_warmup += self.poses_sent
+        self.__init__(self.handle, self.tool, self.period, start_mono,
+                      next_pose=self.next_pose, max_echoed=self.max_echoed,
+                      poses_sent_warmup=self.poses_sent_warmup)
 
     def _bucket(self, t_mono):
         return self.per_second.setdefault(int(t_mono - self.start), [0, 0, []])

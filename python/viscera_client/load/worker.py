@@ -49,25 +49,26 @@ class PoseStream:
         self.bus.publish(self.channel, self.msg)
 
 
-def run_worker(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, center,
-               go, start_wall, stop, progress, results):
+def run_worker(index, url, key, handles, slots, tool, pose_rate_hz, warmup, seconds, frames,
+               center, go, start_wall, stop, progress, results):
     """Process entry of worker `index`: subscribes, says ("ready", index) on `results`,
-    waits for `go`, then streams to `handles` from wall time `start_wall.value` for
-    `seconds` (or until `stop` is set) and puts ("done", index, {session_id: probe state})
+    waits for `go`, then streams to `handles` from `warmup` seconds before wall time
+    `start_wall.value` (not measured) until `seconds` after it (or until `stop` is set) and
+    puts ("done", index, {session_id: probe state})
     on `results` (or ("error", index, text)). `progress`: a shared array, 2 entries per
     session (poses sent, forces received) at 2 * slots[i] for handles[i]. SIGINT is left to
     the parent, which stops us cleanly."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     try:
-        _run(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, center, go,
-             start_wall, stop, progress, results)
+        _run(index, url, key, handles, slots, tool, pose_rate_hz, warmup, seconds, frames,
+             center, go, start_wall, stop, progress, results)
     except Exception:  # the parent reports it; the other workers go on
         import traceback
         results.put(("error", index, traceback.format_exc()))
 
 
-def _run(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, center, go,
-         start_wall, stop, progress, results):
+def _run(index, url, key, handles, slots, tool, pose_rate_hz, warmup, seconds, frames,
+         center, go, start_wall, stop, progress, results):
     auth = MessageAuth(key) if key else None
     bus = Bus(with_recv_buf(url, FRAME_RECV_BUF) if frames else url, auth)
     period = 1.0 / pose_rate_hz
@@ -104,22 +105,27 @@ def _run(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, c
         bus.pump(0.02)
     # the same instant for every worker: wall clock to monotonic once, here
     start = time.monotonic() + (start_wall.value - time.time())
+    first_pose = start - warmup
     for i, p in enumerate(probes):
-        p.start = start
+        p.start = first_pose
         # stagger sessions over one period: poses of N sessions do not leave in one burst
-        p.next_pose = start + period * (slots[i] % 16) / 16.0
+        p.next_pose = first_pose + period * (slots[i] % 16) / 16.0
     end = start + seconds
     streamed_end = start
-    # until the start, only listen (statuses of the warm-up are not the run's)
-    while time.monotonic() < start and not stop.is_set():
-        bus.pump(min(0.05, max(0.0, start - time.monotonic())))
-    for p in probes:
-        p.statuses.clear()
-        p.per_second.clear()
+    measuring = False
+    # until the first pose, only listen
+    while time.monotonic() < first_pose and not stop.is_set():
+        bus.pump(min(0.05, max(0.0, first_pose - time.monotonic())))
     while not stop.is_set():
         now = time.monotonic()
         if now >= end:
             break
+        if not measuring and now >= start:
+            # the warm-up is over (first contacts, caches, the renderer's first frames): what
+            # was measured so far is not the run's
+            measuring = True
+            for p in probes:
+                p.begin_measurement(start)
         streamed_end = now
         for k, (probe, stream) in enumerate(zip(probes, streams)):
             if probe.next_pose > now:
@@ -128,7 +134,7 @@ def _run(index, url, key, handles, slots, tool, pose_rate_hz, seconds, frames, c
             if behind > 0:  # this client fell behind: skip the ticks, never send a burst
                 probe.ticks_skipped += behind
                 probe.next_pose += behind * period
-            stream.send(now - start)
+            stream.send(now - first_pose)
             probe.on_pose_sent(probe.next_pose, time.monotonic())
             progress[2 * slots[k]] += 1
             probe.next_pose += period
@@ -157,6 +163,7 @@ def probe_state(p, elapsed_s):
     return {
         "elapsed_s": elapsed_s,
         "poses_sent": p.poses_sent,
+        "poses_sent_warmup": p.poses_sent_warmup,
         "ticks_skipped": p.ticks_skipped,
         "send_lateness_us": p.send_lateness_us,
         "round_trips_us": p.round_trips_us,
