@@ -34,10 +34,8 @@ std::vector<ServerInfo> ServerDirectory::Servers() const {
 }
 
 const ServerInfo* PickServer(const std::vector<ServerInfo>& servers) {
-  std::vector<bus::ServerLoad> loads;
-  loads.reserve(servers.size());
-  for (const ServerInfo& s : servers) loads.push_back({s.server_id, s.sessions, s.max_sessions, s.load});
-  const std::optional<bus::ServerLoad> best = bus::PickServer(loads);
+  const std::optional<bus::ServerLoad> best =
+      bus::PickServer(std::vector<bus::ServerLoad>(servers.begin(), servers.end()));
   if (!best) return nullptr;
   for (const ServerInfo& s : servers) {
     if (s.server_id == best->server_id) return &s;

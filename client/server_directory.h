@@ -12,12 +12,9 @@
 
 namespace viscera::client {
 
-/// What the latest heartbeat of one server said.
-struct ServerInfo {
-  std::string server_id;
-  int sessions = 0;
-  int max_sessions = 0;
-  double load = 0.0;       ///< fraction of one core
+/// What the latest heartbeat of one server said: its room (server_id, sessions,
+/// max_sessions, load as a fraction of one core) and more.
+struct ServerInfo : bus::ServerLoad {
   double uptime_s = 0.0;   ///< s
   int64_t heartbeats = 0;  ///< heard while listening
   int64_t rejected = 0;    ///< messages the server dropped since it started

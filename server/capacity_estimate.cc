@@ -74,7 +74,8 @@ int AvailableCores() {
 
 int SessionsThatFit(int cores, double session_cores) {
   VISCERA_DEMAND(session_cores > 0.0 && cores >= 1);
-  const double fit = std::floor(cores * kCoreBudget / session_cores);
+  // 1e-9: a budget that holds exactly k sessions must not round to k - 1 (8 x 0.7 / 0.05)
+  const double fit = std::floor(cores * kCoreBudget / session_cores + 1e-9);
   return static_cast<int>(std::clamp(fit, 1.0, 1024.0));
 }
 

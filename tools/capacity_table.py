@@ -2,10 +2,10 @@
 """The capacity table of docs/capacity.md from tools/capacity.sh's reports.
 
 For each configuration (OUT_DIR/<config>/report.json, runs of growing session counts): the
-last count before the first run past the limits of viscera_client.load.report (deadline
-misses within 0.1 % of steps, round-trip p99 within two periods, frames at 90 % of their
-rate, the client keeping its pose rate), with the figures of that run and of the first run
-past them.
+largest count within the limits of viscera_client.load.report (deadline misses within 0.1 %
+of all steps, pooled round-trip p99 within two periods, frames at 90 % of their rate, the
+client keeping its pose rate), with the figures of that run and of the next run past them,
+and the smaller counts that failed anyway.
 Usage: tools/capacity_table.py OUT_DIR
 """
 import json
@@ -14,12 +14,15 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
                                 "python"))
-from viscera_client.load.report import server_problems  # noqa: E402
+from viscera_client.load.report import run_problems  # noqa: E402
 
 
 def within_limits(run):
     """The run judged again from its figures, with the criteria of this checkout."""
-    return run["overall"]["client_ok"] and not any(server_problems(s) for s in run["sessions"])
+    for s in run["sessions"]:  # reports before frame rates were in the create reply
+        if s["frames"] and not s["frames"]["asked_rate_hz"]:
+            s["frames"]["asked_rate_hz"] = run["overall"]["settings"]["frame_rate_hz"]
+    return run["overall"]["client_ok"] and not run_problems(run["overall"], run["sessions"])
 
 
 def fmt(v, spec="{:.0f}"):
@@ -28,20 +31,24 @@ def fmt(v, spec="{:.0f}"):
 
 def row(config, runs):
     runs = sorted(runs, key=lambda r: r["overall"]["sessions"])
-    # the capacity is the last count before the first run past the limits (conservative: a
-    # machine shared with other work misses now and then, and a pass after a failure is luck)
-    past = next((r for r in runs if not within_limits(r)), None)
-    before = [r for r in runs if past is None or r["overall"]["sessions"] < past["overall"]["sessions"]]
-    best = before[-1] if before else None
+    # the capacity is the largest count within the limits, and the first run past it; runs
+    # below it that failed are named: on a machine shared with other work, misses also come
+    # in bursts from the host, whatever the count (docs/capacity.md)
+    ok = [r for r in runs if within_limits(r)]
+    best = ok[-1] if ok else None
+    n_best = best["overall"]["sessions"] if best else 0
+    past = next((r for r in runs if r["overall"]["sessions"] > n_best and not within_limits(r)),
+                None)
+    below = [str(r["overall"]["sessions"]) for r in runs
+             if r["overall"]["sessions"] < n_best and not within_limits(r)]
     client_limited = past is not None and not past["overall"]["client_ok"]
     cells = [config]
-    if best is None:
-        cells.append("0" + (" (client-limited)" if client_limited else ""))
-    else:
-        n = str(best["overall"]["sessions"])
-        if past is None:
-            n = f"≥ {n}"  # never crossed within the sweep
-        cells.append(n + (" (client-limited)" if client_limited else ""))
+    n = str(n_best) if past is not None or best is None else f"≥ {n_best}"
+    if client_limited:
+        n += " (client-limited)"
+    if below:
+        n += f" (also failed at {', '.join(below)})"
+    cells.append(n)
     for r in (best, past):
         if r is None:
             cells.append("-")

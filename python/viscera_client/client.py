@@ -184,7 +184,9 @@ class Client:
             server_id=reply.server_id, scene=status.scene if status else (scene or "<inline>"),
             rate_hz=status.rate_hz if status else 0.0,
             tools=list(status.tool_names) if status else [],
-            frame_rate_hz=status.frame_rate_hz if status else 0.0)
+            # the reply's status may predate the render thread: then the rate asked
+            frame_rate_hz=(status.frame_rate_hz if status and status.frame_rate_hz > 0
+                           else max(0.0, float(frame_rate_hz))))
 
     def command(self, session, command, timeout_s=2.0):
         """destroy, reset, pause or resume (session_request_t.k*): the reply's status."""

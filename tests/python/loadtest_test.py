@@ -89,6 +89,8 @@ class LoadTestTest(unittest.TestCase):
             self.assertTrue(s["timeline"])
         rt = o["round_trip_us"]
         self.assertEqual(rt["count"], sum(s["round_trip_us"]["count"] for s in r["sessions"]))
+        over = (o["miss_fraction"] or 0) > 0.001 or rt["p99"] > 2e6 / 100.0
+        self.assertEqual(o["server_ok"], not over)
         self.assertEqual(o["poses_lost"], 0)
         self.assertEqual(o["forces_lost"], 0)
         self.assertEqual(p.returncode, 0 if o["client_ok"] and o["server_ok"] else

@@ -95,7 +95,7 @@ def session_report(handle, state, created, baseline, final, asked):
             "received": state["frames_received"],
             "lost": state["frames_lost"],
             "rate_hz": state["frames_received"] / seconds,
-            "asked_rate_hz": handle.frame_rate_hz,
+            "asked_rate_hz": handle.frame_rate_hz or asked["frame_rate_hz"],
             "skipped_by_server": final["frames_dropped"] - baseline["frames_dropped"],
             "age_ms": latency_summary(state["frame_ages_ms"]),
             "delivery_ms": latency_summary(state["frame_delays_ms"]),
@@ -127,6 +127,30 @@ def server_problems(s):
     if f is not None and f["asked_rate_hz"] and f["rate_hz"] < MIN_FRAME_SHARE * f["asked_rate_hz"]:
         problems.append(f"frames at {f['rate_hz']:.1f} of {f['asked_rate_hz']:g} Hz "
                         f"({f['skipped_by_server']} ticks skipped by the renderer)")
+    return problems
+
+
+def run_problems(overall, sessions):
+    """Why a whole run is past the server's capacity, or []: the same limits as
+    server_problems over the figures of every session pooled (deadline misses over all
+    steps, the pooled round-trip p99 against the longest limit), and the slowest frame stream.
+    Pooled, because a short run of one session has too few steps to judge 0.1 % on its own."""
+    problems = []
+    if overall["miss_fraction"] is not None and overall["miss_fraction"] > MAX_MISS_FRACTION:
+        problems.append(f"{overall['deadline_misses']} deadline misses in {overall['steps']} "
+                        f"steps (> {100 * MAX_MISS_FRACTION:g} %)")
+    limits = [s["round_trip_limit_us"] for s in sessions if s["round_trip_limit_us"]]
+    p99 = overall["round_trip_us"]["p99"]
+    if limits and p99 is not None and p99 > max(limits):
+        problems.append(f"pooled round-trip p99 {p99:.0f} us > {max(limits):.0f} us")
+    if overall["round_trip_us"]["count"] == 0:
+        problems.append("no pose was answered by a force")
+    for s in sessions:
+        f = s["frames"]
+        if f is not None and f["asked_rate_hz"] and \
+                f["rate_hz"] < MIN_FRAME_SHARE * f["asked_rate_hz"]:
+            problems.append(f"a frame stream at {f['rate_hz']:.1f} of {f['asked_rate_hz']:g} Hz")
+            break
     return problems
 
 
@@ -162,7 +186,6 @@ def overall_report(sessions, pooled_round_trips_us, asked, drops, interrupted, s
         "frames": None,
         "dropped_by_client_bus": drops,
         "client_ok": all(s["client"]["ok"] for s in sessions),
-        "server_ok": all(s["server_ok"] for s in sessions),
     }
     if asked["frames"]:
         out["frames"] = {
@@ -171,6 +194,8 @@ def overall_report(sessions, pooled_round_trips_us, asked, drops, interrupted, s
             "rate_hz_min": min(s["frames"]["rate_hz"] for s in sessions),
             "skipped_by_server": total(lambda s: s["frames"]["skipped_by_server"]),
         }
+    out["server_problems"] = run_problems(out, sessions)
+    out["server_ok"] = not out["server_problems"]
     return out
 
 
@@ -201,7 +226,9 @@ def text_summary(report):
         for p in s["client"]["problems"]:
             lines.append(f"CLIENT     session {s['session_id']}: {p}")
         for p in s["server_problems"]:
-            lines.append(f"SERVER     session {s['session_id']} on {s['server']}: {p}")
+            lines.append(f"session    {s['session_id']} on {s['server']}: {p}")
+    for p in o["server_problems"]:
+        lines.append(f"SERVER     {p}")
     lines.append("verdict    client " + ("ok" if o["client_ok"] else "TOO SLOW (figures unreliable)")
                  + ", server " + ("ok" if o["server_ok"] else "OVER CAPACITY"))
     return "\n".join(lines)
