@@ -152,7 +152,7 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   std::string placement;  // why this server, when the client chose it
   if (server_id.empty()) {
     // every server beats once a period: listen a little longer than one to hear them all
-    const auto servers = client.HearServers(std::min(c.timeout_s, o.listen_s));
+    const auto servers = client.HearServers(o.listen_s, c.timeout_s);
     if (servers.empty()) return NoServer(c, url, "(heartbeat)");
     const viscera::client::ServerInfo* best = viscera::client::PickServer(servers);
     if (best == nullptr) {

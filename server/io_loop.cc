@@ -72,6 +72,11 @@ void IoLoop::Stop() {
   sessions_->StopAll();
 }
 
+void IoLoop::SetMaxSessions(int max_sessions) {
+  VISCERA_DEMAND(max_sessions >= 1);
+  new_max_sessions_ = max_sessions;
+}
+
 std::string IoLoop::error() const {
   std::lock_guard<std::mutex> lock(error_mutex_);
   return error_;
@@ -91,6 +96,10 @@ void IoLoop::Run() {
   try {
     auto next_heartbeat = Clock::now();
     while (!stop_.load()) {
+      if (const int n = new_max_sessions_.exchange(0); n > 0) {
+        sessions_->SetMaxSessions(n);
+        heartbeat_.SetMaxSessions(n);
+      }
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
         if (bus_->Publish(bus::kHeartbeatChannel, heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected()))) {

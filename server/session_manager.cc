@@ -102,6 +102,11 @@ SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
 
 SessionManager::~SessionManager() { StopAll(); }
 
+void SessionManager::SetMaxSessions(int max_sessions) {
+  VISCERA_DEMAND(max_sessions >= 1);
+  config_.max_sessions = max_sessions;
+}
+
 std::string SessionManager::FullMessage() const {
   const std::string full = Cat("server ", config_.server_id, " is full (", sessions_.size(),
                                " of ", config_.max_sessions, " sessions)");

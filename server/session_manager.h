@@ -67,6 +67,9 @@ class SessionManager {
   /// @pre peers (nullable) outlives the manager and is only touched by the I/O thread.
   void SetPeers(const PeerDirectory* peers) { peers_ = peers; }
 
+  /// Creates beyond `max_sessions` running sessions are refused from now on. @pre >= 1.
+  void SetMaxSessions(int max_sessions);
+
   int num_sessions() const { return num_sessions_.load(); }
   /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
   int64_t rejected() const { return rejected_.load(); }

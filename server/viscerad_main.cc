@@ -1,6 +1,7 @@
 /// viscerad: the viscera haptic server. Runs training sessions (one mechanics thread each)
 /// for clients over LCM and announces itself with a heartbeat once a second.
 #include <pthread.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <sched.h>
@@ -13,6 +14,7 @@
 #include <exception>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -38,7 +40,7 @@ std::string DefaultServerId() {
 const char* SignalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
 
 // --max-sessions 0: as many sessions as the measured cost of `scene` fits in this
-// process's cores (docs/capacity.md); cores alone if the scene cannot be measured.
+// process's cores (docs/capacity.md); one per core if the scene cannot be measured.
 int AutoMaxSessions(const viscera::server::ServerConfig& config, const std::string& scene) {
   try {
     const viscera::server::CapacityEstimate e = viscera::server::EstimateCapacity(config, scene);
@@ -75,14 +77,28 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
                    config.realtime_priority, std::strerror(err));
     }
   }
-  if (config.max_sessions == 0) config.max_sessions = AutoMaxSessions(config, capacity_scene);
+  // --max-sessions 0: one per core until the measurement (a second or two: the scene's model,
+  // steps, frames) is done, so that the server answers at once; measured off the I/O thread
+  const bool measure = config.max_sessions == 0;
+  if (measure) config.max_sessions = viscera::server::AvailableCores();
   viscera::server::IoLoop loop(config);
   loop.Start();
+  std::thread estimator;
+  if (measure) {
+    estimator = std::thread([&loop, config, capacity_scene] {
+      // Sessions may already run: the measurement takes what they leave (nice 19, inherited
+      // by its render thread). It counts CPU time, so waiting costs it no accuracy.
+      sched_param normal{};
+      pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+      setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+      loop.SetMaxSessions(AutoMaxSessions(config, capacity_scene));
+    });
+  }
   std::fprintf(stderr,
-               "viscerad: server '%s' up on %s (heartbeat on %s, max %d sessions, scenes in %s, "
+               "viscerad: server '%s' up on %s (heartbeat on %s, max %d sessions%s, scenes in %s, "
                "records in %s%s)\n",
                config.server_id.c_str(), config.lcm_url.c_str(), viscera::bus::kHeartbeatChannel,
-               config.max_sessions, config.scene_dir.c_str(),
+               config.max_sessions, measure ? " until measured" : "", config.scene_dir.c_str(),
                config.log_dir.empty() ? "(none)" : config.log_dir.c_str(),
                config.key_file.empty() ? "" : ", MAC required");
 
@@ -92,6 +108,7 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
     const int signal = sigtimedwait(&stop_signals, nullptr, &poll);
     if (signal == SIGINT || signal == SIGTERM) {
       std::fprintf(stderr, "viscerad: %s received, stopping\n", SignalName(signal));
+      if (estimator.joinable()) estimator.join();
       loop.Stop();
       std::fprintf(stderr, "viscerad: stopped cleanly after %lld heartbeats (%lld messages rejected)\n",
                    static_cast<long long>(loop.heartbeats_sent()),
@@ -99,6 +116,7 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
       return 0;
     }
     if (loop.failed()) {
+      if (estimator.joinable()) estimator.join();
       loop.Stop();
       std::fprintf(stderr, "viscerad: I/O thread failed: %s\n", loop.error().c_str());
       return 1;

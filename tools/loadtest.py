@@ -149,7 +149,7 @@ def create_sessions(client, args, n, scene_toml, log):
     """N sessions, each on the least loaded server with room (or on --server). The
     servers' heartbeats are heard once; each placement then counts itself, since the next
     heartbeat would come too late to see it."""
-    servers = [] if args.server else client.servers(args.listen)
+    servers = [] if args.server else client.servers(args.listen, timeout_s=10.0)
     if not args.server:
         if not servers:
             raise VisceraError(f"no server heard on {client.bus.url} within {args.listen} s")

@@ -70,14 +70,17 @@ class Client:
         return self.bus.pump(timeout_s)
 
     # --- servers -----------------------------------------------------------------------
-    def servers(self, listen_s=HEARTBEAT_PERIOD_S + 0.2):
-        """Every server heard within `listen_s`, sorted by id (list of ServerInfo)."""
+    def servers(self, listen_s=HEARTBEAT_PERIOD_S + 0.2, timeout_s=None):
+        """Every server heard, sorted by id (list of ServerInfo): listens `listen_s`, and
+        longer, up to `timeout_s`, while none has been heard yet (one that is starting)."""
         heard = {}
         sub = self.bus.subscribe(HEARTBEAT, viscera_proto.heartbeat_t,
                                  lambda hb, chan, t: observe(heard, hb))
-        deadline = time.monotonic() + listen_s
+        start = time.monotonic()
+        enough = start + listen_s
+        deadline = start + max(listen_s, timeout_s or 0.0)
         try:
-            while time.monotonic() < deadline:
+            while time.monotonic() < deadline and (time.monotonic() < enough or not heard):
                 self.bus.pump(min(0.1, max(0.0, deadline - time.monotonic())))
         finally:
             self.bus.unsubscribe(sub)
@@ -160,7 +163,7 @@ class Client:
         if (scene is None) == (scene_toml is None):
             raise ValueError("create needs a scene name or a scene_toml, not both")
         if not server:
-            heard = self.servers() if servers is None else servers
+            heard = self.servers(timeout_s=timeout_s) if servers is None else servers
             chosen = pick_server(heard)
             if chosen is None:
                 raise VisceraError(

@@ -69,10 +69,12 @@ links=$(ip -o link show | awk -F': ' '{print $2}' | sed 's/@.*//' | sort | tr '\
 hlinks=$(on_host 3 ip -o link show | awk -F': ' '{print $2}' | sed 's/@.*//' | sort | tr '\n' ' ')
 [ "$hlinks" = "eth0 lo " ] || fail "host 3 has unexpected links: $hlinks"
 
-on_host 1 "$viscerad" --server-id lan-a --max-sessions 3 --lcm-url "$url" \
+# nsenter execs the server in place: $! is the server itself, so cleanup stops it (a
+# subshell's pid would leave it running in the host's namespace)
+nsenter -t "$host1" -n "$viscerad" --server-id lan-a --max-sessions 3 --lcm-url "$url" \
   --scene-dir "$root/scenes" 2>"$work/lan-a.err" &
 pids="$pids $!"
-on_host 2 "$viscerad" --server-id lan-b --max-sessions 3 --lcm-url "$url" \
+nsenter -t "$host2" -n "$viscerad" --server-id lan-b --max-sessions 3 --lcm-url "$url" \
   --scene-dir "$root/scenes" 2>"$work/lan-b.err" &
 pids="$pids $!"
 

@@ -2,8 +2,10 @@
 network namespace: sessions, poses to forces, status, frames, the MAC, placement over two
 servers, and a full server's refusal."""
 import os
+import re
 import subprocess
 import tempfile
+import time
 import unittest
 
 import viscera_proto
@@ -177,3 +179,31 @@ class PlacementTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class MeasuredCapacityTest(unittest.TestCase):
+    """viscerad without --max-sessions answers at once, then announces what it measured."""
+
+    def test_heartbeat_announces_the_measured_capacity(self):
+        require_private_netns()
+        server = Server("py-auto")
+        try:
+            c = new_client()
+            wait_for_servers(c, ["py-auto"])  # heard before the measurement is done
+            deadline = time.monotonic() + 150  # the measurement runs at nice 19
+            line = None
+            while line is None:
+                self.assertLess(time.monotonic(), deadline, server.stderr())
+                line = re.search(r"max (\d+) sessions: a cavity session costs ([0-9.]+) core",
+                                 server.stderr())
+                c.pump(0.1)
+            measured, cost = int(line.group(1)), float(line.group(2))
+            self.assertGreater(cost, 0.0)
+            self.assertGreaterEqual(measured, 1)
+            # the heartbeats now say so (the I/O thread applies it within its next turn)
+            heard = wait_for_servers(c, ["py-auto"])
+            while heard["py-auto"].max_sessions != measured:
+                self.assertLess(time.monotonic(), deadline, heard)
+                heard = wait_for_servers(c, ["py-auto"])
+        finally:
+            self.assertEqual(server.stop(), 0, server.stderr())

@@ -140,16 +140,19 @@ def _run(index, url, key, handles, slots, tool, pose_rate_hz, warmup, seconds, f
             probe.next_pose += period
         wake = min(p.next_pose for p in probes)
         bus.pump(max(0.0, wake - time.monotonic()), max_messages=64)
-    # The last answers, and a status of each session sent after the last pose arrived
-    # (its pose count is then final): statuses come at 4 Hz, so wait up to 1.5 s.
+    # The last answers, and a status of each session that counts every pose sent (a busy
+    # server's I/O thread may count the last ones after a status or two): statuses come at
+    # 4 Hz, so wait up to 2 s; a pose really lost keeps us waiting that long.
     stopped = time.monotonic()
-    drain_end = stopped + 1.5
+    drain_end = stopped + 2.0
     settled = stopped + 0.3
+
+    def counted(p):
+        return p.statuses and p.statuses[-1][1]["poses"] >= p.poses_sent + p.poses_sent_warmup
+
     while time.monotonic() < drain_end:
         bus.pump(min(0.05, drain_end - time.monotonic()))
-        now = time.monotonic()
-        if now > settled and all(p.statuses and p.start + p.statuses[-1][0] > stopped + 0.05
-                                 for p in probes):
+        if time.monotonic() > settled and all(counted(p) for p in probes):
             break
     out = {}
     for p in probes:
