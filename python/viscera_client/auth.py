@@ -8,10 +8,14 @@ import hashlib
 import hmac
 import struct
 
+import viscera_proto
+
 MAC_BYTES = 32
 # encoded top-level message: 8-byte fingerprint, then header_t big-endian: version (2),
-# session_id (8), seq (8), utime (8), token_len (4), token, mac_len (4), mac
-_TOKEN_LEN_OFFSET = 8 + 2 + 8 + 8 + 8
+# session_id (8), seq (8), utime (8), [sender (8), protocol 4 on], token_len (4), token,
+# mac_len (4), mac. Read from the generated type, so the layout follows proto/.
+HAS_SENDER = "sender" in viscera_proto.header_t.__slots__
+_TOKEN_LEN_OFFSET = 8 + 2 + 8 + 8 + 8 + (8 if HAS_SENDER else 0)
 
 
 def mac_len_offset(data):

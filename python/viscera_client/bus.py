@@ -3,6 +3,7 @@
 One thread owns a Bus: it publishes, subscribes and pumps. Processes that stream (the load
 tester's workers) each open their own.
 """
+import secrets
 import select
 import time
 
@@ -25,13 +26,24 @@ def wall_micros():
     return time.time_ns() // 1000
 
 
-def make_header(session_id=0, seq=0, token=b""):
-    """A header of this protocol version, stamped now."""
+HAS_SENDER = "sender" in viscera_proto.header_t.__slots__
+
+
+def new_sender_id():
+    """A random non-zero 63-bit sender id (protocol 4: one per sequence counter)."""
+    return secrets.randbits(63) or 1
+
+
+def make_header(session_id=0, seq=0, token=b"", sender=None):
+    """A header of this protocol version, stamped now. `sender`: the id of the sequence
+    counter `seq` comes from (protocol 4 on; a random one when None)."""
     h = viscera_proto.header_t()
     h.version = PROTOCOL_VERSION
     h.session_id = session_id
     h.seq = seq
     h.utime = wall_micros()
+    if HAS_SENDER:
+        h.sender = new_sender_id() if sender is None else sender
     h.token = bytes(token)
     h.token_len = len(h.token)
     h.mac = b""  # lcm-gen 1.3.1 defaults byte arrays to "" (a str): set bytes
@@ -60,11 +72,26 @@ class Bus:
         self.auth = auth
         self.drops = {"bad_mac": 0, "malformed": 0, "bad_header": 0}
         self._seq = {}  # channel -> next header.seq of this sender
+        self._senders = {}  # channel -> sender id of that sequence counter (protocol 4)
 
     def next_seq(self, channel):
         seq = self._seq.get(channel, 0)
         self._seq[channel] = seq + 1
         return seq
+
+    def sender(self, channel):
+        """The sender id of this bus's sequence counter on `channel` (drawn once)."""
+        if channel not in self._senders:
+            self._senders[channel] = new_sender_id()
+        return self._senders[channel]
+
+    def stamp(self, msg, channel):
+        """Sets msg.header's seq (and sender) from this bus's counter of `channel`, and its
+        time to now: a server refuses a (sender, seq) it has seen as a replay."""
+        msg.header.seq = self.next_seq(channel)
+        if HAS_SENDER:
+            msg.header.sender = self.sender(channel)
+        msg.header.utime = wall_micros()
 
     def publish(self, channel, msg):
         """Encodes, signs (with a key) and publishes `msg` (an lcm-gen type)."""

@@ -99,7 +99,7 @@ class Client:
 
         sub = self.bus.subscribe(REPLY, session_reply_t, on_reply)
         try:
-            request.header.seq = self.bus.next_seq(REQUEST)
+            self.bus.stamp(request, REQUEST)
             self.bus.publish(REQUEST, request)
             deadline = time.monotonic() + timeout_s
             extended = False
@@ -197,6 +197,13 @@ class Client:
         reply = self._answer(r, timeout_s, f"command {command} for session {session.session_id}")
         return reply.sessions[0] if reply.num_sessions > 0 else None
 
+    def keep_alive(self, session, timeout_s=2.0):
+        """Renews the session's lease (protocol 4 on: a session hears nothing authentic for
+        its lease, status lease_s, and is destroyed). Poses and commands renew it too."""
+        if not hasattr(session_request_t, "kKeepAlive"):
+            return None  # this protocol has no leases
+        return self.command(session, session_request_t.kKeepAlive, timeout_s)
+
     def destroy(self, session, timeout_s=2.0):
         """Stops the session; returns its last status (counts of the whole session)."""
         return self.command(session, session_request_t.kDestroy, timeout_s)
@@ -219,7 +226,8 @@ class Client:
         """Publishes one tool pose; returns its header.seq (the force echoes it)."""
         channel = session_channel("POSE", session.session_id)
         p = viscera_proto.tool_pose_t()
-        p.header = make_header(session.session_id, self.bus.next_seq(channel), session.token)
+        p.header = make_header(session.session_id, 0, session.token)
+        self.bus.stamp(p, channel)
         p.tool = tool
         p.position = [float(x) for x in position]
         p.orientation = [float(x) for x in orientation]

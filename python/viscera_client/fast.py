@@ -12,7 +12,8 @@ import viscera_proto
 
 _FORCE_FP = viscera_proto.force_feedback_t._get_packed_fingerprint()
 _FRAME_FP = viscera_proto.jpeg_frame_t._get_packed_fingerprint()
-_HEADER = struct.Struct(">hqqqi")  # version, session_id, seq, utime, token_len
+# version, session_id, seq, utime, [sender: protocol 4 on], token_len
+_HEADER = struct.Struct(">hqqq" + ("q" if "sender" in viscera_proto.header_t.__slots__ else "") + "i")
 # force_feedback_t after its header: tool, step, sim_time, force[3], torque[3],
 # stiffness[3][3], tip[3], then pose_seq and pose_utime
 _FORCE_BODY = struct.Struct(">iqd" + "d" * 18 + "qq")
@@ -24,7 +25,8 @@ def _header(data, fingerprint):
     """(version, session_id, seq, utime, offset after the header), or None."""
     if data[:8] != fingerprint or len(data) < 8 + _HEADER.size + 4:
         return None
-    version, session_id, seq, utime, token_len = _HEADER.unpack_from(data, 8)
+    fields = _HEADER.unpack_from(data, 8)
+    version, session_id, seq, utime, token_len = fields[:4] + fields[-1:]
     offset = 8 + _HEADER.size + token_len
     if token_len < 0 or offset + 4 > len(data):
         return None

@@ -41,8 +41,8 @@ class PoseStream:
         self.center = center
 
     def send(self, t):
-        h = make_header(self.handle.session_id, self.bus.next_seq(self.channel), self.handle.token)
-        self.msg.header = h
+        self.msg.header = make_header(self.handle.session_id, 0, self.handle.token)
+        self.bus.stamp(self.msg, self.channel)
         a = 2.0 * math.pi * 0.5 * t
         c = self.center
         self.msg.position = [c[0] + 0.01 * math.cos(a), c[1] + 0.01 * math.sin(a), c[2]]
