@@ -12,6 +12,7 @@
 #include <viscera_proto/session_request_t.hpp>
 
 #include "bus/lcm_bus.h"
+#include "client/server_directory.h"
 
 namespace viscera::client {
 
@@ -28,6 +29,11 @@ class SessionClient {
   /// heartbeat), preferring `server_id` when not empty (then only that one counts).
   std::optional<viscera_proto::heartbeat_t> FindServer(const std::string& server_id,
                                                        double timeout_s);
+
+  /// Every server heard on the heartbeat channel, sorted by id: listens `listen_s` (a little
+  /// over one heartbeat period hears each running server once), and longer, up to
+  /// `timeout_s`, while none has been heard yet (one that is starting).
+  std::vector<ServerInfo> HearServers(double listen_s, double timeout_s);
 
   /// Publishes `request` (its seq is set here) and waits up to `timeout_s` for replies with
   /// its request_id. Returns at the first kOk reply; other replies (kUnknownSession from

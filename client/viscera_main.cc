@@ -143,6 +143,7 @@ struct CreateOptions {
   int width = 0, height = 0;
   double frame_rate_hz = 0.0;
   int jpeg_quality = 0;
+  double listen_s = 1.2;  ///< heartbeats heard before placing (s)
 };
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
@@ -151,10 +152,25 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
     return kLocalError;
   }
   viscera::client::SessionClient client(url, LoadAuth(c));
-  const auto server = client.FindServer(o.server, c.timeout_s);
-  if (!server) return NoServer(c, url, o.server.empty() ? "(heartbeat)" : o.server.c_str());
+  std::string server_id = o.server;
+  std::string placement;  // why this server, when the client chose it
+  if (server_id.empty()) {
+    // every server beats once a period: listen a little longer than one to hear them all
+    const auto servers = client.HearServers(o.listen_s, c.timeout_s);
+    if (servers.empty()) return NoServer(c, url, "(heartbeat)");
+    const viscera::client::ServerInfo* best = viscera::client::PickServer(servers);
+    if (best == nullptr) {
+      std::fprintf(stderr, "viscera: every server is full (%s)\n",
+                   viscera::client::ServersSummary(servers).c_str());
+      return kRefused;
+    }
+    server_id = best->server_id;
+    placement = "least loaded of " + viscera::client::ServersSummary(servers);
+  } else if (!client.FindServer(server_id, c.timeout_s)) {
+    return NoServer(c, url, server_id.c_str());
+  }
   session_request_t request = viscera::client::MakeRequest(session_request_t::kCreate, 0);
-  request.server_id = server->server_id;
+  request.server_id = server_id;
   if (!o.scene_file.empty()) {
     std::ifstream in(o.scene_file);
     if (!in.good()) {
@@ -183,6 +199,7 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   if (c.json) {
     Json j = {{"session", id},
               {"server_id", reply.server_id},
+              {"placement", placement.empty() ? "--server" : placement},
               {"token", viscera::client::ToHex(reply.header.token)},
               {"scene", o.scene.empty() ? "<inline>" : o.scene},
               {"warnings", reply.message}};
@@ -192,8 +209,9 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
     }
     std::cout << j.dump(2) << "\n";
   } else {
-    std::printf("session %lld created on %s (token saved in %s)\n", static_cast<long long>(id),
-                reply.server_id.c_str(), c.sessions_file.c_str());
+    std::printf("session %lld created on %s (%s; token saved in %s)\n", static_cast<long long>(id),
+                reply.server_id.c_str(), placement.empty() ? "named by --server" : placement.c_str(),
+                c.sessions_file.c_str());
   }
   return 0;
 }
@@ -451,7 +469,12 @@ int main(int argc, char** argv) {
   add_common(create);
   create->add_option("scene", create_options.scene, "Scene name in the server's scene directory");
   create->add_option("--scene-file", create_options.scene_file, "Send this scene file inline");
-  create->add_option("--server", create_options.server, "Server id (default: the first heard)");
+  create->add_option("--server", create_options.server,
+                     "Server id (default: the least loaded server with room)");
+  create->add_option("--listen", create_options.listen_s,
+                     "Seconds to hear heartbeats before choosing a server")
+      ->check(CLI::Range(0.05, 60.0))
+      ->capture_default_str();
   create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
       ->check(CLI::Range(1.0, 10000.0));
   create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");

@@ -25,6 +25,11 @@ HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions)
   ThrowUnless(max_sessions_ >= 1, "max sessions must be >= 1, got ", max_sessions_);
 }
 
+void HeartbeatSource::SetMaxSessions(int max_sessions) {
+  VISCERA_DEMAND(max_sessions >= 1);
+  max_sessions_ = max_sessions;
+}
+
 viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions, int64_t rejected) {
   VISCERA_DEMAND(num_sessions >= 0 && rejected >= 0);
   const int64_t wall_ns = MonotonicNanos();

@@ -20,6 +20,9 @@ class HeartbeatSource {
   /// @pre 0 <= num_sessions, 0 <= rejected (messages dropped since start).
   viscera_proto::heartbeat_t Next(int num_sessions, int64_t rejected = 0);
 
+  /// The max_sessions announced from the next heartbeat on. @pre max_sessions >= 1.
+  void SetMaxSessions(int max_sessions);
+
  private:
   std::string server_id_;
   int max_sessions_;
