@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <queue>
 #include <set>
@@ -125,6 +126,18 @@ inline int SelfIntersections(const Mesh& mesh, int neighbourhood = 2) {
     }
   }
   return static_cast<int>(crossing.size());
+}
+
+/// Builds `skin` on the skeleton `q` (a bend of radius bend_factor R) and prints how many triangle pairs cross, within 2- and 8-edge neighbourhoods (the known-failure
+/// tests report how far from passing they are). @return the 2-edge count.
+template <typename SkinType>
+int CrossingsOnABend(SkinType* skin, const Points& q, double bend_factor) {
+  skin->Bind(static_cast<int>(q.rows()));
+  Mesh mesh;
+  skin->Build(q, &mesh);
+  const int near = SelfIntersections(mesh), far = SelfIntersections(mesh, 8);
+  std::printf("bend radius %.1f R: %d crossing pairs (2-edge neighbourhood), %d (8-edge)\n", bend_factor, near, far);
+  return near;
 }
 
 /// Number of vertices whose triangles do not form exactly one closed, consistently oriented
