@@ -9,6 +9,7 @@
 
 #include "collision/contact_detector.h"
 #include "collision/sphere_chain.h"
+#include "collision/verlet_list.h"
 #include "mechanics/block_band.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
@@ -43,7 +44,10 @@ class Interactions {
   void EndStep(State* state);
 
   const collision::SphereChain& chain() const { return chain_; }
-  const std::vector<collision::ContactCandidate>& candidates() const { return candidates_; }
+  /// Every pair that may touch within the sub-step, and some farther (a Verlet list).
+  const std::vector<collision::ContactCandidate>& candidates() const { return candidates_.candidates(); }
+  /// Broad-phase searches so far (the list is reused between them).
+  int64_t searches() const { return candidates_.searches(); }
 
  private:
   struct Penalty {
@@ -81,8 +85,7 @@ class Interactions {
   bool candidates_fresh_ = false;
 
   collision::SphereChain chain_;
-  collision::ContactDetector detector_;
-  std::vector<collision::ContactCandidate> candidates_;
+  collision::VerletList candidates_;
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
