@@ -54,12 +54,14 @@ TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
   const std::string sid = std::to_string(id);
   StatusWhen(dir, sid, [](const json& s) { return s["frames"]["sent"].get<int64_t>() > 0; });  // renderer up
 
-  const CliResult frames = Viscera(dir, "frames " + sid + " --out " + dir + "/frames --seconds 4 --json");
+  // a count, not a duration: however slowly a loaded machine renders (the renderer runs
+  // SCHED_IDLE and yields to everything), the test waits for these frames
+  const CliResult frames = Viscera(dir, "frames " + sid + " --out " + dir + "/frames --count 12 --timeout 60 --json");
   ASSERT_EQ(frames.rc, 0) << frames.out;
   const json f = frames.json();
   const json after = Status(dir, sid);
   // liveness, and exact bookkeeping: what the client received or counted lost, the server sent
-  EXPECT_GE(f["frames"].get<int64_t>(), 10) << f.dump();
+  EXPECT_EQ(f["frames"].get<int64_t>(), 12) << f.dump();
   EXPECT_LE(f["frames"].get<int64_t>() + f["lost"].get<int64_t>(), after["frames"]["sent"].get<int64_t>()) << f.dump();
   EXPECT_LE(f["server_dropped"].get<int64_t>(), after["frames"]["dropped"].get<int64_t>()) << f.dump();
   EXPECT_GE(f["lost"].get<int64_t>(), 0);
@@ -80,7 +82,7 @@ TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
   cv::Scalar mean, dev;
   cv::meanStdDev(first, mean, dev);
   EXPECT_GT(dev[2], 10.0) << "the first frame is uniform";
-  EXPECT_GT(MeanAbsDifference(first, last), 1.0) << "the falling tube did not move in 4 s";
+  EXPECT_GT(MeanAbsDifference(first, last), 1.0) << "the falling tube did not move over 12 frames";
 
   const json s = Status(dir, sid);
   EXPECT_EQ(s["state"], "running");
@@ -104,7 +106,7 @@ TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
   int fetched = 0;
   ASSERT_TRUE(Eventually([&] {
     const std::string out = dir + "/a" + std::to_string(fetched++);
-    if (Viscera(dir, "frames " + id + " --out " + out + " --count 1").rc != 0) return false;
+    if (Viscera(dir, "frames " + id + " --out " + out + " --count 1 --timeout 60").rc != 0) return false;
     const cv::Mat next = Decode(out + "/frame_000000.jpg");
     const bool settled = !a.empty() && next.size() == a.size() && MeanAbsDifference(a, next) < 1.0;
     a = next;
@@ -116,14 +118,14 @@ TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
   double moved = 0.0;
   EXPECT_TRUE(Eventually([&] {
     const std::string out = dir + "/b" + std::to_string(fetched++);
-    if (Viscera(dir, "frames " + id + " --out " + out + " --count 1").rc != 0) return false;
+    if (Viscera(dir, "frames " + id + " --out " + out + " --count 1 --timeout 60").rc != 0) return false;
     const cv::Mat b = Decode(out + "/frame_000000.jpg");
     moved = b.size() == a.size() ? MeanAbsDifference(a, b) : 0.0;
     return moved > 5.0;
   }, 30.0)) << "the camera did not move the picture (difference " << moved << ")";
 
   ASSERT_EQ(Viscera(dir, "resume " + id).rc, 0);
-  const CliResult record = Viscera(dir, "record " + id + " --out " + dir + "/clip.mp4 --count 25 --json");
+  const CliResult record = Viscera(dir, "record " + id + " --out " + dir + "/clip.mp4 --count 25 --timeout 60 --json");
   ASSERT_EQ(record.rc, 0) << record.out;
   cv::VideoCapture video(dir + "/clip.mp4");
   ASSERT_TRUE(video.isOpened());
@@ -132,9 +134,12 @@ TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
     ASSERT_EQ(frame.cols, 320);
     ASSERT_EQ(frame.rows, 240);
   }
-  // 25 frames, plus the pictures repeated for ticks without a frame (real time)
+  // 25 frames, plus the picture repeated for each tick without a frame (lost or dropped by
+  // the renderer, at most a second's worth per gap): an exact bound, whatever the load
+  const json r = record.json();
+  EXPECT_EQ(r["frames"], 25);
   EXPECT_GE(decoded, 25);
-  EXPECT_LE(decoded, 50);
+  EXPECT_LE(decoded, 25 + r["lost"].get<int64_t>() + r["server_dropped"].get<int64_t>()) << r.dump();
   EXPECT_EQ(daemon.Stop(), 0);
 }
 

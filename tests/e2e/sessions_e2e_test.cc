@@ -200,11 +200,12 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
     probe.Publish(pose_a, p);
   }, "pose: protocol version");
   // a stale pose: after a good one (seq 1000), an older seq sent earlier (a reordered datagram)
-  probe.Publish(pose_a, Pose(a, token, 1000, Vec3(0.0, 0.0, 0.2)));
+  const auto good = Pose(a, token, 1000, Vec3(0.0, 0.0, 0.2));
+  probe.Publish(pose_a, good);
   StatusWhen(dir, a, [](const json& s) { return s["poses"].get<int64_t>() == 1; });
   expect_rejected("stale pose", [&] {
     auto p = Pose(a, token, 999, Vec3(0.0, 0.0, 0.2));
-    p.header.utime -= 1'000'000;
+    p.header.utime = good.header.utime - 1000;
     probe.Publish(pose_a, p);
   }, "stale pose (seq 999 after a newer one)");
   expect_rejected("a destroy with another session's token", [&] {
@@ -449,10 +450,15 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
   EXPECT_GE(norm(idle), 0.5 * before) << "the force dropped at once";
   for (size_t i = idle + 1; i < forces.size(); ++i) {
     EXPECT_LE(norm(i), norm(i - 1) * (1.0 + 1e-9)) << "rose again " << i - idle << " steps after going idle";
-    if (forces[i].sim_time - forces[idle].sim_time >= 0.4) EXPECT_LT(norm(i), 0.01 * before);
+    if (forces[i].sim_time - forces[idle].sim_time >= 0.4) {
+      EXPECT_LT(norm(i), 0.01 * before);
+    }
   }
   const json s = Status(dir, id);
-  EXPECT_EQ(s["idle_events"], 1);
+  // at least the silence; a starved client may have let it go idle more often (each counted)
+  int64_t transitions = 0;
+  for (size_t i = 1; i < forces.size(); ++i) transitions += forces[i - 1].active && !forces[i].active;
+  EXPECT_GE(s["idle_events"].get<int64_t>(), std::max<int64_t>(1, transitions));
   // the 300 paced poses arrive; of the burst, UDP keeps what the receive buffer holds
   EXPECT_GT(s["poses"].get<int64_t>(), 250) << s.dump();
   const json so = Status(dir, other);
