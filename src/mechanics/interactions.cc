@@ -56,6 +56,7 @@ Interactions::Interactions(const Model& model)
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
+  pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   chain_.Place(model.params().initial_q);
 }
 
@@ -151,33 +152,35 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   chain_.UpdateCentres(q);
   GatherVelocities(qd);
   double energy = 0.0;
+  pairs_.clear();
   for (const ContactCandidate& c : candidates()) {
     const Penalty p = Evaluate(c);
     if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
-    if (c.kind == ContactKind::kSelf) AddToWindow(c.b, -p.force, F);
-    if (K) {
-      // A self pair couples two windows far apart in the chain, outside the band. Each side gets
-      // twice the pair's stiffness on its own window instead: that is exact for the pair's
-      // relative (penetrating) motion, which is what must stay stable; it overstates the
-      // stiffness of the pair's common motion along the normal (docs/contacts.md).
-      const double pair = c.kind == ContactKind::kSelf ? 2.0 : 1.0;
-      const Mat3 nn = p.normal * p.normal.transpose();
-      const double fn = std::max(0.0, p.force.dot(p.normal));
-      const Mat3 kn = pair * cp.stiffness * nn;
-      const Mat3 dn = pair * cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
-      for (int side = 0; side < (c.kind == ContactKind::kSelf ? 2 : 1); ++side) {
-        const int sphere = side == 0 ? c.a : c.b;
-        if (!sphere_touched_[sphere]) {
-          sphere_touched_[sphere] = 1;
-          sphere_k_[sphere].setZero();
-          sphere_d_[sphere].setZero();
-        }
-        sphere_k_[sphere] += kn;
-        sphere_d_[sphere] += dn;
+    const bool self = c.kind == ContactKind::kSelf;
+    if (self) AddToWindow(c.b, -p.force, F);
+    if (!K) continue;
+    const Mat3 nn = p.normal * p.normal.transpose();
+    const double fn = std::max(0.0, p.force.dot(p.normal));
+    const Mat3 kn = cp.stiffness * nn;
+    const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+    // A self pair couples two windows far apart in the chain, outside the band: each side gets
+    // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
+    // upper bound of the exact matrix, so a good preconditioner); the integrator removes the
+    // excess on the pair's common motion (AddCommonModeTerms) so that no drag is added.
+    const double scale = self ? 2.0 : 1.0;
+    for (int side = 0; side < (self ? 2 : 1); ++side) {
+      const int sphere = side == 0 ? c.a : c.b;
+      if (!sphere_touched_[sphere]) {
+        sphere_touched_[sphere] = 1;
+        sphere_k_[sphere].setZero();
+        sphere_d_[sphere].setZero();
       }
+      sphere_k_[sphere] += scale * kn;
+      sphere_d_[sphere] += scale * dn;
     }
+    if (self && cp.exact_pairs) pairs_.push_back({c.a, c.b, kn, dn});
   }
   if (K) {
     for (int k = 0; k < chain_.size(); ++k) {
@@ -201,6 +204,19 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
   }
   return energy;
+}
+
+void Interactions::AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const {
+  const auto& spheres = chain_.spheres();
+  for (const PairCoupling& pair : pairs_) {
+    const collision::Sphere& sa = spheres[pair.a];
+    const collision::Sphere& sb = spheres[pair.b];
+    Vec3 common = Vec3::Zero();  // (J_a + J_b) x
+    for (int i = 0; i < 4; ++i) common += sa.w[i] * x.row(sa.first + i).transpose() + sb.w[i] * x.row(sb.first + i).transpose();
+    const Vec3 f = ck * (pair.k * common) + cd * (pair.d * common);
+    AddToWindow(pair.a, f, y);
+    AddToWindow(pair.b, f, y);
+  }
 }
 
 void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {

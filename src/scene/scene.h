@@ -21,4 +21,10 @@ Scene LoadSceneFile(const std::string& path);
 /// Same from TOML text; `source` names it in messages.
 Scene ParseScene(const std::string& text, const std::string& source = "<string>");
 
+/// Runs the scene at another rate while keeping what its `substeps` meant: a sub-step no longer
+/// than the scene's own, 1 / (rate_hz * substeps) as written. A 100 Hz scene with 2 sub-steps
+/// (5 ms) takes 1 sub-step at 1 kHz, not 2 of 0.5 ms.
+/// @pre rate_hz > 0.
+void ChangeRate(mechanics::ModelParams* params, double rate_hz);
+
 }  // namespace viscera::scene
