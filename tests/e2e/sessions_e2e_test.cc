@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <random>
-#include <cstdio>
 #include <sstream>
+#include <thread>
 
 #include <viscera_proto/force_feedback_t.hpp>
 #include <viscera_proto/heartbeat_t.hpp>
@@ -373,7 +375,22 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   std::ofstream(script) << "t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,grasper,0,0,0.1,1,0,0,0,1\n"
                            "1,grasper,0,0,0.03,1,0,0,0,1\n2,grasper,0,0,0.015,1,0,0,0,1\n"
                            "3,grasper,0,0,0.015,1,0,0,0,1\n";
-  const CliResult r = Viscera(dir, "drive " + std::to_string(id) + " --script " + script + " --json");
+  // the session's force messages, heard while `viscera drive` plays the script
+  bus::LcmBus probe(kUrl);
+  std::vector<viscera_proto::force_feedback_t> forces;
+  probe.Subscribe<viscera_proto::force_feedback_t>(
+      bus::SessionChannel(bus::kForcePrefix, id),
+      [&](const viscera_proto::force_feedback_t& f, int64_t) { forces.push_back(f); });
+  CliResult r;
+  std::atomic<bool> driven{false};
+  std::thread driver([&] {
+    r = Viscera(dir, "drive " + std::to_string(id) + " --script " + script + " --json");
+    driven = true;
+  });
+  // until the drive is over and the tool, left at the last pose, has gone idle
+  EXPECT_TRUE(Eventually([&] { return driven && !forces.empty() && !forces.back().active; }, 60.0,
+                         [&] { probe.Pump(20); }));
+  driver.join();
   ASSERT_EQ(r.rc, 0) << r.out;
   const json d = r.json()["drive"];
   EXPECT_GT(d["force_at_max"][2].get<double>(), 0.0) << "pushing down must push the hand up";
@@ -381,23 +398,32 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   EXPECT_GT(d["round_trip_p50_us"].get<double>(), 0.0) << d.dump();
   EXPECT_LE(d["round_trip_p50_us"].get<double>(), d["round_trip_p99_us"].get<double>());
   EXPECT_LE(d["round_trip_p99_us"].get<double>(), d["round_trip_max_us"].get<double>());
-  // the offline runner, same scene and script: the server must feel the same push (within
-  // 15 %: the server's poses are sampled from the script at the pose rate, not per step)
+  // The steady push, against the offline runner on the same scene and script, within 15 %.
+  // Steady: the last active steps, after the tool held the script's last pose for the idle
+  // timeout (0.25 s); a peak would measure how late a loaded machine delivered the poses.
+  std::vector<double> held;
+  for (const auto& f : forces) {
+    if (f.active) held.push_back(std::hypot(f.force[0], f.force[1], f.force[2]));
+  }
+  ASSERT_GE(held.size(), 10u);
+  held.erase(held.begin(), held.end() - 10);
+  std::sort(held.begin(), held.end());
+  const double server = held[5];
   const std::string trace = dir + "/push.jsonl";
   const std::string command = std::string(VISCERA_SIM) + " " + PushScene() + " --tool-script " + script +
-                              " --duration 3 --trace " + trace + " > /dev/null";
+                              " --duration 3.25 --trace " + trace + " > /dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  double offline_max = 0.0;
+  double offline = 0.0;
   std::istringstream lines(ReadFile(trace));
   for (std::string line; std::getline(lines, line);) {
     const json frame = json::parse(line);
     if (!frame.contains("tool_force")) continue;
     const json& f = frame["tool_force"]["grasper"];
-    offline_max = std::max(offline_max, std::hypot(f[0].get<double>(), f[1].get<double>(), f[2].get<double>()));
+    offline = std::hypot(f[0].get<double>(), f[1].get<double>(), f[2].get<double>());  // the last frame's
   }
-  ASSERT_GT(offline_max, 0.5) << "the offline push felt nothing";
-  std::printf("peak force: server %.4f N, offline runner %.4f N\n", d["max_force_n"].get<double>(), offline_max);
-  EXPECT_NEAR(d["max_force_n"].get<double>(), offline_max, 0.15 * offline_max) << d.dump();
+  ASSERT_GT(offline, 0.5) << "the offline push felt nothing";
+  std::printf("steady push: server %.4f N, offline runner %.4f N\n", server, offline);
+  EXPECT_NEAR(server, offline, 0.15 * offline) << d.dump();
 }
 
 TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
