@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <viscera_proto/session_status_t.hpp>
 
@@ -22,6 +24,8 @@
 #include "client/driver.h"
 #include "client/frame_commands.h"
 #include "client/gesture.h"
+#include "client/haptic_cli.h"
+#include "client/haptic_command.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
 #include "client/status_format.h"
@@ -390,6 +394,33 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
   return 0;
 }
 
+
+int RunHapticCli(const std::string& url, const Common& c, viscera::client::HapticCli o) {
+  viscera::client::HapticCommand& h = o.command;
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  // the session must exist and have the tool
+  viscera_proto::session_status_t status;
+  if (const int rc = FetchStatus(client, url, c, h.session_id, &status); rc != 0) return rc;
+  const auto it = std::find(status.tool_names.begin(), status.tool_names.end(), h.tool_name);
+  if (it == status.tool_names.end()) {
+    std::fprintf(stderr, "viscera: session %lld has no tool \"%s\"\n", static_cast<long long>(h.session_id),
+                 h.tool_name.c_str());
+    return kRefused;
+  }
+  h.tool = static_cast<int>(it - status.tool_names.begin());
+  h.token = TokenFor(c, h.session_id, nullptr);
+  h.json = c.json;
+  h.live = !c.json && !o.quiet && isatty(STDERR_FILENO) == 1;
+  h.loop.impairment.delay_s = o.delay_ms * 1e-3;
+  h.loop.impairment.jitter_s = o.jitter_ms * 1e-3;
+  h.loop.model.stale_after_s = o.stale_ms * 1e-3;
+  h.loop.model.fade_s = o.fade_ms * 1e-3;
+  h.loop.spin_ns = o.spin_us < 0.0 ? -1 : static_cast<int64_t>(o.spin_us * 1e3);
+  h.loop.deadband_m = o.deadband_mm * 1e-3;
+  h.loop.passivity = !o.no_passivity;
+  return viscera::client::RunHaptic(client, h);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -454,6 +485,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
   drive->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
+
+
+  viscera::client::HapticCli haptic_options;
+  CLI::App* haptic = app.add_subcommand("haptic", "Run a haptic device loop on a session's tool (docs/haptics.md)");
+  add_common(haptic);
+  viscera::client::AddHapticOptions(haptic, &haptic_options);
+  haptic->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
 
   int64_t camera_id = 0;
   std::vector<double> eye{0.0, -0.3, 0.3}, target{0.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
@@ -526,6 +564,7 @@ int main(int argc, char** argv) {
     if (list->parsed()) return RunList(url, common);
     if (status->parsed()) return RunStatus(url, common, status_options);
     if (drive->parsed()) return RunDrive(url, common, drive_options);
+    if (haptic->parsed()) return RunHapticCli(url, common, haptic_options);
     if (camera->parsed()) {
       return RunCommand(url, common, session_request_t::kCamera, camera_id,
                         [&](session_request_t* r) {

@@ -344,6 +344,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
       request.skeleton_rate_hz != 0.0 ? request.skeleton_rate_hz : config_.skeleton_rate_hz;
   sc.status_rate_hz = config_.status_rate_hz;
   sc.realtime_priority = config_.realtime_priority;
+  sc.spin_ns = config_.spin_us < 0.0 ? -1 : static_cast<int64_t>(config_.spin_us * 1e3);
   FrameStreamConfig frames;
   frames.rate_hz = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
   frames.options.width = request.frame_width > 0 ? request.frame_width : config_.frame_width;

@@ -147,6 +147,11 @@ int main(int argc, char** argv) {
                  "SCHED_FIFO priority (1..99) for the mechanics and I/O threads; 0 = normal")
       ->check(CLI::Range(0, 99))
       ->capture_default_str();
+  app.add_option("--spin-us", config.spin_us,
+                 "Mechanics loops sleep until this long before each deadline, then spin (us; 0 = sleep "
+                 "only; -1 = 50 with --realtime granted, else 0)")
+      ->check(CLI::Range(-1.0, 100000.0))
+      ->capture_default_str();
   app.add_option("--key-file", config.key_file,
                  "Pre-shared key file: sign every message and accept only signed ones");
   CLI11_PARSE(app, argc, argv);

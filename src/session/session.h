@@ -36,6 +36,9 @@ struct SessionConfig {
   /// thread at it (1..98), so builds, other processes and the server's other threads cannot
   /// delay its steps; 0: normal scheduling.
   int realtime_priority = 0;
+  /// The mechanics loop sleeps until this long before each deadline, then spins (ns; at most
+  /// half a period); < 0: AutoSpinNs (common/pacer.h and docs/haptics.md, "Pacing", say why).
+  int64_t spin_ns = -1;
 };
 
 /// Thread-safe view of a session's camera (set by kCamera, read by a render thread).
@@ -109,7 +112,7 @@ class Session {
 
  private:
   void Run();
-  void Loop();
+  void Loop(bool realtime);
   void ApplyCommands();
   void PublishForces(int64_t now_ns);
   void PublishSkeleton();
