@@ -1,19 +1,29 @@
 #pragma once
 /// HeartbeatSource: builds the server's heartbeat_t messages, measuring its load.
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <viscera_proto/heartbeat_t.hpp>
+
+#include "common/clock.h"
 
 namespace viscera::server {
 
 /// CPU time used by every thread of this process (ns).
 int64_t ProcessCpuNanos();
 
+/// Where the load's two times come from (ns): the process's CPU time and monotonic wall
+/// time. Tests inject their own, so the load they check is exact rather than timed.
+struct HeartbeatClocks {
+  std::function<int64_t()> cpu_ns = ProcessCpuNanos;
+  std::function<int64_t()> wall_ns = MonotonicNanos;
+};
+
 class HeartbeatSource {
  public:
   /// @throws InputError when server_id is empty or max_sessions < 1.
-  HeartbeatSource(std::string server_id, int max_sessions);
+  HeartbeatSource(std::string server_id, int max_sessions, HeartbeatClocks clocks = {});
 
   /// The next heartbeat: sequence numbers count up from 0; load is the process's CPU
   /// time since the previous call (or since construction) over the wall time elapsed.
@@ -26,6 +36,7 @@ class HeartbeatSource {
  private:
   std::string server_id_;
   int max_sessions_;
+  HeartbeatClocks clocks_;
   int64_t seq_ = 0;
   int64_t start_wall_ns_;
   int64_t last_wall_ns_;

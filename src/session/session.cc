@@ -22,6 +22,7 @@
 #include "common/pacer.h"
 #include "common/rate_window.h"
 #include "mechanics/forces.h"
+#include "session/force_feedback.h"
 #include "session/loop_stats.h"
 #include "session/outbox.h"
 #include "session/step_record.h"
@@ -311,23 +312,10 @@ void Session::PublishForces(int64_t now_ns) {
   LoopState& L = *loop_;
   const mechanics::State& s = L.stepper.state();
   for (size_t i = 0; i < s.tools.size(); ++i) {
-    const mechanics::ToolState& tool = s.tools[i];
     viscera_proto::force_feedback_t& f = L.force;
     f.header = bus::MakeHeader(config_.id, L.force_seq++);
-    f.tool = static_cast<int32_t>(i);
-    f.step = s.steps;
-    f.sim_time = s.t;
-    for (int a = 0; a < 3; ++a) {
-      f.force[a] = tool.force(a);
-      f.torque[a] = tool.torque(a);
-      f.tip[a] = tool.tip(a);
-      for (int b = 0; b < 3; ++b) f.stiffness[a][b] = tool.stiffness(a, b);
-    }
-    f.pose_seq = L.poses.size() > i ? L.poses[i].seq : -1;
+    FillForceFeedback(s, i, L.targets[i], L.poses.size() > i ? L.poses[i].seq : -1, &f);
     f.pose_utime = L.poses.size() > i ? L.poses[i].client_utime : 0;
-    f.clamped = tool.clamped;
-    f.active = L.targets[i].active;
-    f.grasping = tool.grasping;
     L.outbox->Push(f);
   }
 }
