@@ -255,14 +255,15 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
     probe.PublishRaw(channel, garbage.data(), static_cast<int>(garbage.size()));
   }
   probe.Publish(bus::SessionChannel(bus::kPosePrefix, 999), Pose(999, token, 0, Vec3::Zero()));
-  // the server subscribes to requests and poses only: the request garbage and the unknown pose
+  // the server subscribes to requests, heartbeats (other servers, for placement) and poses only:
+  // the request and heartbeat garbage and the unknown pose
   int64_t now_rejected = 0;
   EXPECT_TRUE(Eventually([&] {
     const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
     if (r.rc == 0) now_rejected = r.json()[0]["rejected"].get<int64_t>();
-    return now_rejected >= server_rejected + 2;
-  }, 30.0)) << "the server did not count the garbage request and the unknown session's pose";
-  EXPECT_EQ(now_rejected, server_rejected + 2);
+    return now_rejected >= server_rejected + 3;
+  }, 30.0)) << "the server did not count the garbage request and heartbeat and the unknown session's pose";
+  EXPECT_EQ(now_rejected, server_rejected + 3);
   json sa = Status(dir, a);
   EXPECT_EQ(sa["rejected"], expected_a);
   EXPECT_EQ(sa["poses"], 1);
