@@ -5,10 +5,16 @@
 
 #include <viscera_proto/heartbeat_t.hpp>
 
+#include "server/server_config.h"
+
 namespace viscera::server {
 
 /// CPU time used by every thread of this process (ns).
 int64_t ProcessCpuNanos();
+
+/// Writes the limits of `config` into a heartbeat (clients and operators see what a server
+/// will refuse before asking).
+void PutLimits(const ServerConfig& config, viscera_proto::heartbeat_t* heartbeat);
 
 class HeartbeatSource {
  public:

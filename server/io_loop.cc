@@ -24,7 +24,9 @@ IoLoop::IoLoop(const ServerConfig& config)
               config_.heartbeat_period.count());
   ThrowUnless(config_.status_rate_hz > 0.0 && config_.max_rate_hz >= 1.0,
               "status rate and max rate must be positive");
+  ThrowUnless(config_.max_clock_skew_s > 0.0, "clock-skew bound must be > 0 s");
   bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
+  if (config_.max_message_bytes > 0) bus_->SetMaxMessageSize(config_.max_message_bytes);
   frame_bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
   if (!config_.key_file.empty()) {
     auto auth = std::make_shared<bus::MessageAuth>(bus::MessageAuth::FromKeyFile(config_.key_file));
@@ -82,7 +84,10 @@ void IoLoop::Run() {
     while (!stop_.load()) {
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
-        if (bus_->Publish(bus::kHeartbeatChannel, heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected()))) {
+        viscera_proto::heartbeat_t heartbeat = heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());
+        heartbeat.replayed = sessions_->replayed();
+        PutLimits(config_, &heartbeat);
+        if (bus_->Publish(bus::kHeartbeatChannel, heartbeat)) {
           ++heartbeats_sent_;
         }
         // absolute schedule, but never a burst of catch-up heartbeats after a stall

@@ -30,6 +30,11 @@ inline constexpr char kDefaultUrl[] = "udpm://239.255.76.67:7667?ttl=0";
 /// else kDefaultUrl.
 std::string ResolveUrl(const std::string& flag);
 
+/// True when traffic on `url` can reach other hosts: udpm:// with a ttl above 0, or any
+/// provider other than udpm://, memq:// and file:// (docs/security.md). A ttl of 0 (LCM's
+/// default when absent) keeps multicast on this machine.
+bool UrlLeavesHost(const std::string& url);
+
 /// Counters of one bus since construction (a consistent-enough snapshot: each counter
 /// is read atomically, not all of them together).
 struct BusStats {
@@ -40,10 +45,11 @@ struct BusStats {
   int64_t published = 0;         ///< messages handed to LCM successfully
   int64_t publish_failures = 0;  ///< encode or LCM publish failed
   int64_t auth_failures = 0;     ///< with a key: missing or wrong MAC, dropped undecoded
+  int64_t oversize = 0;          ///< above the size limit, dropped undecoded
 };
 
 /// Why the bus dropped a datagram before any handler saw it.
-enum class DropReason { kMalformed, kBadMac };
+enum class DropReason { kMalformed, kBadMac, kOversize };
 
 /// What a handler learns about a datagram besides its content.
 struct MessageInfo {
@@ -89,6 +95,10 @@ class LcmBus {
   /// Call before publishing or pumping. nullptr turns authentication off.
   void SetAuth(std::shared_ptr<const MessageAuth> auth) { auth_ = std::move(auth); }
   bool authenticated() const { return auth_ != nullptr; }
+
+  /// Datagrams larger than `bytes` (> 0) are dropped before the MAC check or decoding, and
+  /// counted in oversize. Call before pumping; default: no limit.
+  void SetMaxMessageSize(int bytes) { max_message_size_ = bytes; }
 
   /// Calls `on_drop` for every datagram dropped before reaching its handler (malformed or
   /// failing the MAC), so owners can count them per channel. Owner thread only.
@@ -159,6 +169,7 @@ class LcmBus {
   std::thread::id owner_;  // set by the first Pump/Drain
 
   std::shared_ptr<const MessageAuth> auth_;
+  int max_message_size_ = 0;  // 0: no limit
   DropHandler on_drop_;
   std::vector<uint8_t> verify_scratch_;  // owner thread
 
@@ -175,6 +186,7 @@ class LcmBus {
   std::atomic<int64_t> published_{0};
   std::atomic<int64_t> publish_failures_{0};
   std::atomic<int64_t> auth_failures_{0};
+  std::atomic<int64_t> oversize_{0};
 };
 
 // ---------------------------------------------------------------- template bodies

@@ -13,9 +13,9 @@ namespace viscera::bus {
 namespace {
 
 // Encoded layout of a top-level message: 8-byte type fingerprint, then header_t's fields
-// big-endian: version (2), session_id (8), seq (8), utime (8), token_len (4), token, mac_len
-// (4), mac.
-constexpr int kTokenLenOffset = 8 + 2 + 8 + 8 + 8;
+// big-endian: version (2), session_id (8), seq (8), utime (8), sender (8), token_len (4),
+// token, mac_len (4), mac.
+constexpr int kTokenLenOffset = 8 + 2 + 8 + 8 + 8 + 8;
 
 int32_t ReadBe32(const uint8_t* p) {
   return static_cast<int32_t>((uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) |

@@ -67,6 +67,7 @@ class SessionManagerTest : public ::testing::Test {
     r.header.version = viscera_proto::header_t::kProtocolVersion;
     r.header.utime = bus::WallMicros();
     r.request_id = ++request_id_;
+    r.header.seq = request_id_;  // one client: its sequence counts up (replay protection)
     const std::string channel = bus::kRequestChannel;
     manager_->OnRequest(r, bus::MessageInfo{&channel, 0, 0});
     for (int i = 0; i < 400 && manager_->creating(); ++i) {
