@@ -35,8 +35,8 @@ IoLoop::IoLoop(const ServerConfig& config)
   }
   sessions_ = std::make_unique<SessionManager>(config_, bus_.get(), frame_bus_.get());
   // subscribed here, before the thread pumps: LCM 1.3.1 must not subscribe while dispatching
-  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason) {
-    sessions_->OnDrop(channel, reason);
+  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason, const uint8_t* data, int size) {
+    sessions_->OnDrop(channel, reason, data, size);
   });
   bus_->SubscribeWithInfo<viscera_proto::session_request_t>(
       bus::kRequestChannel,

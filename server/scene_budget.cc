@@ -25,10 +25,19 @@ std::string RealPath(const std::string& path) {
   return out;
 }
 
+// `text` with control bytes shown as '?', at most 80 characters: it goes into a reply.
+std::string Printable(const std::string& text) {
+  std::string out = text.substr(0, 80);
+  for (char& c : out) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  }
+  return text.size() > 80 ? out + "..." : out;
+}
+
 }  // namespace
 
 std::string ResolveSceneFile(const std::string& scene_dir, const std::string& file, int64_t max_bytes) {
-  const auto refuse = [&](const std::string& why) { Fail("file \"", file, "\": ", why); };
+  const auto refuse = [&](const std::string& why) { Fail("file \"", Printable(file), "\": ", why); };
   if (file.empty()) refuse("empty");
   if (file.size() > kMaxFileName) refuse(Cat("longer than ", kMaxFileName, " characters"));
   if (file.find('\0') != std::string::npos) refuse("contains a NUL byte");

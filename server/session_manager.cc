@@ -50,6 +50,12 @@ int64_t SessionOfChannel(const std::string& channel, const char* prefix) {
   return id;
 }
 
+uint64_t ReadBe(const uint8_t* p, int bytes) {
+  uint64_t v = 0;
+  for (int i = 0; i < bytes; ++i) v = (v << 8) | p[i];
+  return v;
+}
+
 // Tokens and MACs never reach a record (docs/security.md): a record may be shared.
 void Scrub(viscera_proto::header_t* header) {
   header->token.clear();
@@ -201,11 +207,24 @@ void SessionManager::ExpireLeases() {
   }
 }
 
-void SessionManager::OnDrop(const std::string& channel, bus::DropReason reason) {
+void SessionManager::OnDrop(const std::string& channel, bus::DropReason reason, const uint8_t* data,
+                            int size) {
   const char* what = reason == bus::DropReason::kBadMac     ? "message without a valid MAC"
                      : reason == bus::DropReason::kOversize ? "oversize message"
                                                             : "malformed message";
   Reject(Find(SessionOfChannel(channel, bus::kPosePrefix)), Cat(what, " on ", channel));
+  if (reason != bus::DropReason::kOversize || channel != bus::kRequestChannel) return;
+  // say why to the client: request_id follows the header's mac (encoded layout, big-endian)
+  const int mac_len_at = bus::MacLenOffset(data, size);
+  if (mac_len_at < 0 || mac_len_at + 4 > size) return;
+  const int32_t mac_len = static_cast<int32_t>(ReadBe(data + mac_len_at, 4));
+  if (mac_len < 0 || mac_len > size - mac_len_at - 4 - 9) return;
+  session_request_t request{};
+  request.request_id = static_cast<int64_t>(ReadBe(data + mac_len_at + 4 + mac_len, 8));
+  request.command = static_cast<int8_t>(data[mac_len_at + 4 + mac_len + 8]);
+  Reply(request, session_reply_t::kRefused,
+        Cat("message of ", size, " bytes: above this server's limit of ", config_.max_message_bytes,
+            " bytes (--max-message-size)"));
 }
 
 void SessionManager::Reply(const session_request_t& request, int8_t result,

@@ -51,9 +51,10 @@ class SessionManager {
 
   void OnRequest(const viscera_proto::session_request_t& request, const bus::MessageInfo& info);
   void OnPose(const viscera_proto::tool_pose_t& pose, const bus::MessageInfo& info);
-  /// A datagram the bus dropped (malformed, bad MAC): counted, and charged to the session
-  /// when its channel names one.
-  void OnDrop(const std::string& channel, bus::DropReason reason);
+  /// A datagram the bus dropped (malformed, bad MAC, oversize): counted, and charged to the
+  /// session when its channel names one. An oversize request is answered (kRefused, with
+  /// the limit) when its request_id can be read from the raw bytes.
+  void OnDrop(const std::string& channel, bus::DropReason reason, const uint8_t* data, int size);
 
   /// Finishes creations whose model is built (building a model can take a while, e.g. a
   /// mesh obstacle's distance field: a helper thread at idle priority builds it so neither

@@ -97,12 +97,14 @@ void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   LcmBus& bus = *subscription->bus;
   ++bus.received_;
   // Nothing may escape into LCM's C code: catch everything, count it, keep going.
+  const auto* data = static_cast<const uint8_t*>(rbuf->data);
+  const int size = static_cast<int>(rbuf->data_size);
   try {
     if (bus.max_message_size_ > 0 && rbuf->data_size > static_cast<uint32_t>(bus.max_message_size_)) {
       ++bus.oversize_;
       bus.RecordError(Cat("message of ", rbuf->data_size, " bytes on ", channel, " (limit ",
                           bus.max_message_size_, "): dropped"));
-      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kOversize);
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kOversize, data, size);
       return;
     }
     if (bus.auth_ != nullptr &&
@@ -111,14 +113,14 @@ void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chann
       ++bus.auth_failures_;
       bus.RecordError(Cat("message without a valid MAC on ", channel, " (", rbuf->data_size,
                           " bytes): dropped"));
-      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kBadMac);
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kBadMac, data, size);
       return;
     }
     if (subscription->dispatch(*rbuf, channel) == Outcome::kDecodeFailed) {
       ++bus.decode_failures_;
       bus.RecordError(Cat("malformed message on ", channel, " (", rbuf->data_size,
                           " bytes): dropped"));
-      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kMalformed);
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kMalformed, data, size);
       return;
     }
     ++bus.handled_;

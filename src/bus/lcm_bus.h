@@ -69,8 +69,10 @@ class LcmBus {
   /// Handler that also learns the channel (for subscriptions to a channel regex).
   template <typename Msg>
   using InfoHandler = std::function<void(const Msg& msg, const MessageInfo& info)>;
-  /// Told about every datagram dropped before its handler (owner thread).
-  using DropHandler = std::function<void(const std::string& channel, DropReason reason)>;
+  /// Told about every datagram dropped before its handler (owner thread), with its bytes
+  /// (valid during the call only).
+  using DropHandler = std::function<void(const std::string& channel, DropReason reason,
+                                         const uint8_t* data, int size)>;
 
   /// Opens LCM on `url` (udpm://, memq://, ...).
   /// @throws InputError when LCM cannot open the URL.

@@ -105,7 +105,7 @@ TEST(MessageAuth, BusWithAKeyDropsUnsignedDatagramsAndCountsThem) {
   bus.SetAuth(std::make_shared<MessageAuth>(KeyOf(3)));
   int handled = 0;
   std::vector<DropReason> drops;
-  bus.SetDropHandler([&](const std::string& channel, DropReason reason) {
+  bus.SetDropHandler([&](const std::string& channel, DropReason reason, const uint8_t*, int) {
     EXPECT_EQ(channel, kHeartbeatChannel);
     drops.push_back(reason);
   });
