@@ -25,12 +25,6 @@ namespace {
 using nlohmann::json;
 
 
-json Status(const std::string& dir, int64_t id) {
-  const CliResult r = Viscera(dir, "status " + std::to_string(id) + " --json");
-  EXPECT_EQ(r.rc, 0) << r.out;
-  return r.rc == 0 ? r.json() : json();
-}
-
 std::string PushScene() { return std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes/push.toml"; }
 
 viscera_proto::tool_pose_t Pose(int64_t id, const std::vector<uint8_t>& token, int64_t seq,
