@@ -57,6 +57,13 @@ void IoLoop::Start() {
   thread_ = std::thread([this] { Run(); });
 }
 
+int IoLoop::HandleWaiting() {
+  VISCERA_DEMAND(!thread_.joinable());
+  const int handled = bus_->Drain();
+  sessions_->Poll();
+  return handled;
+}
+
 void IoLoop::Stop() {
   stop_ = true;
   if (thread_.joinable()) thread_.join();

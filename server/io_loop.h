@@ -34,6 +34,13 @@ class IoLoop {
   /// every session (final status, records flushed). Idempotent.
   void Stop();
 
+  /// Handles what waits on the bus, then finishes what is ready (creations, leases), on the
+  /// calling thread: for tests and fuzzing, only while the I/O thread is not started.
+  /// @return messages handled.
+  int HandleWaiting();
+  /// The bus requests and poses arrive on (with memq://, the only way in).
+  bus::LcmBus& bus() { return *bus_; }
+
   /// True once the thread has died of an error; error() says which.
   bool failed() const { return failed_.load(); }
   std::string error() const;

@@ -32,7 +32,8 @@ Msg DecodeOrThrow(const lcm::LogEvent& e, const std::string& path) {
 
 }  // namespace
 
-ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step) {
+ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step,
+                          const scene::SceneLimits& limits) {
   lcm::LogFile log(path, "r");
   ThrowUnless(log.good(), "cannot read session record '", path, "'");
 
@@ -71,7 +72,7 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
       // the scene record keeps the scene's text and, in scene_name, the file it came from
       scene = std::make_unique<SessionScene>(LoadSessionScene(
           "", "", request.scene_toml, request.rate_hz, std::numeric_limits<double>::infinity(),
-          request.scene_name.empty() ? "<inline>" : request.scene_name));
+          request.scene_name.empty() ? "<inline>" : request.scene_name, limits));
       result.session_id = request.header.session_id;
       result.scene = request.scene_name.empty() ? "<inline>" : request.scene_name;
       result.rate_hz = scene->model->params().rate_hz;
