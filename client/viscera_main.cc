@@ -373,6 +373,11 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
       client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
   if (after.empty() || after.front().num_sessions < 1) return NoServer(c, url, "the status request");
   const auto& s = after.front().sessions[0];
+  if (s.replayed > status.replayed) {
+    std::fprintf(stderr, "viscera: session %lld refused %lld messages as replayed or stale while driving (last: %s)\n",
+                 static_cast<long long>(o.id), static_cast<long long>(s.replayed - status.replayed),
+                 s.last_error.c_str());
+  }
   if (c.json) {
     std::cout << Json{{"session", o.id},
                       {"drive", viscera::client::DriveToJson(r)},

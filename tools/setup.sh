@@ -13,6 +13,7 @@ packages=(
   libsodium-dev libcli11-dev
   iproute2 util-linux python3
   chromium
+  clang libclang-rt-14-dev llvm ccache
 )
 
 missing=()
