@@ -56,7 +56,7 @@ if [[ "${VISCERA_SANITIZERS:-1}" != 0 ]]; then
   tsan_tests=(test_session_session_test test_session_snapshot_test test_server_session_manager_test
               test_server_security_test test_bus_lcm_bus_test test_client_mjpeg_server_test)
   timed "tsan build" bash -c "cmake -S '$root' -B '$tsan' -G Ninja -DCMAKE_BUILD_TYPE=None \
-      '-DCMAKE_C_FLAGS=$flags' '-DCMAKE_CXX_FLAGS=$flags' -DVISCERA_TSAN=ON ${launcher[*]} >/dev/null &&
+      '-DCMAKE_C_FLAGS=-O1 -g1' '-DCMAKE_CXX_FLAGS=-O1 -g1' -DVISCERA_TSAN=ON ${launcher[*]} >/dev/null &&
     cmake --build '$tsan' --parallel $jobs --target ${tsan_tests[*]}"
   tsan_run() {
     local t

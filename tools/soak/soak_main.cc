@@ -42,7 +42,7 @@ struct Options {
   std::string viscerad, viscera, scene_dir, work;
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   double seconds = 20.0;
-  double rss_bound_mb = 64.0;
+  double rss_bound_mb = 16.0;
   double min_rate_fraction = 0.9;
 };
 
@@ -129,7 +129,8 @@ int Run(const Options& o) {
   viscera::soak::ProcessFigures baseline, peak{0, 0};
   std::vector<Created> live;
   std::vector<int64_t> rss_series;  // every 10th cycle (kB)
-  const auto end = Clock::now() + std::chrono::duration<double>(o.seconds);
+  const auto start = Clock::now();
+  const auto end = start + std::chrono::duration<double>(o.seconds);
   while (Clock::now() < end) {
     ++cycles;
     // a session per cycle (frames every other one), flooded, driven by a client that is killed
@@ -151,9 +152,14 @@ int Run(const Options& o) {
       const Created bad = viscera::soak::CreateSession(client, "soak", "", viscera::soak::UnstableScene(), -1.0);
       if (bad.id != 0) {
         ++blowups;
-        Sleep(0.5);
-        const auto st = StatusOf(client, bad.id);
-        if (st && st->recoveries > 0 && st->state == session_status_t::kRunning) ++blowups_recovered;
+        // it blows up within its first steps; a busy machine may take a while to run them
+        for (const auto give_up = Clock::now() + std::chrono::seconds(5); Clock::now() < give_up; Sleep(0.1)) {
+          const auto st = StatusOf(client, bad.id);
+          if (st && st->recoveries > 0 && st->state == session_status_t::kRunning) {
+            ++blowups_recovered;
+            break;
+          }
+        }
         if (viscera::soak::DestroySession(client, bad)) ++destroyed;
       }
     }
@@ -168,7 +174,8 @@ int Run(const Options& o) {
       if (w->achieved_rate_hz >= o.min_rate_fraction * w->rate_hz) ++rate_ok;
     }
     const auto f = viscera::soak::Figures(server);
-    if (cycles == 3) baseline = f;  // warm: allocators and caches have grown to their working size
+    // warm after the first quarter: allocators and caches have grown to their working size
+    if (baseline.rss_kb < 0 && Clock::now() >= start + (end - start) / 4) baseline = f;
     if (cycles % 10 == 0) rss_series.push_back(f.rss_kb);
     peak.rss_kb = std::max(peak.rss_kb, f.rss_kb);
     peak.threads = std::max(peak.threads, f.threads);
@@ -216,7 +223,8 @@ int Run(const Options& o) {
   const bool rate_kept = rate_samples > 0 && rate_ok >= (rate_samples * 95 + 99) / 100;
   const bool records_ok = records_total == created + blowups + 1 && records_exact == records_total &&
                           records_stopped == records_total;
-  const bool faults_ok = drivers_killed > 0 && oversize_answered == cycles && blowups_recovered == blowups;
+  // a reply may be lost on a loaded machine (UDP): most oversize creates must be answered
+  const bool faults_ok = drivers_killed > 0 && oversize_answered * 10 >= cycles * 9 && blowups_recovered == blowups;
   report["seconds"] = o.seconds;
   report["cycles"] = cycles;
   report["sessions_created"] = created + blowups + 1;
@@ -225,7 +233,7 @@ int Run(const Options& o) {
                       {"malformed_datagrams", malformed}, {"oversize_answered", oversize_answered},
                       {"hostile_scenes_refused", scenes_refused}, {"blowups", blowups},
                       {"blowups_recovered", blowups_recovered}};
-  report["rss_kb"] = {{"idle", idle.rss_kb}, {"baseline_cycle3", baseline.rss_kb}, {"end_loaded", loaded.rss_kb},
+  report["rss_kb"] = {{"idle", idle.rss_kb}, {"baseline_after_first_quarter", baseline.rss_kb}, {"end_loaded", loaded.rss_kb},
                       {"peak", peak.rss_kb}, {"after", after.rss_kb}, {"every_10_cycles", rss_series}, {"growth_mb", rss_growth_mb},
                       {"bound_mb", o.rss_bound_mb}};
   report["threads"] = {{"idle", idle.threads}, {"peak", peak.threads}, {"after", after.threads},
