@@ -7,6 +7,7 @@
 #include <map>
 
 #include <viscera_proto/force_feedback_t.hpp>
+#include <viscera_proto/skeleton_state_t.hpp>
 #include <viscera_proto/tool_pose_t.hpp>
 
 #include "bus/channels.h"
@@ -62,6 +63,21 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
         }
       });
 
+  // Rows aimed at the tube follow its centre line through the newest skeleton's spheres.
+  script::Tube tube;
+  bus::SubscriptionId skeleton_sub{};
+  if (script.aims_at_tube()) {
+    skeleton_sub = client.bus().Subscribe<viscera_proto::skeleton_state_t>(
+        bus::SessionChannel(bus::kSkeletonPrefix, options.session_id),
+        [&](const viscera_proto::skeleton_state_t& s, int64_t) {
+          if (s.header.session_id != options.session_id || !bus::HeaderProblem(s.header).empty()) return;
+          tube.centre_line.resize(s.spheres.size());
+          for (size_t i = 0; i < s.spheres.size(); ++i) {
+            tube.centre_line[i] = Vec3(s.spheres[i][0], s.spheres[i][1], s.spheres[i][2]);
+          }
+          tube.radius = s.sphere_radius;
+        });
+  }
   const std::string pose_channel = bus::SessionChannel(bus::kPosePrefix, options.session_id);
   viscera_proto::tool_pose_t pose{};
   const int64_t period_ns = static_cast<int64_t>(1e9 / options.pose_rate_hz);
@@ -74,7 +90,7 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
     SleepUntil(start + k * period_ns);
     const double t = static_cast<double>(k) / options.pose_rate_hz;
     for (const auto& [name, index] : tools) {
-      const script::ToolKeyframe key = script.At(name, t);
+      const script::ToolKeyframe key = script.At(name, t, tube);
       pose.header = bus::MakeHeader(options.session_id, seq);
       pose.header.sender = sender;
       pose.header.token = options.token;
@@ -95,6 +111,7 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
   const int64_t settle_end = MonotonicNanos() + static_cast<int64_t>(options.settle_s * 1e9);
   while (MonotonicNanos() < settle_end) client.bus().Pump(10);
   client.bus().Unsubscribe(sub);
+  if (script.aims_at_tube()) client.bus().Unsubscribe(skeleton_sub);
 
   r.duration_s = static_cast<double>(MonotonicNanos() - start) * 1e-9;
   r.mean_force_n = r.forces_received > 0 ? force_sum / static_cast<double>(r.forces_received) : 0.0;

@@ -91,8 +91,11 @@ scene::SceneLimits NetworkSceneLimits(const ServerConfig& config, double session
   const double max_load = config.max_session_load;
   limits.vet = [max_load, session_rate_hz](const mechanics::ModelParams& params) {
     if (max_load <= 0.0) return;
-    const double rate = std::max(session_rate_hz, params.rate_hz);
-    const double load = EstimateMechanicsLoad(params, rate);
+    // timed as it will run: at the session's rate (its sub-steps adjusted), or the scene's
+    mechanics::ModelParams as_run = params;
+    if (session_rate_hz > 0.0) scene::ChangeRate(&as_run, session_rate_hz);
+    const double rate = as_run.rate_hz;
+    const double load = EstimateMechanicsLoad(as_run, rate);
     ThrowUnless(load <= max_load, "estimated mechanics load ", load, " of a core at ", rate,
                 " Hz: above this server's limit of ", max_load, " (fewer control points, obstacles or "
                 "substeps, or a lower rate)");

@@ -7,6 +7,10 @@
 /// while the pattern holds (params().linear_solver; the faster is the default). The global
 /// stretching energy's dense rank-one stiffness is applied by Sherman-Morrison, and the pins are
 /// solved inside the system (Schur complement), all from one multi-column CHOLMOD solve.
+/// Self-contacts couple windows far apart in the chain: the band holds them approximately (an
+/// upper bound, see Interactions::AddForces), and preconditioned conjugate gradients on the
+/// exact matrix, with that band solve as the preconditioner, removes the difference (the pair's
+/// artificial drag on common motion). docs/contacts.md: why CG and what it costs.
 /// Unconditionally stable for the linearized system; it damps high frequencies (first order).
 #include <vector>
 
@@ -24,12 +28,28 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
   /// damped explicit update). Should stay 0.
   int64_t factorization_failures() const { return factorization_failures_; }
+  /// Conjugate-gradient iterations of the last sub-step (0 without self pairs), and in all.
+  int last_cg_iterations() const { return last_cg_iterations_; }
+  int64_t cg_iterations() const { return cg_iterations_; }
+  /// Sub-steps whose CG stopped at kMaxCgIterations before reaching kCgTolerance.
+  int64_t cg_unconverged() const { return cg_unconverged_; }
+  /// CG stops when the preconditioned residual norm falls below this fraction of b's
+  /// (docs/contacts.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~3 iterations at 1 kHz).
+  static constexpr double kCgTolerance = 1e-3;
+  static constexpr int kMaxCgIterations = 60;
 
  private:
   void BuildPattern();
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();
   void SolveColumns();             // rhs_ <- system_^-1 rhs_
+  void PrepareConstraints();       // after SolveColumns: the pins' Schur complement, factored
+  // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
+  void ApplyBandInverse(double* x);
+  // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
+  void MultiplyExact(double h, const Eigen::Ref<const VecX>& x, VecX* y);
+  // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
+  void RefineExactly(double h, const VecX& b, Eigen::Ref<VecX> dv);
 
   const Model& model_;
   Interactions* interactions_;
@@ -40,7 +60,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   BlockBandCholesky band_factor_;
   CholmodCommon common_;
   CholmodSolver solver_;
-  CholmodSolveWorkspace solve_work_;
+  CholmodSolveWorkspace solve_work_;      // the multi-column solve of rhs_ columns 1..
+  CholmodSolveWorkspace solve_one_work_;  // one vector (CG): its own, so neither reallocates
   std::vector<int> slot_;        // (block i, d, alpha, beta) -> index in the CSC values, or -1
   StretchScratch scratch_;
   ForceJacobians jac_;
@@ -49,7 +70,14 @@ class ImplicitEulerIntegrator final : public Integrator {
   MatX schur_;                   // 3 #pins square
   Eigen::LDLT<MatX> schur_ldlt_;
   VecX pin_rhs_, pin_lambda_;
+  VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
+  Points cg_x_, cg_y_;                  // a CG vector reshaped to #N by 3, and its product
+  VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
+  double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
+  double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
+  int last_cg_iterations_ = 0;
+  int64_t cg_iterations_ = 0, cg_unconverged_ = 0;
 };
 
 }  // namespace viscera::mechanics

@@ -14,6 +14,9 @@ constexpr double kGraspClose = 0.3;             // jaw opening below which the j
 constexpr double kGraspOpen = 0.6;              // ... and above which they release (hysteresis)
 constexpr double kGraspDraw = 0.15;             // s: time constant drawing the tube into the jaws
 constexpr double kGraspFade = 0.1;              // s: a released grasp fades out over this
+// Verlet skin, in radii: a settled pile moved by a tool is searched every few tens of 1 kHz steps,
+// and the narrow phase sees about a third more candidates than it must (docs/contacts.md).
+constexpr double kVerletSkin = 0.5;
 
 double Margin(const Model& model) {
   const double m = model.params().contacts.margin;
@@ -40,7 +43,8 @@ Interactions::Interactions(const Model& model)
       radius_(model.params().radius),
       margin_(Margin(model)),
       chain_(model.curve(), model.params().length, model.params().radius),
-      detector_(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)) {
+      candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)),
+                  kVerletSkin * radius_) {
   const size_t tools = model.params().tools.size();
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
@@ -48,11 +52,11 @@ Interactions::Interactions(const Model& model)
   grasp_at_.resize(tools);
   grasp_offset_.assign(tools, Vec3::Zero());
   grasp_scale_.assign(tools, 0.0);
-  candidates_.reserve(static_cast<size_t>(chain_.size()) * 16);
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
+  pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   chain_.Place(model.params().initial_q);
 }
 
@@ -148,33 +152,35 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   chain_.UpdateCentres(q);
   GatherVelocities(qd);
   double energy = 0.0;
-  for (const ContactCandidate& c : candidates_) {
+  pairs_.clear();
+  for (const ContactCandidate& c : candidates()) {
     const Penalty p = Evaluate(c);
     if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
-    if (c.kind == ContactKind::kSelf) AddToWindow(c.b, -p.force, F);
-    if (K) {
-      // A self pair couples two windows far apart in the chain, outside the band. Each side gets
-      // twice the pair's stiffness on its own window instead: that is exact for the pair's
-      // relative (penetrating) motion, which is what must stay stable; it overstates the
-      // stiffness of the pair's common motion along the normal (docs/contacts.md).
-      const double pair = c.kind == ContactKind::kSelf ? 2.0 : 1.0;
-      const Mat3 nn = p.normal * p.normal.transpose();
-      const double fn = std::max(0.0, p.force.dot(p.normal));
-      const Mat3 kn = pair * cp.stiffness * nn;
-      const Mat3 dn = pair * cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
-      for (int side = 0; side < (c.kind == ContactKind::kSelf ? 2 : 1); ++side) {
-        const int sphere = side == 0 ? c.a : c.b;
-        if (!sphere_touched_[sphere]) {
-          sphere_touched_[sphere] = 1;
-          sphere_k_[sphere].setZero();
-          sphere_d_[sphere].setZero();
-        }
-        sphere_k_[sphere] += kn;
-        sphere_d_[sphere] += dn;
+    const bool self = c.kind == ContactKind::kSelf;
+    if (self) AddToWindow(c.b, -p.force, F);
+    if (!K) continue;
+    const Mat3 nn = p.normal * p.normal.transpose();
+    const double fn = std::max(0.0, p.force.dot(p.normal));
+    const Mat3 kn = cp.stiffness * nn;
+    const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+    // A self pair couples two windows far apart in the chain, outside the band: each side gets
+    // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
+    // upper bound of the exact matrix, so a good preconditioner); the integrator removes the
+    // excess on the pair's common motion (AddCommonModeTerms) so that no drag is added.
+    const double scale = self ? 2.0 : 1.0;
+    for (int side = 0; side < (self ? 2 : 1); ++side) {
+      const int sphere = side == 0 ? c.a : c.b;
+      if (!sphere_touched_[sphere]) {
+        sphere_touched_[sphere] = 1;
+        sphere_k_[sphere].setZero();
+        sphere_d_[sphere].setZero();
       }
+      sphere_k_[sphere] += scale * kn;
+      sphere_d_[sphere] += scale * dn;
     }
+    if (self && cp.exact_pairs) pairs_.push_back({c.a, c.b, kn, dn});
   }
   if (K) {
     for (int k = 0; k < chain_.size(); ++k) {
@@ -198,6 +204,19 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
   }
   return energy;
+}
+
+void Interactions::AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const {
+  const auto& spheres = chain_.spheres();
+  for (const PairCoupling& pair : pairs_) {
+    const collision::Sphere& sa = spheres[pair.a];
+    const collision::Sphere& sb = spheres[pair.b];
+    Vec3 common = Vec3::Zero();  // (J_a + J_b) x
+    for (int i = 0; i < 4; ++i) common += sa.w[i] * x.row(sa.first + i).transpose() + sb.w[i] * x.row(sb.first + i).transpose();
+    const Vec3 f = ck * (pair.k * common) + cd * (pair.d * common);
+    AddToWindow(pair.a, f, y);
+    AddToWindow(pair.b, f, y);
+  }
 }
 
 void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {
@@ -225,7 +244,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   GatherVelocities(qd);
   Vec3 force = Vec3::Zero();
   Mat3 stiffness = Mat3::Zero();
-  for (const ContactCandidate& c : candidates_) {
+  for (const ContactCandidate& c : candidates()) {
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c);
     if (!p.active) continue;
@@ -303,10 +322,12 @@ int Interactions::RequiredSubsteps(const State& state) {
   const double h = model_.step_size();
   chain_.Place(state.q);
   GatherVelocities(state.qd);
-  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, CandidateMargin(state, h));
+  const double margin = CandidateMargin(state, h);
+  candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin);
   double closing = 0.0;
-  for (const ContactCandidate& c : candidates_) {
+  for (const ContactCandidate& c : candidates()) {
     const Penalty p = Geometry(c);
+    if (p.clearance >= margin) continue;  // the list's skin: too far to meet within the step
     const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
     closing = std::max(closing, -relative.dot(p.normal));
   }
@@ -326,19 +347,19 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   const double margin = CandidateMargin(*state, h);
   if (!candidates_fresh_) {
     chain_.Place(state->q);
-    detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, margin);
+    candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin);
   }
   candidates_fresh_ = false;
   if (state->tools.empty()) return;
   // Tools move against the candidates of their current pose; then find those of the new one.
   for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
-  detector_.Detect(chain_.spheres(), model_.params().obstacles, capsules_, &candidates_, margin);
+  candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin);
 }
 
 void Interactions::EndStep(State* state) {
   chain_.UpdateCentres(state->q);
   ContactStats stats;
-  for (const ContactCandidate& c : candidates_) {
+  for (const ContactCandidate& c : candidates()) {
     const Penalty p = Geometry(c);
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) stats.min_clearance = p.clearance;
     if (p.clearance >= margin_) continue;
@@ -364,7 +385,7 @@ void Interactions::EndStep(State* state) {
     ts.torque = (ts.tip - tp.port).cross(f);
     // Local stiffness: each touching contact (and the grasp) in series with the coupling.
     Mat3 k = Mat3::Zero();
-    for (const ContactCandidate& c : candidates_) {
+    for (const ContactCandidate& c : candidates()) {
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
       const Penalty p = Geometry(c);
       if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();

@@ -9,6 +9,7 @@
 
 #include "collision/contact_detector.h"
 #include "collision/sphere_chain.h"
+#include "collision/verlet_list.h"
 #include "mechanics/block_band.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
@@ -34,16 +35,28 @@ class Interactions {
   void BeginSubstep(std::span<const ToolTarget> targets, double h, State* state);
 
   /// Adds contact and grasp forces at (q, qd) to F (#N by 3), with the tools where
-  /// BeginSubstep left them; returns their energy (J). K, D as in ForceJacobians: each contact's
-  /// stiffness enters the blocks of its own sphere's window (a self pair is linearized with the
-  /// other sphere held), so the system keeps the chain's band.
+  /// BeginSubstep left them; returns their energy (J). K, D as in ForceJacobians, kept in the
+  /// chain's band: a self pair's coupling H enters as 2 H on each side's own window, which
+  /// exceeds the exact (J_a - J_b)^T H (J_a - J_b) by the pair's common-mode term
+  /// (J_a + J_b)^T H (J_a + J_b) (see AddCommonModeTerms; docs/contacts.md).
   double AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D);
+
+  /// y += sum over the self pairs of the last AddForces with K of
+  /// (J_a + J_b)^T (ck K_p + cd D_p) (J_a + J_b) x (x, y #N by 3): what the band overstates.
+  /// The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact implicit matrix
+  /// is the band's M + h D + h^2 K minus this with (h^2, h).
+  void AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const;
+  /// Self pairs that the last AddForces with K linearized (0: the band is exact).
+  int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
 
   const collision::SphereChain& chain() const { return chain_; }
-  const std::vector<collision::ContactCandidate>& candidates() const { return candidates_; }
+  /// Every pair that may touch within the sub-step, and some farther (a Verlet list).
+  const std::vector<collision::ContactCandidate>& candidates() const { return candidates_.candidates(); }
+  /// Broad-phase searches so far (the list is reused between them).
+  int64_t searches() const { return candidates_.searches(); }
 
  private:
   struct Penalty {
@@ -81,8 +94,7 @@ class Interactions {
   bool candidates_fresh_ = false;
 
   collision::SphereChain chain_;
-  collision::ContactDetector detector_;
-  std::vector<collision::ContactCandidate> candidates_;
+  collision::VerletList candidates_;
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
@@ -96,6 +108,12 @@ class Interactions {
   std::vector<Vec3> sphere_velocity_;
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
+  // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
+  struct PairCoupling {
+    int a = 0, b = 0;
+    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
+  };
+  std::vector<PairCoupling> pairs_;
 };
 
 }  // namespace viscera::mechanics

@@ -34,6 +34,9 @@ struct ContactParams {
   double damping = 1.0;     ///< N s/m along the normal
   double friction = 0.3;    ///< Coulomb coefficient, regularized below kFrictionSlip
   double margin = -1.0;     ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
+  /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own
+  /// window (false: cheaper, but a pair moving together is dragged; docs/contacts.md).
+  bool exact_pairs = true;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.

@@ -239,6 +239,7 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   c.damping = NonNegative(r, "damping", c.damping);
   c.friction = NonNegative(r, "friction", c.friction);
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
+  c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
   r.Finish();
 }
 
@@ -334,6 +335,13 @@ Scene LoadSceneFile(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return ParseScene(text.str(), path);
+}
+
+void ChangeRate(mechanics::ModelParams* params, double rate_hz) {
+  const double substep = 1.0 / (params->rate_hz * params->substeps);
+  // The small slack keeps exact multiples (100 Hz x 2 -> 200 Hz x 1) from rounding up.
+  params->substeps = std::max(1, static_cast<int>(std::ceil(1.0 / (rate_hz * substep) - 1e-9)));
+  params->rate_hz = rate_hz;
 }
 
 }  // namespace viscera::scene

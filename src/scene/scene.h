@@ -44,4 +44,10 @@ Scene ParseScene(const std::string& text, const std::string& source = "<string>"
 /// Same, within `limits` (a limit exceeded is an InputError naming the key and the limit).
 Scene ParseScene(const std::string& text, const std::string& source, const SceneLimits& limits);
 
+/// Runs the scene at another rate while keeping what its `substeps` meant: a sub-step no longer
+/// than the scene's own, 1 / (rate_hz * substeps) as written. A 100 Hz scene with 2 sub-steps
+/// (5 ms) takes 1 sub-step at 1 kHz, not 2 of 0.5 ms.
+/// @pre rate_hz > 0.
+void ChangeRate(mechanics::ModelParams* params, double rate_hz);
+
 }  // namespace viscera::scene

@@ -27,12 +27,13 @@ ToolScript ToolScript::Load(const std::string& path) {
 }
 
 ToolScript ToolScript::Parse(const std::string& text, const std::string& source) {
-  static const char* kColumns[] = {"t", "tool", "x", "y", "z", "qw", "qx", "qy", "qz", "jaw"};
+  static const char* kColumns[] = {"t", "tool", "x", "y", "z", "qw", "qx", "qy", "qz", "jaw", "aim"};
   ToolScript script;
   std::istringstream in(text);
   std::string line;
   int line_no = 0;
   bool header = false;
+  size_t columns = 10;  // 11 with the optional aim column
   while (std::getline(in, line)) {
     ++line_no;
     if (Trim(line).empty() || Trim(line)[0] == '#') continue;
@@ -40,15 +41,17 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(Trim(cell));
     if (!header) {
-      ThrowUnless(cells.size() == 10, source, ":", line_no, ": header must be t,tool,x,y,z,qw,qx,qy,qz,jaw");
-      for (int i = 0; i < 10; ++i) {
+      ThrowUnless(cells.size() == 10 || cells.size() == 11, source, ":", line_no,
+                  ": header must be t,tool,x,y,z,qw,qx,qy,qz,jaw[,aim]");
+      columns = cells.size();
+      for (size_t i = 0; i < columns; ++i) {
         ThrowUnless(cells[i] == kColumns[i], source, ":", line_no, ": column ", i + 1, " is \"", cells[i],
                     "\", expected \"", kColumns[i], "\"");
       }
       header = true;
       continue;
     }
-    ThrowUnless(cells.size() == 10, source, ":", line_no, ": expected 10 columns, got ", cells.size());
+    ThrowUnless(cells.size() == columns, source, ":", line_no, ": expected ", columns, " columns, got ", cells.size());
     double v[10] = {};
     for (int i = 0; i < 10; ++i) {
       if (i == 1) continue;
@@ -67,6 +70,12 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
     k.orientation.normalize();
     k.jaw = v[9];
     ThrowUnless(k.jaw >= 0.0 && k.jaw <= 1.0, source, ":", line_no, ": jaw = ", k.jaw, ": expected 0..1");
+    if (columns == 11) {
+      ThrowUnless(cells[10].empty() || cells[10] == "point" || cells[10] == "tube", source, ":", line_no,
+                  ": aim = \"", cells[10], "\": expected \"point\" or \"tube\"");
+      k.at_tube = cells[10] == "tube";
+      script.aims_at_tube_ = script.aims_at_tube_ || k.at_tube;
+    }
     std::vector<ToolKeyframe>& frames = script.frames_[tool];
     ThrowUnless(frames.empty() || k.t >= frames.back().t, source, ":", line_no, ": t = ", k.t,
                 " goes back in time for tool \"", tool, "\"");
@@ -83,13 +92,37 @@ std::vector<std::string> ToolScript::tools() const {
   return names;
 }
 
-ToolKeyframe ToolScript::At(const std::string& tool, double t) const {
+Vec3 NearestOnTube(const Tube& tube, const Vec3& p) {
+  const std::vector<Vec3>& line = tube.centre_line;
+  if (line.empty()) return p;
+  Vec3 best = line.front();
+  double best_d2 = (best - p).squaredNorm();
+  for (size_t i = 0; i + 1 < line.size(); ++i) {
+    const Vec3 d = line[i + 1] - line[i];
+    const double len2 = d.squaredNorm();
+    const double u = len2 > 0.0 ? std::clamp((p - line[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const Vec3 q = line[i] + u * d;
+    const double d2 = (q - p).squaredNorm();
+    if (d2 < best_d2) best_d2 = d2, best = q;
+  }
+  // On the surface, not the axis: jaws aimed at the axis would press the tube with the whole
+  // coupling force before they close.
+  const double distance = std::sqrt(best_d2);
+  if (distance <= tube.radius) return p;
+  return best + (tube.radius / distance) * (p - best);
+}
+
+ToolKeyframe ToolScript::At(const std::string& tool, double t, const Tube& tube) const {
   const std::vector<ToolKeyframe>& f = frames_.at(tool);
-  if (t <= f.front().t) return f.front();
-  if (t >= f.back().t) return f.back();
+  auto aimed = [&tube](ToolKeyframe k) {
+    if (k.at_tube) k.tip = NearestOnTube(tube, k.tip);
+    return k;
+  };
+  if (t <= f.front().t) return aimed(f.front());
+  if (t >= f.back().t) return aimed(f.back());
   const auto next = std::upper_bound(f.begin(), f.end(), t, [](double x, const ToolKeyframe& k) { return x < k.t; });
-  const ToolKeyframe& b = *next;
-  const ToolKeyframe& a = *(next - 1);
+  const ToolKeyframe b = aimed(*next);
+  const ToolKeyframe a = aimed(*(next - 1));
   const double span = b.t - a.t;
   const double u = span > 0.0 ? (t - a.t) / span : 1.0;
   ToolKeyframe k;

@@ -50,7 +50,7 @@ SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& s
   }
   scene::Scene scene = scene::ParseScene(out.toml, out.source, limits);
   out.warnings = scene.warnings;
-  if (rate_hz != 0.0) scene.model.rate_hz = rate_hz;
+  if (rate_hz != 0.0) scene::ChangeRate(&scene.model, rate_hz);
   ThrowUnless(scene.model.rate_hz <= max_rate_hz, "scene rate ", scene.model.rate_hz,
               " Hz is above the server's maximum ", max_rate_hz, " Hz");
   out.model = std::make_shared<const mechanics::Model>(std::move(scene.model));

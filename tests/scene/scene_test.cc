@@ -227,5 +227,24 @@ TEST(Scene, MissingFileIsAClearError) {
   EXPECT_THROW(LoadSceneFile("/nonexistent/scene.toml"), InputError);
 }
 
+TEST(Scene, AnotherRateKeepsTheSubStepLengthNotTheCount) {
+  mechanics::ModelParams p;
+  p.rate_hz = 100.0;
+  p.substeps = 2;  // 5 ms sub-steps
+  auto at = [&p](double rate) {
+    mechanics::ModelParams q = p;
+    ChangeRate(&q, rate);
+    EXPECT_EQ(q.rate_hz, rate);
+    EXPECT_LE(1.0 / (q.rate_hz * q.substeps), 0.005 + 1e-15) << rate << " Hz";
+    return q.substeps;
+  };
+  EXPECT_EQ(at(1000.0), 1);
+  EXPECT_EQ(at(200.0), 1);  // exactly 5 ms: no rounding up
+  EXPECT_EQ(at(150.0), 2);
+  EXPECT_EQ(at(100.0), 2);
+  EXPECT_EQ(at(50.0), 4);
+  EXPECT_EQ(at(30.0), 7);
+}
+
 }  // namespace
 }  // namespace viscera::scene

@@ -35,6 +35,7 @@ using mechanics::State;
 struct Options {
   std::string scene;
   double duration = 1.0;
+  double rate_hz = 0.0;  // 0: the scene's
   std::string trace;
   int trace_every = 1;
   bool json = false;
@@ -117,14 +118,20 @@ class ScriptedTools {
     }
     targets_.resize(model.params().tools.size());
   }
-  /// Targets at time t, or an empty span without a script.
-  std::span<const mechanics::ToolTarget> At(double t) {
+  /// Targets at time t, or an empty span without a script. Rows aimed at the tube aim at the
+  /// centre line through the sphere chain's centres (`interactions` as the last step left it).
+  std::span<const mechanics::ToolTarget> At(double t, const mechanics::Interactions* interactions) {
+    tube_.centre_line.clear();
+    if (script_.aims_at_tube() && interactions) {
+      for (const collision::Sphere& s : interactions->chain().spheres()) tube_.centre_line.push_back(s.centre);
+      tube_.radius = interactions->chain().radius();
+    }
     for (size_t i = 0; i < targets_.size(); ++i) {
       const std::string& name = model_.params().tools[i].name;
       mechanics::ToolTarget& target = targets_[i];
       target.active = script_.Has(name);
       if (!target.active) continue;
-      const script::ToolKeyframe k = script_.At(name, t);
+      const script::ToolKeyframe k = script_.At(name, t, tube_);
       target.tip = k.tip;
       target.orientation = k.orientation;
       target.jaw = k.jaw;
@@ -136,6 +143,7 @@ class ScriptedTools {
   const mechanics::Model& model_;
   script::ToolScript script_;
   std::vector<mechanics::ToolTarget> targets_;
+  script::Tube tube_;
 };
 
 Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
@@ -173,6 +181,10 @@ int Replay(const Options& opt) {
 
 int Run(const Options& opt) {
   scene::Scene scene = scene::LoadSceneFile(opt.scene);
+  if (opt.rate_hz != 0.0) {
+    ThrowUnless(std::isfinite(opt.rate_hz) && opt.rate_hz > 0.0, "--rate ", opt.rate_hz, ": must be > 0");
+    scene::ChangeRate(&scene.model, opt.rate_hz);
+  }
   for (const std::string& w : scene.warnings) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
   const mechanics::Model model = [&] {
     try {
@@ -207,7 +219,7 @@ int Run(const Options& opt) {
   };
   ScriptedTools tools(model, opt.tool_script);
   // The sphere chain of the start, for the first frame.
-  if (interactions) interactions->BeginSubstep(tools.At(0.0), 0.0, &state);
+  if (interactions) interactions->BeginSubstep(tools.At(0.0, interactions), 0.0, &state);
 
   const Energies e0 = energies();
   const Vec3 com0 = CentreOfMass(model, state.q);
@@ -227,7 +239,7 @@ int Run(const Options& opt) {
   double min_clearance = std::numeric_limits<double>::infinity();
   std::vector<double> max_tool_force(model.params().tools.size(), 0.0);
   for (int64_t k = 1; k <= steps; ++k) {
-    const std::span<const mechanics::ToolTarget> targets = tools.At(state.t + model.step_size());
+    const std::span<const mechanics::ToolTarget> targets = tools.At(state.t + model.step_size(), interactions);
     const int64_t begin = ThreadCpuNanos();
     mechanics::Step(model, {{}, targets}, &state, &workspace);
     const double us = (ThreadCpuNanos() - begin) * 1e-3;
@@ -324,6 +336,7 @@ int main(int argc, char** argv) {
   app.add_option("scene", opt.scene, "scene file (TOML); not with --replay");
   app.add_option("--replay", opt.replay, "replay a viscerad session record (LCM log) instead of a scene");
   app.add_option("--duration", opt.duration, "simulated seconds")->capture_default_str();
+  app.add_option("--rate", opt.rate_hz, "mechanics rate (Hz) instead of the scene's; sub-steps keep the scene's length");
   app.add_option("--trace", opt.trace, "write a JSON Lines trace to this file");
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
   app.add_flag("--json", opt.json, "print the final summary as JSON");
