@@ -88,12 +88,12 @@ f.header = header(1, 0)
 f.width, f.height = 2, 2
 f.data = bytes([0xFF, 0xD8, 0xFF, 0xD9])
 f.size = len(f.data)
-write("fuzz_client_messages", "frame", 0, f)
+write("fuzz_client_messages", "frame", 1, f)
 hb = heartbeat_t()
 hb.header = header(0, 0)
 hb.server_id = "fuzz"
 hb.num_sessions, hb.max_sessions = 1, 4
-write("fuzz_client_messages", "heartbeat", 1, hb)
+write("fuzz_client_messages", "heartbeat", 0, hb)
 reply = session_reply_t()
 reply.header = header(1, 0)
 reply.request_id = 1007

@@ -228,6 +228,7 @@ SubscriptionId LcmBus::SubscribeWithInfo(const std::string& channel, InfoHandler
     const int size = static_cast<int>(rbuf.data_size);
     // A fresh message each time: lcm-gen 1.3.1's decode leaves an array whose count is 0
     // untouched, so a reused message would keep the previous datagram's bytes (a token!).
+    if (!HeaderCountsFit(static_cast<const uint8_t*>(rbuf.data), size)) return Outcome::kDecodeFailed;
     Msg msg;
     if (msg.decode(rbuf.data, 0, size) != size) return Outcome::kDecodeFailed;
     handler(msg, MessageInfo{&on, rbuf.recv_utime, size});

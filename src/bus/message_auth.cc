@@ -57,6 +57,13 @@ int MacLenOffset(const uint8_t* data, int size) {
   return kTokenLenOffset + 4 + token_len;
 }
 
+bool HeaderCountsFit(const uint8_t* data, int size) {
+  const int offset = MacLenOffset(data, size);
+  if (offset < 0 || offset + 4 > size) return false;
+  const int32_t mac_len = ReadBe32(data + offset);
+  return mac_len >= 0 && mac_len <= size - offset - 4;
+}
+
 MessageAuth::MessageAuth(const Key& key) : key_(key) { InitSodium(); }
 
 MessageAuth MessageAuth::FromKeyFile(const std::string& path) {

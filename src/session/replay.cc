@@ -12,6 +12,7 @@
 #include <viscera_proto/step_record_t.hpp>
 
 #include "bus/channels.h"
+#include "bus/message_auth.h"
 #include "common/check.h"
 #include "session/session_scene.h"
 #include "session/step_record.h"
@@ -25,7 +26,10 @@ bool StartsWith(const std::string& s, const char* prefix) { return s.rfind(prefi
 template <typename Msg>
 Msg DecodeOrThrow(const lcm::LogEvent& e, const std::string& path) {
   Msg msg;
-  ThrowUnless(msg.decode(e.data, 0, e.datalen) == e.datalen, path, ": malformed ",
+  // the header's counts first: LCM's decode would size its arrays before checking them
+  ThrowUnless(bus::HeaderCountsFit(static_cast<const uint8_t*>(e.data), e.datalen) &&
+                  msg.decode(e.data, 0, e.datalen) == e.datalen,
+              path, ": malformed ",
               Msg::getTypeName(), " on ", e.channel, " (event ", e.eventnum, ")");
   return msg;
 }

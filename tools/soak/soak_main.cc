@@ -209,7 +209,7 @@ int Run(const Options& o) {
     ++records_total;
     try {
       const auto r = viscera::session::ReplayRecord(entry.path().string());
-      if (r.max_deviation == 0.0 && r.steps > 0) ++records_exact;
+      if (r.max_deviation == 0.0) ++records_exact;  // 0 steps too: destroyed before its first
     } catch (const std::exception& e) {
       record_error = entry.path().filename().string() + ": " + e.what();
     }
