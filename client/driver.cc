@@ -12,6 +12,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/tool_pose.h"
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
@@ -91,17 +92,8 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
     const double t = static_cast<double>(k) / options.pose_rate_hz;
     for (const auto& [name, index] : tools) {
       const script::ToolKeyframe key = script.At(name, t, tube);
-      pose.header = bus::MakeHeader(options.session_id, seq);
+      bus::FillToolPose(options.session_id, seq, options.token, index, key.tip, key.orientation, key.jaw, &pose);
       pose.header.sender = sender;
-      pose.header.token = options.token;
-      pose.header.token_len = static_cast<int32_t>(options.token.size());
-      pose.tool = index;
-      for (int a = 0; a < 3; ++a) pose.position[a] = key.tip(a);
-      pose.orientation[0] = key.orientation.w();
-      pose.orientation[1] = key.orientation.x();
-      pose.orientation[2] = key.orientation.y();
-      pose.orientation[3] = key.orientation.z();
-      pose.jaw = key.jaw;
       if (targets.size() < 1'000'000) targets[seq] = key.tip;
       ++seq;
       if (client.bus().Publish(pose_channel, pose)) ++r.poses_sent;

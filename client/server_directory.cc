@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 
 #include "bus/header.h"
 
@@ -30,6 +31,25 @@ std::vector<ServerInfo> ServerDirectory::Servers() const {
   servers.reserve(servers_.size());
   for (const auto& [id, info] : servers_) servers.push_back(info);  // std::map: sorted
   return servers;
+}
+
+const ServerInfo* PickServer(const std::vector<ServerInfo>& servers) {
+  const std::optional<bus::ServerLoad> best =
+      bus::PickServer(std::vector<bus::ServerLoad>(servers.begin(), servers.end()));
+  if (!best) return nullptr;
+  for (const ServerInfo& s : servers) {
+    if (s.server_id == best->server_id) return &s;
+  }
+  return nullptr;
+}
+
+std::string ServersSummary(const std::vector<ServerInfo>& servers) {
+  std::string out;
+  for (const ServerInfo& s : servers) {
+    out += (out.empty() ? "" : ", ") + s.server_id + " " + std::to_string(s.sessions) + "/" +
+           std::to_string(s.max_sessions);
+  }
+  return out.empty() ? "none" : out;
 }
 
 nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers) {

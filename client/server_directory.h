@@ -8,14 +8,13 @@
 #include <nlohmann/json.hpp>
 #include <viscera_proto/heartbeat_t.hpp>
 
+#include "bus/placement.h"
+
 namespace viscera::client {
 
-/// What the latest heartbeat of one server said.
-struct ServerInfo {
-  std::string server_id;
-  int sessions = 0;
-  int max_sessions = 0;
-  double load = 0.0;       ///< fraction of one core
+/// What the latest heartbeat of one server said: its room (server_id, sessions,
+/// max_sessions, load as a fraction of one core) and more.
+struct ServerInfo : bus::ServerLoad {
   double uptime_s = 0.0;   ///< s
   int64_t heartbeats = 0;  ///< heard while listening
   int64_t rejected = 0;    ///< messages the server dropped since it started
@@ -38,6 +37,13 @@ class ServerDirectory {
   int64_t rejected_ = 0;
   std::string last_rejection_;
 };
+
+/// The server a new session should go to (bus::PickServer: the least loaded with room),
+/// or nullptr when every one is full or none was heard.
+const ServerInfo* PickServer(const std::vector<ServerInfo>& servers);
+
+/// "a 1/4, b 0/2" (id and sessions of each), for messages.
+std::string ServersSummary(const std::vector<ServerInfo>& servers);
 
 /// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load,
 /// uptime_s, heartbeats, rejected.

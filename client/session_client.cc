@@ -65,6 +65,20 @@ bool SessionClient::Send(viscera_proto::session_request_t* request) {
   return bus_.Publish(bus::kRequestChannel, *request);
 }
 
+std::vector<ServerInfo> SessionClient::HearServers(double listen_s, double timeout_s) {
+  ServerDirectory directory;
+  const bus::SubscriptionId sub = bus_.Subscribe<viscera_proto::heartbeat_t>(
+      bus::kHeartbeatChannel,
+      [&](const viscera_proto::heartbeat_t& hb, int64_t) { directory.Observe(hb); });
+  const auto enough = After(std::min(listen_s, timeout_s));
+  const auto deadline = After(timeout_s);
+  while (Clock::now() < deadline && (Clock::now() < enough || directory.Servers().empty())) {
+    bus_.Pump(MillisLeft(Clock::now() < enough ? enough : deadline));
+  }
+  bus_.Unsubscribe(sub);
+  return directory.Servers();
+}
+
 std::vector<viscera_proto::session_reply_t> SessionClient::Request(
     viscera_proto::session_request_t request, double timeout_s, bool collect_all, double grace_s) {
   std::vector<viscera_proto::session_reply_t> replies;

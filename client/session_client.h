@@ -13,6 +13,7 @@
 #include <viscera_proto/session_request_t.hpp>
 
 #include "bus/lcm_bus.h"
+#include "client/server_directory.h"
 
 namespace viscera::client {
 
@@ -33,6 +34,12 @@ class SessionClient {
   /// Publishes `request` (its sender, seq and utime are set here) without waiting for a reply.
   /// Thread-safe (a keep-alive thread and the owner may both send).
   bool Send(viscera_proto::session_request_t* request);
+
+
+  /// Every server heard on the heartbeat channel, sorted by id: listens `listen_s` (a little
+  /// over one heartbeat period hears each running server once), and longer, up to
+  /// `timeout_s`, while none has been heard yet (one that is starting).
+  std::vector<ServerInfo> HearServers(double listen_s, double timeout_s);
 
   /// Publishes `request` (its sender, seq and utime are set here) and waits up to `timeout_s` for replies with
   /// its request_id. Returns at the first kOk reply; other replies (kUnknownSession from

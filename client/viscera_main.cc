@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <viscera_proto/session_status_t.hpp>
 
@@ -23,6 +25,8 @@
 #include "client/driver.h"
 #include "client/frame_commands.h"
 #include "client/gesture.h"
+#include "client/haptic_cli.h"
+#include "client/haptic_command.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
 #include "client/status_format.h"
@@ -147,6 +151,7 @@ struct CreateOptions {
   int width = 0, height = 0;
   double frame_rate_hz = 0.0;
   int jpeg_quality = 0;
+  double listen_s = 1.2;  ///< heartbeats heard before placing (s)
 };
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
@@ -155,10 +160,25 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
     return kLocalError;
   }
   viscera::client::SessionClient client(url, LoadAuth(c));
-  const auto server = client.FindServer(o.server, c.timeout_s);
-  if (!server) return NoServer(c, url, o.server.empty() ? "(heartbeat)" : o.server.c_str());
+  std::string server_id = o.server;
+  std::string placement;  // why this server, when the client chose it
+  if (server_id.empty()) {
+    // every server beats once a period: listen a little longer than one to hear them all
+    const auto servers = client.HearServers(o.listen_s, c.timeout_s);
+    if (servers.empty()) return NoServer(c, url, "(heartbeat)");
+    const viscera::client::ServerInfo* best = viscera::client::PickServer(servers);
+    if (best == nullptr) {
+      std::fprintf(stderr, "viscera: every server is full (%s)\n",
+                   viscera::client::ServersSummary(servers).c_str());
+      return kRefused;
+    }
+    server_id = best->server_id;
+    placement = "least loaded of " + viscera::client::ServersSummary(servers);
+  } else if (!client.FindServer(server_id, c.timeout_s)) {
+    return NoServer(c, url, server_id.c_str());
+  }
   session_request_t request = viscera::client::MakeRequest(session_request_t::kCreate, 0);
-  request.server_id = server->server_id;
+  request.server_id = server_id;
   if (!o.scene_file.empty()) {
     std::ifstream in(o.scene_file);
     if (!in.good()) {
@@ -187,6 +207,7 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   if (c.json) {
     Json j = {{"session", id},
               {"server_id", reply.server_id},
+              {"placement", placement.empty() ? "--server" : placement},
               {"token", viscera::client::ToHex(reply.header.token)},
               {"scene", o.scene.empty() ? "<inline>" : o.scene},
               {"warnings", reply.message}};
@@ -196,8 +217,9 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
     }
     std::cout << j.dump(2) << "\n";
   } else {
-    std::printf("session %lld created on %s (token saved in %s)\n", static_cast<long long>(id),
-                reply.server_id.c_str(), c.sessions_file.c_str());
+    std::printf("session %lld created on %s (%s; token saved in %s)\n", static_cast<long long>(id),
+                reply.server_id.c_str(), placement.empty() ? "named by --server" : placement.c_str(),
+                c.sessions_file.c_str());
   }
   return 0;
 }
@@ -407,6 +429,33 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
   return 0;
 }
 
+
+int RunHapticCli(const std::string& url, const Common& c, viscera::client::HapticCli o) {
+  viscera::client::HapticCommand& h = o.command;
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  // the session must exist and have the tool
+  viscera_proto::session_status_t status;
+  if (const int rc = FetchStatus(client, url, c, h.session_id, &status); rc != 0) return rc;
+  const auto it = std::find(status.tool_names.begin(), status.tool_names.end(), h.tool_name);
+  if (it == status.tool_names.end()) {
+    std::fprintf(stderr, "viscera: session %lld has no tool \"%s\"\n", static_cast<long long>(h.session_id),
+                 h.tool_name.c_str());
+    return kRefused;
+  }
+  h.tool = static_cast<int>(it - status.tool_names.begin());
+  h.token = TokenFor(c, h.session_id, nullptr);
+  h.json = c.json;
+  h.live = !c.json && !o.quiet && isatty(STDERR_FILENO) == 1;
+  h.loop.impairment.delay_s = o.delay_ms * 1e-3;
+  h.loop.impairment.jitter_s = o.jitter_ms * 1e-3;
+  h.loop.model.stale_after_s = o.stale_ms * 1e-3;
+  h.loop.model.fade_s = o.fade_ms * 1e-3;
+  h.loop.spin_ns = o.spin_us < 0.0 ? -1 : static_cast<int64_t>(o.spin_us * 1e3);
+  h.loop.deadband_m = o.deadband_mm * 1e-3;
+  h.loop.passivity = !o.no_passivity;
+  return viscera::client::RunHaptic(client, h);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -437,7 +486,12 @@ int main(int argc, char** argv) {
   add_common(create);
   create->add_option("scene", create_options.scene, "Scene name in the server's scene directory");
   create->add_option("--scene-file", create_options.scene_file, "Send this scene file inline");
-  create->add_option("--server", create_options.server, "Server id (default: the first heard)");
+  create->add_option("--server", create_options.server,
+                     "Server id (default: the least loaded server with room)");
+  create->add_option("--listen", create_options.listen_s,
+                     "Seconds to hear heartbeats before choosing a server")
+      ->check(CLI::Range(0.05, 60.0))
+      ->capture_default_str();
   create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
       ->check(CLI::Range(1.0, 10000.0));
   create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");
@@ -471,6 +525,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
   drive->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
+
+
+  viscera::client::HapticCli haptic_options;
+  CLI::App* haptic = app.add_subcommand("haptic", "Run a haptic device loop on a session's tool (docs/haptics.md)");
+  add_common(haptic);
+  viscera::client::AddHapticOptions(haptic, &haptic_options);
+  haptic->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
 
   int64_t camera_id = 0;
   std::vector<double> eye{0.0, -0.3, 0.3}, target{0.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
@@ -543,6 +604,7 @@ int main(int argc, char** argv) {
     if (list->parsed()) return RunList(url, common);
     if (status->parsed()) return RunStatus(url, common, status_options);
     if (drive->parsed()) return RunDrive(url, common, drive_options);
+    if (haptic->parsed()) return RunHapticCli(url, common, haptic_options);
     if (camera->parsed()) {
       return RunCommand(url, common, session_request_t::kCamera, camera_id,
                         [&](session_request_t* r) {

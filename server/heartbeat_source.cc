@@ -5,7 +5,6 @@
 
 #include "bus/header.h"
 #include "common/check.h"
-#include "common/clock.h"
 
 namespace viscera::server {
 
@@ -30,20 +29,26 @@ void PutLimits(const ServerConfig& config, viscera_proto::heartbeat_t* heartbeat
   heartbeat->max_session_load = config.max_session_load;
 }
 
-HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions)
+HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions, HeartbeatClocks clocks)
     : server_id_(std::move(server_id)),
       max_sessions_(max_sessions),
-      start_wall_ns_(MonotonicNanos()),
+      clocks_(std::move(clocks)),
+      start_wall_ns_(clocks_.wall_ns()),
       last_wall_ns_(start_wall_ns_),
-      last_cpu_ns_(ProcessCpuNanos()) {
+      last_cpu_ns_(clocks_.cpu_ns()) {
   ThrowUnless(!server_id_.empty(), "server id must not be empty");
   ThrowUnless(max_sessions_ >= 1, "max sessions must be >= 1, got ", max_sessions_);
 }
 
+void HeartbeatSource::SetMaxSessions(int max_sessions) {
+  VISCERA_DEMAND(max_sessions >= 1);
+  max_sessions_ = max_sessions;
+}
+
 viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions, int64_t rejected) {
   VISCERA_DEMAND(num_sessions >= 0 && rejected >= 0);
-  const int64_t wall_ns = MonotonicNanos();
-  const int64_t cpu_ns = ProcessCpuNanos();
+  const int64_t wall_ns = clocks_.wall_ns();
+  const int64_t cpu_ns = clocks_.cpu_ns();
   const int64_t wall_elapsed = wall_ns - last_wall_ns_;
 
   viscera_proto::heartbeat_t msg;

@@ -1,10 +1,12 @@
 #pragma once
 /// HeartbeatSource: builds the server's heartbeat_t messages, measuring its load.
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <viscera_proto/heartbeat_t.hpp>
 
+#include "common/clock.h"
 #include "server/server_config.h"
 
 namespace viscera::server {
@@ -16,19 +18,30 @@ int64_t ProcessCpuNanos();
 /// will refuse before asking).
 void PutLimits(const ServerConfig& config, viscera_proto::heartbeat_t* heartbeat);
 
+/// Where the load's two times come from (ns): the process's CPU time and monotonic wall
+/// time. Tests inject their own, so the load they check is exact rather than timed.
+struct HeartbeatClocks {
+  std::function<int64_t()> cpu_ns = ProcessCpuNanos;
+  std::function<int64_t()> wall_ns = MonotonicNanos;
+};
+
 class HeartbeatSource {
  public:
   /// @throws InputError when server_id is empty or max_sessions < 1.
-  HeartbeatSource(std::string server_id, int max_sessions);
+  HeartbeatSource(std::string server_id, int max_sessions, HeartbeatClocks clocks = {});
 
   /// The next heartbeat: sequence numbers count up from 0; load is the process's CPU
   /// time since the previous call (or since construction) over the wall time elapsed.
   /// @pre 0 <= num_sessions, 0 <= rejected (messages dropped since start).
   viscera_proto::heartbeat_t Next(int num_sessions, int64_t rejected = 0);
 
+  /// The max_sessions announced from the next heartbeat on. @pre max_sessions >= 1.
+  void SetMaxSessions(int max_sessions);
+
  private:
   std::string server_id_;
   int max_sessions_;
+  HeartbeatClocks clocks_;
   int64_t seq_ = 0;
   int64_t start_wall_ns_;
   int64_t last_wall_ns_;

@@ -9,17 +9,23 @@
 
 #include "bus/channels.h"
 #include "common/check.h"
+#include "common/clock.h"
 
 namespace viscera::server {
 namespace {
 
 // Longest wait inside LCM: bounds how late the loop notices Stop().
 constexpr std::chrono::milliseconds kMaxPump{100};
+// A peer not heard for three heartbeat periods is gone.
+constexpr int kPeerLifetimePeriods = 3;
 
 }  // namespace
 
 IoLoop::IoLoop(const ServerConfig& config)
-    : config_(config), heartbeat_(config.server_id, config.max_sessions) {
+    : config_(config),
+      heartbeat_(config.server_id, config.max_sessions),
+      peers_(config.server_id,
+             std::chrono::nanoseconds(config.heartbeat_period * kPeerLifetimePeriods).count()) {
   ThrowUnless(config_.heartbeat_period.count() > 0, "heartbeat period must be > 0 ms, got ",
               config_.heartbeat_period.count());
   ThrowUnless(config_.status_rate_hz > 0.0 && config_.max_rate_hz >= 1.0,
@@ -34,6 +40,7 @@ IoLoop::IoLoop(const ServerConfig& config)
     frame_bus_->SetAuth(auth);
   }
   sessions_ = std::make_unique<SessionManager>(config_, bus_.get(), frame_bus_.get());
+  sessions_->SetPeers(&peers_);
   // subscribed here, before the thread pumps: LCM 1.3.1 must not subscribe while dispatching
   bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason, const uint8_t* data, int size) {
     sessions_->OnDrop(channel, reason, data, size);
@@ -42,6 +49,10 @@ IoLoop::IoLoop(const ServerConfig& config)
       bus::kRequestChannel,
       [this](const viscera_proto::session_request_t& msg, const bus::MessageInfo& info) {
         sessions_->OnRequest(msg, info);
+      });
+  bus_->Subscribe<viscera_proto::heartbeat_t>(
+      bus::kHeartbeatChannel, [this](const viscera_proto::heartbeat_t& msg, int64_t) {
+        peers_.Observe(msg, MonotonicNanos());
       });
   bus_->SubscribeWithInfo<viscera_proto::tool_pose_t>(
       std::string(bus::kPosePrefix) + "[0-9]+",
@@ -70,6 +81,11 @@ void IoLoop::Stop() {
   sessions_->StopAll();
 }
 
+void IoLoop::SetMaxSessions(int max_sessions) {
+  VISCERA_DEMAND(max_sessions >= 1);
+  new_max_sessions_ = max_sessions;
+}
+
 std::string IoLoop::error() const {
   std::lock_guard<std::mutex> lock(error_mutex_);
   return error_;
@@ -89,6 +105,10 @@ void IoLoop::Run() {
   try {
     auto next_heartbeat = Clock::now();
     while (!stop_.load()) {
+      if (const int n = new_max_sessions_.exchange(0); n > 0) {
+        sessions_->SetMaxSessions(n);
+        heartbeat_.SetMaxSessions(n);
+      }
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
         viscera_proto::heartbeat_t heartbeat = heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());

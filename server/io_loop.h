@@ -10,6 +10,7 @@
 
 #include "bus/lcm_bus.h"
 #include "server/heartbeat_source.h"
+#include "server/peer_directory.h"
 #include "server/server_config.h"
 #include "server/session_manager.h"
 
@@ -40,6 +41,9 @@ class IoLoop {
   int HandleWaiting();
   /// The bus requests and poses arrive on (with memq://, the only way in).
   bus::LcmBus& bus() { return *bus_; }
+  /// Accept at most `max_sessions` sessions from now on (sessions running stay); the I/O
+  /// thread applies it at its next turn (within 100 ms). Any thread. @pre max_sessions >= 1.
+  void SetMaxSessions(int max_sessions);
 
   /// True once the thread has died of an error; error() says which.
   bool failed() const { return failed_.load(); }
@@ -56,8 +60,10 @@ class IoLoop {
   std::unique_ptr<bus::LcmBus> frame_bus_;    // publish only: frames (SessionManager says why)
   std::unique_ptr<SessionManager> sessions_;  // after the buses: sessions publish on them
   HeartbeatSource heartbeat_;
+  PeerDirectory peers_;  // other servers' heartbeats, for refusals that name one with room
   std::thread thread_;
   std::atomic<bool> stop_{false};
+  std::atomic<int> new_max_sessions_{0};  // 0: no change asked
   std::atomic<bool> failed_{false};
   std::atomic<int64_t> heartbeats_sent_{0};
   mutable std::mutex error_mutex_;

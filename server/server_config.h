@@ -30,6 +30,7 @@ struct ServerConfig {
   int max_frame_height = 1080;
   int jpeg_quality = 80;             ///< 1..100
   int realtime_priority = 0;  ///< > 0: SCHED_FIFO for mechanics and I/O threads (1..99)
+  double spin_us = -1.0;      ///< mechanics loops spin this long before each deadline (us; < 0 auto)
   std::string key_file;       ///< pre-shared key: every message must carry its MAC ("" = none)
   bool insecure = false;      ///< start off loopback without a key (docs/security.md)
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <utility>
 
 #include "bus/channels.h"
@@ -119,6 +120,21 @@ SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
 }
 
 SessionManager::~SessionManager() { StopAll(); }
+
+void SessionManager::SetMaxSessions(int max_sessions) {
+  VISCERA_DEMAND(max_sessions >= 1);
+  config_.max_sessions = max_sessions;
+}
+
+std::string SessionManager::FullMessage() const {
+  const std::string full = Cat("server ", config_.server_id, " is full (", sessions_.size(),
+                               " of ", config_.max_sessions, " sessions)");
+  const std::optional<bus::ServerLoad> other =
+      peers_ != nullptr ? peers_->Suggest(MonotonicNanos()) : std::nullopt;
+  if (!other) return Cat(full, "; no other server with room heard");
+  return Cat(full, "; server ", other->server_id, " has room (", other->sessions, " of ",
+             other->max_sessions, " sessions): viscera create --server ", other->server_id);
+}
 
 void SessionManager::StopAll() {
   for (PendingCreate& p : pending_) p.scene.wait();  // helpers finish; their models are dropped
@@ -388,8 +404,7 @@ void SessionManager::Create(const session_request_t& request) {
   }
   if (static_cast<int>(sessions_.size() + pending_.size()) >= config_.max_sessions) {
     ++rejected_;
-    Reply(request, session_reply_t::kRefused,
-          Cat("server full: ", sessions_.size(), " of ", config_.max_sessions, " sessions"));
+    Reply(request, session_reply_t::kRefused, FullMessage());
     return;
   }
   if (!std::isfinite(request.skeleton_rate_hz) || request.skeleton_rate_hz > 1000.0) {
@@ -463,8 +478,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
                                   double frame_mpix_per_s) {
   if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
     ++rejected_;
-    Reply(request, session_reply_t::kRefused,
-          Cat("server full: ", sessions_.size(), " of ", config_.max_sessions, " sessions"));
+    Reply(request, session_reply_t::kRefused, FullMessage());
     return;
   }
   session::SessionConfig sc;
@@ -479,6 +493,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   sc.status_rate_hz = config_.status_rate_hz;
   sc.realtime_priority = config_.realtime_priority;
   sc.lease_s = config_.session_lease_s;
+  sc.spin_ns = config_.spin_us < 0.0 ? -1 : static_cast<int64_t>(config_.spin_us * 1e3);
   FrameStreamConfig frames;
   frames.rate_hz = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
   frames.options.width = request.frame_width > 0 ? request.frame_width : config_.frame_width;

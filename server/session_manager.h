@@ -18,6 +18,7 @@
 #include "bus/lcm_bus.h"
 #include "bus/replay_guard.h"
 #include "server/frame_streamer.h"
+#include "server/peer_directory.h"
 #include "server/server_config.h"
 #include "session/session.h"
 #include "session/session_scene.h"
@@ -67,6 +68,13 @@ class SessionManager {
   /// Stops every session: final status, records flushed.
   void StopAll();
 
+  /// Other servers on the bus: a refusal because this one is full names one with room.
+  /// @pre peers (nullable) outlives the manager and is only touched by the I/O thread.
+  void SetPeers(const PeerDirectory* peers) { peers_ = peers; }
+
+  /// Creates beyond `max_sessions` running sessions are refused from now on. @pre >= 1.
+  void SetMaxSessions(int max_sessions);
+
   int num_sessions() const { return num_sessions_.load(); }
   /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
   int64_t rejected() const { return rejected_.load(); }
@@ -94,6 +102,8 @@ class SessionManager {
   /// mid-frame). @return its final status.
   viscera_proto::session_status_t Retire(int64_t id);
   void ExpireLeases();
+  /// Why a create is refused when the server is full, naming a peer with room if known.
+  std::string FullMessage() const;
   session::Session* Find(int64_t id);
 
   ServerConfig config_;
@@ -108,6 +118,7 @@ class SessionManager {
   };
 
   bus::LcmBus* frame_bus_;
+  const PeerDirectory* peers_ = nullptr;
   std::map<int64_t, Running> sessions_;
   /// Destroyed sessions whose render thread is still finishing its frame: a destroy never
   /// waits for a frame on the I/O thread. Poll drops them once the thread has ended.

@@ -2,6 +2,7 @@
 /// for clients over LCM and announces itself with a heartbeat once a second.
 #include <malloc.h>
 #include <pthread.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <sched.h>
@@ -14,6 +15,7 @@
 #include <exception>
 #include <iterator>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -22,6 +24,7 @@
 #include "bus/lcm_bus.h"
 #include "render/frame_renderer.h"
 #include "render/offscreen_context.h"
+#include "server/capacity_estimate.h"
 #include "server/io_loop.h"
 #include "server/session_manager.h"
 #include "skin/skin.h"
@@ -37,7 +40,23 @@ std::string DefaultServerId() {
 
 const char* SignalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
 
-int Run(const viscera::server::ServerConfig& config) {
+// --max-sessions 0: as many sessions as the measured cost of `scene` fits in this
+// process's cores (docs/capacity.md); one per core if the scene cannot be measured.
+int AutoMaxSessions(const viscera::server::ServerConfig& config, const std::string& scene) {
+  try {
+    const viscera::server::CapacityEstimate e = viscera::server::EstimateCapacity(config, scene);
+    std::fprintf(stderr, "viscerad: %s (--max-sessions N overrides)\n", e.Describe().c_str());
+    return e.max_sessions;
+  } catch (const std::exception& e) {
+    const int cores = viscera::server::AvailableCores();
+    std::fprintf(stderr,
+                 "viscerad: cannot measure scene '%s' for --max-sessions (%s): %d, one per core\n",
+                 scene.c_str(), e.what(), cores);
+    return cores;
+  }
+}
+
+int Run(viscera::server::ServerConfig config, const std::string& capacity_scene) {
   // Block SIGINT/SIGTERM in every thread (the I/O thread inherits the mask) and take
   // them synchronously here: no handler, no global flag.
   sigset_t stop_signals;
@@ -59,13 +78,28 @@ int Run(const viscera::server::ServerConfig& config) {
                    config.realtime_priority, std::strerror(err));
     }
   }
+  // --max-sessions 0: one per core until the measurement (a second or two: the scene's model,
+  // steps, frames) is done, so that the server answers at once; measured off the I/O thread
+  const bool measure = config.max_sessions == 0;
+  if (measure) config.max_sessions = viscera::server::AvailableCores();
   viscera::server::IoLoop loop(config);
   loop.Start();
+  std::thread estimator;
+  if (measure) {
+    estimator = std::thread([&loop, config, capacity_scene] {
+      // Sessions may already run: the measurement takes what they leave (nice 19, inherited
+      // by its render thread). It counts CPU time, so waiting costs it no accuracy.
+      sched_param normal{};
+      pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+      setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+      loop.SetMaxSessions(AutoMaxSessions(config, capacity_scene));
+    });
+  }
   std::fprintf(stderr,
-               "viscerad: server '%s' up on %s (heartbeat on %s, max %d sessions, scenes in %s, "
+               "viscerad: server '%s' up on %s (heartbeat on %s, max %d sessions%s, scenes in %s, "
                "records in %s%s)\n",
                config.server_id.c_str(), config.lcm_url.c_str(), viscera::bus::kHeartbeatChannel,
-               config.max_sessions, config.scene_dir.c_str(),
+               config.max_sessions, measure ? " until measured" : "", config.scene_dir.c_str(),
                config.log_dir.empty() ? "(none)" : config.log_dir.c_str(),
                config.key_file.empty() ? "" : ", MAC required");
 
@@ -75,6 +109,7 @@ int Run(const viscera::server::ServerConfig& config) {
     const int signal = sigtimedwait(&stop_signals, nullptr, &poll);
     if (signal == SIGINT || signal == SIGTERM) {
       std::fprintf(stderr, "viscerad: %s received, stopping\n", SignalName(signal));
+      if (estimator.joinable()) estimator.join();
       loop.Stop();
       std::fprintf(stderr, "viscerad: stopped cleanly after %lld heartbeats (%lld messages rejected)\n",
                    static_cast<long long>(loop.heartbeats_sent()),
@@ -82,6 +117,7 @@ int Run(const viscera::server::ServerConfig& config) {
       return 0;
     }
     if (loop.failed()) {
+      if (estimator.joinable()) estimator.join();
       loop.Stop();
       std::fprintf(stderr, "viscerad: I/O thread failed: %s\n", loop.error().c_str());
       return 1;
@@ -105,8 +141,15 @@ int main(int argc, char** argv) {
                  "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(viscera::bus::kDefaultUrl) + ")");
   app.add_option("--server-id", config.server_id, "Name announced in heartbeats")
       ->capture_default_str();
-  app.add_option("--max-sessions", config.max_sessions, "Sessions accepted at most")
-      ->check(CLI::Range(1, 1024))
+  config.max_sessions = 0;
+  std::string capacity_scene = "cavity";
+  app.add_option("--max-sessions", config.max_sessions,
+                 "Sessions accepted at most; 0 = as many as this machine's cores hold, from the "
+                 "measured cost of --capacity-scene")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  app.add_option("--capacity-scene", capacity_scene,
+                 "Scene whose step (and frame) cost sets the default --max-sessions")
       ->capture_default_str();
   app.add_option("--scene-dir", config.scene_dir, "Directory of the scenes a create may name")
       ->capture_default_str();
@@ -152,6 +195,11 @@ int main(int argc, char** argv) {
   app.add_option("--realtime", config.realtime_priority,
                  "SCHED_FIFO priority (1..99) for the mechanics and I/O threads; 0 = normal")
       ->check(CLI::Range(0, 99))
+      ->capture_default_str();
+  app.add_option("--spin-us", config.spin_us,
+                 "Mechanics loops sleep until this long before each deadline, then spin (us; 0 = sleep "
+                 "only; -1 = 50 with --realtime granted, else 0)")
+      ->check(CLI::Range(-1.0, 100000.0))
       ->capture_default_str();
   app.add_option("--key-file", config.key_file,
                  "Pre-shared key file: sign every message and accept only signed ones");
@@ -237,7 +285,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    return Run(config);
+    return Run(config, capacity_scene);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "viscerad: %s\n", e.what());
     return 1;

@@ -3,7 +3,8 @@
 # background, creates a session, drives the clearing gesture with the viscera client,
 # prints the force and timing figures, records the session's frame stream (convolution skin,
 # OSMesa, JPEG over LCM) into out/demo/clearing.mp4 and saves a few frames in out/demo/frames,
-# destroys the session and stops the server.
+# runs the haptic device bridge (`viscera haptic`, a simulated hand on the left grasper at 1 kHz)
+# for a few seconds and prints its summary, destroys the session and stops the server.
 # Everything runs in a private network namespace holding only loopback (nothing leaves
 # this machine; VISCERA_DEMO_NETNS=0 uses the host's network instead, ttl=0).
 # The session's record is kept in out/records/.
@@ -58,6 +59,11 @@ cat "$demo/record.txt"
 echo "== a few frames of the scene after the gesture"
 viscera frames "$id" --out "$demo/frames" --count 5
 viscera status "$id"
+
+echo "== the haptic device bridge: a simulated hand follows the gesture's start at 1 kHz and feels the force"
+viscera haptic "$id" --tool left --device sim --script "$root/scenes/clearing.csv" --seconds 4 --quiet \
+  --log "$demo/haptic.jsonl"
+echo "   (one line per 1 ms device period in $demo/haptic.jsonl)"
 
 echo "== destroy the session, stop the server"
 viscera destroy "$id"

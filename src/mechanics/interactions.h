@@ -67,8 +67,13 @@ class Interactions {
     double clearance = 0.0;     // signed distance beyond contact (m)
     double lever = 1.0;         // tool contacts: fraction along the shaft from the port
   };
-  // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever.
+  // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
+  // tool's contact with the part of the tube its jaws hold is no contact (far away).
   Penalty Geometry(const collision::ContactCandidate& c) const;
+  Penalty RawGeometry(const collision::ContactCandidate& c) const;
+  bool Held(const collision::ContactCandidate& c) const;
+  // After a release, the jaws let go of the spheres they held once those are out of the shaft.
+  void ReleaseHeldSpheres();
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
@@ -92,6 +97,9 @@ class Interactions {
   double speculative_h_ = 0.0;
   // RequiredSubsteps left candidates for the whole step: the first sub-step reuses them.
   bool candidates_fresh_ = false;
+  // This sub-step's index and the step's count (from RequiredSubsteps): where the tools' targets
+  // are along their way across the step.
+  int substep_ = 0, substeps_ = 1;
 
   collision::SphereChain chain_;
   collision::VerletList candidates_;
@@ -103,6 +111,11 @@ class Interactions {
   // drawn into the jaws), and fades out on release: the force never jumps.
   std::vector<Vec3> grasp_offset_;
   std::vector<double> grasp_scale_;
+  // The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours within
+  // held_span_ are between the jaws, where the shaft's contact would fight the grasp (the tube
+  // sank half its radius into the tool). Kept after a release until they are out of the shaft.
+  std::vector<int> held_sphere_;
+  int held_span_ = 0;
   // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
   // damping (spread onto its window once, not once per contact).
   std::vector<Vec3> sphere_velocity_;

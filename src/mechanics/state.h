@@ -16,6 +16,8 @@ struct ContactStats {
   int environment = 0;
   int tool = 0;
   double min_clearance = std::numeric_limits<double>::quiet_NaN();
+  /// What the deepest pair touches: "self", "environment" or "tool" ("" without pairs).
+  const char* deepest = "";
 };
 
 struct State {

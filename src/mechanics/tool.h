@@ -40,6 +40,9 @@ struct ToolTarget {
 struct ToolState {
   bool initialized = false;          ///< false until the first target: the tip then starts there
   ToolTarget target;                 ///< the latest target (held when a step brings none)
+  /// The target's tip at the start of this step: the coupling follows the target from there to
+  /// `target.tip` across the step, as a device's hand moved, not in one jump at its start.
+  Vec3 target_from = Vec3::Zero();
   Vec3 tip = Vec3::Zero();           ///< simulated tip position (m)
   Vec3 tip_velocity = Vec3::Zero();  ///< m/s
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
+#include <viscera_proto/force_feedback_t.hpp>
 #include <viscera_proto/session_request_t.hpp>
 #include <viscera_proto/skeleton_state_t.hpp>
 #include <viscera_proto/step_record_t.hpp>
@@ -14,6 +15,7 @@
 #include "bus/channels.h"
 #include "bus/message_auth.h"
 #include "common/check.h"
+#include "session/force_feedback.h"
 #include "session/session_scene.h"
 #include "session/step_record.h"
 #include "session/stepper.h"
@@ -44,8 +46,10 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
   ReplayResult result;
   std::unique_ptr<SessionScene> scene;
   std::unique_ptr<Stepper> stepper;
-  std::string step_channel, skeleton_channel;
+  std::string step_channel, skeleton_channel, force_channel;
   std::vector<mechanics::ToolTarget> targets;
+  std::vector<int64_t> pose_seqs;  // per tool, of the last step record
+  viscera_proto::force_feedback_t expected{};
   // recorded skeletons by step, compared once the replay reaches that step
   std::map<int64_t, viscera_proto::skeleton_state_t> pending;
 
@@ -83,6 +87,7 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
       stepper = std::make_unique<Stepper>(*scene->model);
       step_channel = bus::SessionChannel(bus::kStepPrefix, result.session_id);
       skeleton_channel = bus::SessionChannel(bus::kSkeletonPrefix, result.session_id);
+      force_channel = bus::SessionChannel(bus::kForcePrefix, result.session_id);
       continue;
     }
     if (e->channel == skeleton_channel) {
@@ -94,6 +99,24 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
       } else {
         pending.emplace(step, std::move(k));
       }
+    } else if (e->channel == force_channel) {
+      // the session records a step's forces right after the step: compare with the replay now
+      const auto f = DecodeOrThrow<viscera_proto::force_feedback_t>(*e, path);
+      std::string difference;
+      if (f.tool < 0 || static_cast<size_t>(f.tool) >= targets.size() ||
+          static_cast<size_t>(f.tool) >= stepper->state().tools.size()) {
+        difference = Cat("force message for tool ", f.tool, " before any step with it");
+      } else {
+        const size_t i = static_cast<size_t>(f.tool);
+        FillForceFeedback(stepper->state(), i, targets[i], pose_seqs[i], &expected);
+        difference = ForceFeedbackDifference(f, expected);
+      }
+      ++result.forces_compared;
+      if (!difference.empty()) {
+        if (result.force_mismatches++ == 0) {
+          result.first_force_mismatch = Cat("event ", e->eventnum, ", recorded vs replayed: ", difference);
+        }
+      }
     } else if (e->channel == step_channel) {
       const auto r = DecodeOrThrow<viscera_proto::step_record_t>(*e, path);
       ThrowUnless(r.step == stepper->state().steps, path, ": step record for step ", r.step,
@@ -104,6 +127,8 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
       } else {
         ThrowUnless(r.kind == viscera_proto::step_record_t::kStep && TargetsOf(r, &targets),
                     path, ": malformed step record (event ", e->eventnum, ")");
+        pose_seqs.resize(r.tools.size());
+        for (size_t i = 0; i < r.tools.size(); ++i) pose_seqs[i] = r.tools[i].pose_seq;
         stepper->Advance(targets);
         ++result.steps;
       }

@@ -2,7 +2,7 @@
 /// Replay of a session record: rebuilds the model from the scene kept in the record and
 /// runs the recorded inputs (step_record_t, in order) through the same Stepper the live
 /// session used, so the trajectory comes out bit for bit the same. It checks itself
-/// against the skeleton states the session recorded.
+/// against the skeleton states and every force feedback message the session recorded.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -23,6 +23,11 @@ struct ReplayResult {
   /// Largest distance between a replayed and a recorded control point (m), over every
   /// recorded skeleton state; 0 for an exact replay.
   double max_deviation = 0.0;
+  int64_t forces_compared = 0;   ///< recorded force_feedback_t messages checked
+  /// Recorded force messages whose mechanics fields (force_feedback.h) differ in any bit
+  /// from the replay's; 0 for an exact replay.
+  int64_t force_mismatches = 0;
+  std::string first_force_mismatch;  ///< what differed first ("" if nothing did)
   mechanics::State final_state;
 };
 

@@ -20,8 +20,10 @@
 #include "bus/header.h"
 #include "common/check.h"
 #include "common/clock.h"
+#include "common/pacer.h"
 #include "common/rate_window.h"
 #include "mechanics/forces.h"
+#include "session/force_feedback.h"
 #include "session/loop_stats.h"
 #include "session/outbox.h"
 #include "session/step_record.h"
@@ -174,6 +176,7 @@ void Session::SetCamera(const CameraPose& pose) {
 }
 
 void Session::Run() {
+  bool realtime = false;
   if (config_.realtime_priority > 0) {
     sched_param param{};
     // one above the I/O, LCM and output threads (which run at realtime_priority): on two
@@ -181,12 +184,14 @@ void Session::Run() {
     param.sched_priority = std::min(99, config_.realtime_priority + 1);
     if (const int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); err != 0) {
       SetError(Cat("realtime priority refused (", std::strerror(err), "): normal scheduling"));
+    } else {
+      realtime = true;
     }
   }
   // An exception never crosses a thread: the session is faulted, the daemon lives on.
   try {
     loop_ = std::make_unique<LoopState>(*model_, num_tools());
-    Loop();
+    Loop(realtime);
   } catch (const std::exception& e) {
     SetError(Cat("mechanics thread failed: ", e.what()));
     state_ = session_status_t::kFaulted;
@@ -203,7 +208,7 @@ void Session::Run() {
   }
 }
 
-void Session::Loop() {
+void Session::Loop(bool realtime) {
   LoopState& L = *loop_;
   L.force_channel = bus::SessionChannel(bus::kForcePrefix, config_.id);
   L.skeleton_channel = bus::SessionChannel(bus::kSkeletonPrefix, config_.id);
@@ -222,16 +227,19 @@ void Session::Loop() {
   const int64_t snapshot_period = PeriodNs(config_.snapshot_rate_hz);
   // a first status at once (no rates yet), then one per status period
   PublishStatus(MonotonicNanos(), /*summarize=*/false);
-  int64_t next = MonotonicNanos();
+  // absolute deadlines, sleep then (under SCHED_FIFO) spin: common/pacer.h
+  const int64_t spin = config_.spin_ns >= 0 ? config_.spin_ns : AutoSpinNs(realtime);
+  Pacer pacer({.period_ns = period, .spin_ns = std::min(spin, period / 2)});
+  pacer.Start();
+  int64_t next = pacer.deadline();
   int64_t next_skeleton = next;
   int64_t next_snapshot = next;
   L.last_summary_ns = next;
   int64_t next_status = next + status_period;
 
   while (!stop_.load(std::memory_order_relaxed)) {
-    SleepUntil(next);
-    const int64_t wake = MonotonicNanos();
-    const int64_t deadline = next + period;
+    next = pacer.deadline();
+    const int64_t wake = pacer.Wait();
 
     // commands first (in arrival order), then a step with the latest poses
     inbox_.Take(&L.poses, &L.commands);
@@ -280,13 +288,11 @@ void Session::Loop() {
 
     L.outbox->Flush();
     const int64_t done = MonotonicNanos();
+    const bool missed = pacer.Advance(done);
     if (!L.paused) {
       L.stats.RecordWall(done - next);
-      if (done > deadline) L.stats.RecordMiss();
+      if (missed) L.stats.RecordMiss();
     }
-    next += period;
-    // far behind (a stall, a paused machine): start again from now instead of a burst
-    if (done > next + period) next = done;
   }
 }
 
@@ -321,23 +327,10 @@ void Session::PublishForces(int64_t now_ns) {
   LoopState& L = *loop_;
   const mechanics::State& s = L.stepper.state();
   for (size_t i = 0; i < s.tools.size(); ++i) {
-    const mechanics::ToolState& tool = s.tools[i];
     viscera_proto::force_feedback_t& f = L.force;
     f.header = bus::MakeHeader(config_.id, L.force_seq++);
-    f.tool = static_cast<int32_t>(i);
-    f.step = s.steps;
-    f.sim_time = s.t;
-    for (int a = 0; a < 3; ++a) {
-      f.force[a] = tool.force(a);
-      f.torque[a] = tool.torque(a);
-      f.tip[a] = tool.tip(a);
-      for (int b = 0; b < 3; ++b) f.stiffness[a][b] = tool.stiffness(a, b);
-    }
-    f.pose_seq = L.poses.size() > i ? L.poses[i].seq : -1;
+    FillForceFeedback(s, i, L.targets[i], L.poses.size() > i ? L.poses[i].seq : -1, &f);
     f.pose_utime = L.poses.size() > i ? L.poses[i].client_utime : 0;
-    f.clamped = tool.clamped;
-    f.active = L.targets[i].active;
-    f.grasping = tool.grasping;
     L.outbox->Push(f);
   }
 }

@@ -40,6 +40,9 @@ struct SessionConfig {
   /// The session ends when its client sends nothing for this long (s); <= 0: never. The
   /// server enforces it (Expired); the status reports the time left.
   double lease_s = 0.0;
+  /// The mechanics loop sleeps until this long before each deadline, then spins (ns; at most
+  /// half a period); < 0: AutoSpinNs (common/pacer.h and docs/haptics.md, "Pacing", say why).
+  int64_t spin_ns = -1;
 };
 
 /// Thread-safe view of a session's camera (set by kCamera, read by a render thread).
@@ -121,7 +124,7 @@ class Session {
 
  private:
   void Run();
-  void Loop();
+  void Loop(bool realtime);
   void ApplyCommands();
   void PublishForces(int64_t now_ns);
   void PublishSkeleton();

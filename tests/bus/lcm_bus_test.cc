@@ -82,6 +82,19 @@ TEST(LcmBus, DrainHandlesEveryQueuedMessage) {
   EXPECT_EQ(bus.Drain(), 0);
 }
 
+// The flood bound (protocol.md, Bad input): one Drain handles at most max_messages, so a
+// flood cannot keep the I/O thread in one pump forever; the rest waits for the next pump.
+TEST(LcmBus, DrainHandlesAtMostItsBound) {
+  LcmBus bus(kMemq);
+  int handled = 0;
+  bus.Subscribe<heartbeat_t>(kHeartbeatChannel, [&](const heartbeat_t&, int64_t) { ++handled; });
+  for (int64_t i = 0; i < 12; ++i) ASSERT_TRUE(bus.Publish(kHeartbeatChannel, SampleHeartbeat(i)));
+  EXPECT_EQ(bus.Drain(10), 10);
+  EXPECT_EQ(handled, 10);
+  EXPECT_EQ(bus.Drain(10), 2);
+  EXPECT_EQ(handled, 12);
+}
+
 TEST(LcmBus, MalformedDatagramsAreCountedAndLaterMessagesArrive) {
   LcmBus bus(kMemq);
   std::vector<heartbeat_t> got;

@@ -2,12 +2,20 @@
 // private loopback-only network namespace (tests/e2e/in_netns.sh runs every test).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <limits>
 #include <random>
+#include <sstream>
+#include <thread>
 
 #include <viscera_proto/force_feedback_t.hpp>
 #include <viscera_proto/heartbeat_t.hpp>
+#include <viscera_proto/session_reply_t.hpp>
+#include <viscera_proto/session_request_t.hpp>
 #include <viscera_proto/session_status_t.hpp>
 #include <viscera_proto/tool_pose_t.hpp>
 
@@ -17,13 +25,26 @@
 #include "client/token_store.h"
 #include "common/clock.h"
 #include "session/replay.h"
+#include "tests/common/eventually.h"
 #include "tests/e2e/e2e_harness.h"
 
 namespace viscera::e2e {
 namespace {
 
 using nlohmann::json;
+using viscera::testing::Eventually;
 
+// Polls the status of `id` until `done` holds (or 30 s pass: the test then fails, showing the
+// last status). No fixed sleep: as fast as the server gets there, however loaded the machine.
+json StatusWhen(const std::string& dir, int64_t id, const std::function<bool(const json&)>& done,
+                const std::string& extra = "") {
+  json s;
+  EXPECT_TRUE(Eventually([&] {
+    s = Status(dir, id, extra);
+    return !s.is_null() && done(s);
+  }, 30.0, [] { Sleep(0.05); })) << "last status: " << s.dump();
+  return s;
+}
 
 std::string PushScene() { return std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes/push.toml"; }
 
@@ -53,15 +74,13 @@ TEST(SessionsE2E, CreateStatusListDestroy) {
   EXPECT_GT(id, 0);
   EXPECT_EQ(created["server_id"], "e2e-a");
   EXPECT_EQ(created["token"].get<std::string>().size(), 32u);  // 16 random bytes
-  Sleep(1.5);
-  const json s = Status(dir, id);
+  const json s = StatusWhen(dir, id, [](const json& s) { return s["sim_time"].get<double>() > 1.0; });
   EXPECT_EQ(s["session"], id);
   EXPECT_EQ(s["state"], "running");
-  EXPECT_GT(s["sim_time"].get<double>(), 1.0);
-  // the rate achieved, and deadlines kept; the bounds leave room for this shared 2-core
-  // machine, where ctest runs other tests (and other people build) at the same time
-  EXPECT_NEAR(s["rate_hz"].get<double>(), 100.0, 15.0) << s.dump();
-  EXPECT_LE(s["deadline_misses"].get<int64_t>(), s["steps"].get<int64_t>() / 50) << s.dump();
+  // liveness and consistency; the rate and misses themselves are bench/server_bench.sh's
+  EXPECT_GT(s["rate_hz"].get<double>(), 0.0) << s.dump();
+  EXPECT_EQ(s["configured_rate_hz"], 100.0);
+  EXPECT_LE(s["deadline_misses"].get<int64_t>(), s["steps"].get<int64_t>()) << s.dump();
   EXPECT_EQ(s["rejected"], 0);
 
   const CliResult list = Viscera(dir, "list --json");
@@ -71,8 +90,7 @@ TEST(SessionsE2E, CreateStatusListDestroy) {
   EXPECT_EQ(list.json()[0]["state"], "running");
 
   EXPECT_EQ(Viscera(dir, "pause " + std::to_string(id)).rc, 0);
-  Sleep(0.6);
-  EXPECT_EQ(Status(dir, id)["state"], "paused");
+  StatusWhen(dir, id, [](const json& s) { return s["state"] == "paused"; });
   EXPECT_EQ(Viscera(dir, "resume " + std::to_string(id)).rc, 0);
   EXPECT_EQ(Viscera(dir, "reset " + std::to_string(id)).rc, 0);
   EXPECT_EQ(Viscera(dir, "camera " + std::to_string(id) + " --eye 0 -0.3 0.3 --target 0 0 0").rc, 0);
@@ -93,37 +111,31 @@ TEST(SessionsE2E, TwoSessionsStayIsolated) {
   const int64_t a = Create(dir, "fall")["session"].get<int64_t>();
   const int64_t b = Create(dir, "hanging --rate 200")["session"].get<int64_t>();
   ASSERT_NE(a, b);
-  bus::LcmBus probe(kUrl);
-  int statuses_of_b_on_a = 0;
-  probe.Subscribe<viscera_proto::session_status_t>(
-      bus::SessionChannel(bus::kStatusPrefix, a), [&](const viscera_proto::session_status_t& s, int64_t) {
-        if (s.header.session_id != a) ++statuses_of_b_on_a;
-      });
   // a's token does not drive b
   client::TokenStore store(dir + "/sessions.json");
   const std::string token_a = client::ToHex(store.Find(a)->token);
   EXPECT_EQ(Viscera(dir, "pause " + std::to_string(b) + " --token " + token_a).rc, 4);
   EXPECT_EQ(Viscera(dir, "pause " + std::to_string(a)).rc, 0);
-  const int64_t deadline = MonotonicNanos() + 1'500'000'000;
-  while (MonotonicNanos() < deadline) probe.Pump(50);
-  const json sa = Status(dir, a), sb = Status(dir, b);
-  EXPECT_EQ(sa["state"], "paused");
+  const json sa = StatusWhen(dir, a, [](const json& s) { return s["state"] == "paused"; });
+  const json sb = StatusWhen(dir, b, [](const json& s) { return s["rate_hz"].get<double>() > 0.0; });
   EXPECT_EQ(sb["state"], "running");
-  EXPECT_NEAR(sb["rate_hz"].get<double>(), 200.0, 20.0);
   EXPECT_EQ(sb["configured_rate_hz"], 200.0);
   EXPECT_EQ(sa["rejected"], 0);
   EXPECT_EQ(sb["rejected"], 1);  // the pause with a's token
-  EXPECT_EQ(statuses_of_b_on_a, 0);
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a)).rc, 0);
-  Sleep(0.3);
-  EXPECT_EQ(Status(dir, b)["state"], "running");
-  EXPECT_EQ(Viscera(dir, "list --json").json().size(), 1u);
+  EXPECT_TRUE(Eventually([&] { return Viscera(dir, "list --json").json().size() == 1u; }, 30.0, [] { Sleep(0.05); }));
+  const int64_t b_steps = Status(dir, b)["steps"].get<int64_t>();
+  StatusWhen(dir, b, [&](const json& s) { return s["state"] == "running" && s["steps"].get<int64_t>() > b_steps; });
 }
 
+// Every kind of bad datagram, one at a time, to a session whose scene has a tool (so that the
+// value checks are reached, not hidden behind "no such tool"): each is dropped, counted
+// exactly once against the right session, and named in last_error. The flood is its own check.
 TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-c", {"--log-dir", dir}, dir);
-  const json ca = Create(dir, "fall");
+  const json ca = Create(dir, "--scene-file " + PushScene());
+  ASSERT_EQ(ca["tools"], json::array({"grasper"}));
   const int64_t a = ca["session"].get<int64_t>();
   const int64_t b = Create(dir, "hanging")["session"].get<int64_t>();
   const std::vector<uint8_t> token = client::FromHex(ca["token"].get<std::string>());
@@ -132,73 +144,145 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
 
   bus::LcmBus probe(kUrl);
   const std::string pose_a = bus::SessionChannel(bus::kPosePrefix, a);
+  int64_t expected_a = 0;
+  // sends one bad datagram with `send`, then waits until a's status has counted exactly one
+  // more rejection, for the reason `why`
+  auto expect_rejected = [&](const std::string& what, const std::function<void()>& send, const std::string& why) {
+    SCOPED_TRACE(what);
+    send();
+    ++expected_a;
+    const json s = StatusWhen(dir, a, [&](const json& s) { return s["rejected"].get<int64_t>() >= expected_a; });
+    EXPECT_EQ(s["rejected"], expected_a) << s.dump();
+    EXPECT_NE(s["last_error"].get<std::string>().find(why), std::string::npos) << s["last_error"];
+  };
   std::mt19937 rng(1234);
   std::vector<uint8_t> garbage(64);
   for (uint8_t& g : garbage) g = static_cast<uint8_t>(rng());
-  // garbage on every channel of the protocol
+  expect_rejected("garbage", [&] { probe.PublishRaw(pose_a, garbage.data(), 64); }, "malformed message on " + pose_a);
+  expect_rejected("truncated", [&] { probe.PublishRaw(pose_a, garbage.data(), 3); }, "malformed message");
+  expect_rejected("another type", [&] {
+    viscera_proto::heartbeat_t hb{};
+    hb.header = bus::MakeHeader(a, 0);
+    probe.Publish(pose_a, hb);
+  }, "malformed message");
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  expect_rejected("NaN position", [&] { probe.Publish(pose_a, Pose(a, token, 1, Vec3(nan, 0.0, 0.0))); },
+                  "pose: position (nan");
+  expect_rejected("inf orientation", [&] {
+    auto p = Pose(a, token, 2, Vec3::Zero());
+    p.orientation[2] = inf;
+    probe.Publish(pose_a, p);
+  }, "pose: orientation quaternion of norm inf");
+  expect_rejected("far position", [&] { probe.Publish(pose_a, Pose(a, token, 3, Vec3(1e9, 0.0, 0.0))); },
+                  "pose: position (1e+09, 0, 0) m: not finite or beyond");
+  expect_rejected("jaw out of range", [&] {
+    auto p = Pose(a, token, 4, Vec3::Zero());
+    p.jaw = 5.0;
+    probe.Publish(pose_a, p);
+  }, "pose: jaw 5: must be within [0, 1]");
+  expect_rejected("no such tool", [&] {
+    auto p = Pose(a, token, 5, Vec3::Zero());
+    p.tool = 1;
+    probe.Publish(pose_a, p);
+  }, "pose: tool 1 does not exist (the scene has 1)");
+  expect_rejected("another session's token", [&] { probe.Publish(pose_a, Pose(a, token_b, 6, Vec3::Zero())); },
+                  "pose with a wrong session token");
+  expect_rejected("no token", [&] { probe.Publish(pose_a, Pose(a, {}, 7, Vec3::Zero())); },
+                  "pose without the session token");
+  expect_rejected("another protocol version", [&] {
+    auto p = Pose(a, token, 8, Vec3::Zero());
+    p.header.version = viscera_proto::header_t::kProtocolVersion + 1;
+    probe.Publish(pose_a, p);
+  }, "pose: protocol version");
+  // a stale pose: after a good one (seq 1000), an older seq sent earlier (a reordered datagram)
+  const auto good = Pose(a, token, 1000, Vec3(0.0, 0.0, 0.2));
+  probe.Publish(pose_a, good);
+  StatusWhen(dir, a, [](const json& s) { return s["poses"].get<int64_t>() == 1; });
+  expect_rejected("stale pose", [&] {
+    auto p = Pose(a, token, 999, Vec3(0.0, 0.0, 0.2));
+    p.header.utime = good.header.utime - 1000;
+    probe.Publish(pose_a, p);
+  }, "stale pose (seq 999 after a newer one)");
+  expect_rejected("a destroy with another session's token", [&] {
+    EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a) + " --token " + client::ToHex(token_b)).rc, 4);
+  }, "request with a wrong session token");
+  // a request of another protocol version is answered, in this version's layout, kBadRequest
+  {
+    SCOPED_TRACE("request of another version");
+    std::vector<viscera_proto::session_reply_t> replies;
+    probe.Subscribe<viscera_proto::session_reply_t>(bus::kReplyChannel, [&](const viscera_proto::session_reply_t& r, int64_t) {
+      if (r.request_id == 4242) replies.push_back(r);
+    });
+    viscera_proto::session_request_t request{};
+    request.header = bus::MakeHeader(a, 1);
+    request.header.version = viscera_proto::header_t::kProtocolVersion - 1;
+    request.request_id = 4242;
+    request.command = viscera_proto::session_request_t::kStatus;
+    probe.Publish(bus::kRequestChannel, request);
+    ++expected_a;  // charged to the session it names
+    ASSERT_TRUE(Eventually([&] { return !replies.empty(); }, 30.0, [&] { probe.Pump(20); }));
+    EXPECT_EQ(replies[0].result, viscera_proto::session_reply_t::kBadRequest);
+    EXPECT_NE(replies[0].message.find("protocol version"), std::string::npos) << replies[0].message;
+    const json s = StatusWhen(dir, a, [&](const json& s) { return s["rejected"].get<int64_t>() >= expected_a; });
+    EXPECT_EQ(s["rejected"], expected_a);
+  }
+  // a pose whose header names b, on a's channel: charged to b (the session it claims), not a
+  {
+    SCOPED_TRACE("session id that does not match its channel");
+    probe.Publish(pose_a, Pose(b, token_b, 1, Vec3::Zero()));
+    const json sb = StatusWhen(dir, b, [](const json& s) { return s["rejected"].get<int64_t>() >= 1; });
+    EXPECT_EQ(sb["rejected"], 1);
+    EXPECT_EQ(sb["poses"], 0);
+    EXPECT_EQ(sb["last_error"], "pose for session " + std::to_string(b) + " on channel " + pose_a);
+  }
+  // garbage on every other channel of the protocol, and an unknown session's pose: counted by
+  // the server, charged to no session
+  const CliResult before = Viscera(dir, "servers --timeout 1.2 --json");
+  ASSERT_EQ(before.rc, 0);
+  const int64_t server_rejected = before.json()[0]["rejected"].get<int64_t>();
   for (const std::string& channel :
        {std::string(bus::kRequestChannel), std::string(bus::kReplyChannel),
-        std::string(bus::kHeartbeatChannel), pose_a, bus::SessionChannel(bus::kForcePrefix, a),
+        std::string(bus::kHeartbeatChannel), bus::SessionChannel(bus::kForcePrefix, a),
         bus::SessionChannel(bus::kStatusPrefix, a), bus::SessionChannel(bus::kSkeletonPrefix, a),
         bus::SessionChannel(bus::kFramePrefix, a)}) {
     probe.PublishRaw(channel, garbage.data(), static_cast<int>(garbage.size()));
   }
-  probe.PublishRaw(pose_a, garbage.data(), 3);  // truncated
-  // a message of the wrong type on the pose channel
-  viscera_proto::heartbeat_t hb{};
-  hb.header = bus::MakeHeader(a, 0);
-  probe.Publish(pose_a, hb);
-  // NaN, inf, huge values
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const double inf = std::numeric_limits<double>::infinity();
-  probe.Publish(pose_a, Pose(a, token, 1, Vec3(nan, 0.0, 0.0)));
-  auto bad_orientation = Pose(a, token, 2, Vec3::Zero());
-  bad_orientation.orientation[2] = inf;
-  probe.Publish(pose_a, bad_orientation);
-  probe.Publish(pose_a, Pose(a, token, 3, Vec3(1e9, 0.0, 0.0)));
-  auto bad_jaw = Pose(a, token, 4, Vec3::Zero());
-  bad_jaw.jaw = 5.0;
-  probe.Publish(pose_a, bad_jaw);
-  // wrong and missing token, another protocol version
-  probe.Publish(pose_a, Pose(a, token_b, 5, Vec3::Zero()));
-  probe.Publish(pose_a, Pose(a, {}, 6, Vec3::Zero()));
-  auto old = Pose(a, token, 7, Vec3::Zero());
-  old.header.version = 1;
-  probe.Publish(pose_a, old);
-  const int kBadForA = 10;  // 2 garbage + 1 wrong type + 4 bad values + 2 tokens + 1 version
-  // an unknown session, and a destroy with a wrong token
   probe.Publish(bus::SessionChannel(bus::kPosePrefix, 999), Pose(999, token, 0, Vec3::Zero()));
-  EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a) + " --token " + client::ToHex(token_b)).rc, 4);
-  // a flood: 20000 poses as fast as the bus takes them
-  for (int64_t k = 0; k < 20000; ++k) probe.Publish(pose_a, Pose(a, token, 100 + k, Vec3(0.0, 0.0, 0.3)));
-  Sleep(1.5);
+  // the server subscribes to requests and poses only: the request garbage and the unknown pose
+  int64_t now_rejected = 0;
+  EXPECT_TRUE(Eventually([&] {
+    const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
+    if (r.rc == 0) now_rejected = r.json()[0]["rejected"].get<int64_t>();
+    return now_rejected >= server_rejected + 2;
+  }, 30.0)) << "the server did not count the garbage request and the unknown session's pose";
+  EXPECT_EQ(now_rejected, server_rejected + 2);
+  json sa = Status(dir, a);
+  EXPECT_EQ(sa["rejected"], expected_a);
+  EXPECT_EQ(sa["poses"], 1);
 
+  // a flood: 20000 good poses as fast as the bus takes them. UDP on loopback may lose some;
+  // none is rejected, none reaches b, and both sessions keep running.
+  for (int64_t k = 0; k < 20000; ++k) probe.Publish(pose_a, Pose(a, token, 2000 + k, Vec3(0.0, 0.0, 0.3)));
+  probe.Publish(pose_a, Pose(a, token, 30000, Vec3(0.0, 0.0, 0.3)));  // a last one, paced
+  sa = StatusWhen(dir, a, [](const json& s) { return s["poses"].get<int64_t>() > 200; });
   ASSERT_TRUE(daemon.Alive());
-  const json sa = Status(dir, a), sb = Status(dir, b);
   EXPECT_EQ(sa["state"], "running");
+  EXPECT_EQ(sa["rejected"], expected_a) << sa.dump();
+  EXPECT_LE(sa["poses"].get<int64_t>(), 1 + 20000 + 1);
+  const json sb = Status(dir, b);
   EXPECT_EQ(sb["state"], "running");
-  // the flood's poses are accepted (a scene with tools) or rejected as tool-less; the others
-  // are counted exactly (UDP on loopback may lose some of the flood, not the first ones)
-  const int64_t flood_counted = sa["poses"].get<int64_t>() + sa["rejected"].get<int64_t>() - kBadForA - 1;
-  EXPECT_GE(sa["rejected"].get<int64_t>(), kBadForA + 1) << sa.dump();
-  EXPECT_LE(flood_counted, 20000);
-  EXPECT_GT(flood_counted, 200) << "the server heard almost none of the flood";
-  EXPECT_NE(sa["last_error"].get<std::string>(), "");
-  EXPECT_EQ(sb["rejected"], 0);  // the other session saw none of it
-  EXPECT_NEAR(sb["rate_hz"].get<double>(), 100.0, 10.0);
-  EXPECT_NEAR(sa["rate_hz"].get<double>(), 100.0, 10.0);
+  EXPECT_EQ(sb["rejected"], 1);  // the mismatched pose above, nothing of the flood
+  EXPECT_EQ(sb["poses"], 0);
 
-  // the server counts everything it dropped, the unknown session's pose and garbage requests too
-  const CliResult servers = Viscera(dir, "servers --timeout 1.2 --json");
-  ASSERT_EQ(servers.rc, 0);
-  EXPECT_GE(servers.json()[0]["rejected"].get<int64_t>(), kBadForA + 3);
-
-  // nothing recorded was lost: a's record replays exactly
+  // nothing recorded was lost: a's record, poses and forces, replays exactly
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a)).rc, 0);
   const session::ReplayResult r = session::ReplayRecord(dir + "/session-" + std::to_string(a) + ".lcmlog");
-  EXPECT_GT(r.steps, 150);
-  EXPECT_GT(r.skeletons_compared, 30);
+  EXPECT_GT(r.steps, 50);
+  EXPECT_GT(r.skeletons_compared, 10);
   EXPECT_EQ(r.max_deviation, 0.0);
+  EXPECT_EQ(r.forces_compared, r.steps);
+  EXPECT_EQ(r.force_mismatches, 0) << r.first_force_mismatch;
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
@@ -213,14 +297,15 @@ TEST(SessionsE2E, AMechanicalBlowUpIsRecoveredAndReported) {
   Daemon daemon("e2e-d", {}, dir);
   const int64_t good = Create(dir, "fall")["session"].get<int64_t>();
   const int64_t bad = Create(dir, "--scene-file " + unstable)["session"].get<int64_t>();
-  Sleep(1.5);
-  const json sb = Status(dir, bad), sg = Status(dir, good);
+  const json sb = StatusWhen(dir, bad, [](const json& s) { return s["recoveries"].get<int64_t>() > 0; });
   EXPECT_EQ(sb["state"], "running");
-  EXPECT_GT(sb["recoveries"].get<int64_t>(), 0);
   EXPECT_NE(sb["last_error"].get<std::string>().find("blew up"), std::string::npos);
   EXPECT_TRUE(std::isfinite(sb["energy"].get<double>()));
+  const int64_t bad_steps = sb["steps"].get<int64_t>();
+  StatusWhen(dir, bad, [&](const json& s) { return s["steps"].get<int64_t>() > bad_steps + 10; });  // lives on
+  const json sg = Status(dir, good);
+  EXPECT_EQ(sg["state"], "running");
   EXPECT_EQ(sg["recoveries"], 0);
-  EXPECT_NEAR(sg["rate_hz"].get<double>(), 100.0, 10.0);
 }
 
 TEST(SessionsE2E, WithAPreSharedKeyOnlyKeyHoldersCreateOrDrive) {
@@ -236,12 +321,11 @@ TEST(SessionsE2E, WithAPreSharedKeyOnlyKeyHoldersCreateOrDrive) {
   bus::LcmBus unsigned_probe(kUrl);
   unsigned_probe.Publish(bus::SessionChannel(bus::kPosePrefix, id), Pose(id, token, 0, Vec3::Zero()));
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(id) + " --timeout 1").rc, 2);
-  Sleep(0.3);
-  const CliResult s = Viscera(dir, "status " + std::to_string(id) + " --json --key-file " + dir + "/psk");
-  ASSERT_EQ(s.rc, 0);
-  EXPECT_EQ(s.json()["state"], "running");
-  EXPECT_EQ(s.json()["rejected"], 1);  // the unsigned pose, charged to its session
-  EXPECT_EQ(s.json()["poses"], 0);
+  const json s = StatusWhen(dir, id, [](const json& s) { return s["rejected"].get<int64_t>() >= 1; },
+                            " --key-file " + dir + "/psk");
+  EXPECT_EQ(s["state"], "running");
+  EXPECT_EQ(s["rejected"], 1);  // the unsigned pose, charged to its session
+  EXPECT_EQ(s["poses"], 0);
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(id) + " --key-file " + dir + "/psk").rc, 0);
 }
 
@@ -250,7 +334,7 @@ TEST(SessionsE2E, ARecordSurvivesAKilledServerAndReplays) {
   Daemon daemon("e2e-f", {"--log-dir", dir}, dir);
   const int64_t id = Create(dir, "fall")["session"].get<int64_t>();
   EXPECT_EQ(Viscera(dir, "reset " + std::to_string(id)).rc, 0);
-  Sleep(1.0);
+  StatusWhen(dir, id, [](const json& s) { return s["steps"].get<int64_t>() > 120; });
   EXPECT_EQ(daemon.Stop(SIGKILL), 128 + SIGKILL);  // no chance to flush
   const session::ReplayResult r = session::ReplayRecord(dir + "/session-" + std::to_string(id) + ".lcmlog");
   EXPECT_EQ(r.session_id, id);
@@ -285,11 +369,55 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   std::ofstream(script) << "t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,grasper,0,0,0.1,1,0,0,0,1\n"
                            "1,grasper,0,0,0.03,1,0,0,0,1\n2,grasper,0,0,0.015,1,0,0,0,1\n"
                            "3,grasper,0,0,0.015,1,0,0,0,1\n";
-  const CliResult r = Viscera(dir, "drive " + std::to_string(id) + " --script " + script + " --json");
+  // the session's force messages, heard while `viscera drive` plays the script
+  bus::LcmBus probe(kUrl);
+  std::vector<viscera_proto::force_feedback_t> forces;
+  probe.Subscribe<viscera_proto::force_feedback_t>(
+      bus::SessionChannel(bus::kForcePrefix, id),
+      [&](const viscera_proto::force_feedback_t& f, int64_t) { forces.push_back(f); });
+  CliResult r;
+  std::atomic<bool> driven{false};
+  std::thread driver([&] {
+    r = Viscera(dir, "drive " + std::to_string(id) + " --script " + script + " --json");
+    driven = true;
+  });
+  // until the drive is over and the tool, left at the last pose, has gone idle
+  EXPECT_TRUE(Eventually([&] { return driven && !forces.empty() && !forces.back().active; }, 60.0,
+                         [&] { probe.Pump(20); }));
+  driver.join();
   ASSERT_EQ(r.rc, 0) << r.out;
   const json d = r.json()["drive"];
-  EXPECT_GT(d["max_force_n"].get<double>(), 0.05) << d.dump();
   EXPECT_GT(d["force_at_max"][2].get<double>(), 0.0) << "pushing down must push the hand up";
+  // the round trip is reported (its size is bench/server_bench.sh's)
+  EXPECT_GT(d["round_trip_p50_us"].get<double>(), 0.0) << d.dump();
+  EXPECT_LE(d["round_trip_p50_us"].get<double>(), d["round_trip_p99_us"].get<double>());
+  EXPECT_LE(d["round_trip_p99_us"].get<double>(), d["round_trip_max_us"].get<double>());
+  // The steady push, against the offline runner on the same scene and script, within 15 %.
+  // Steady: the last active steps, after the tool held the script's last pose for the idle
+  // timeout (0.25 s); a peak would measure how late a loaded machine delivered the poses.
+  std::vector<double> held;
+  for (const auto& f : forces) {
+    if (f.active) held.push_back(std::hypot(f.force[0], f.force[1], f.force[2]));
+  }
+  ASSERT_GE(held.size(), 10u);
+  held.erase(held.begin(), held.end() - 10);
+  std::sort(held.begin(), held.end());
+  const double server = held[5];
+  const std::string trace = dir + "/push.jsonl";
+  const std::string command = std::string(VISCERA_SIM) + " " + PushScene() + " --tool-script " + script +
+                              " --duration 3.25 --trace " + trace + " > /dev/null";
+  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+  double offline = 0.0;
+  std::istringstream lines(ReadFile(trace));
+  for (std::string line; std::getline(lines, line);) {
+    const json frame = json::parse(line);
+    if (!frame.contains("tool_force")) continue;
+    const json& f = frame["tool_force"]["grasper"];
+    offline = std::hypot(f[0].get<double>(), f[1].get<double>(), f[2].get<double>());  // the last frame's
+  }
+  ASSERT_GT(offline, 0.5) << "the offline push felt nothing";
+  std::printf("steady push: server %.4f N, offline runner %.4f N\n", server, offline);
+  EXPECT_NEAR(server, offline, 0.15 * offline) << d.dump();
 }
 
 TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
@@ -317,27 +445,46 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
     probe.Pump(5);
   }
   const size_t pressing = forces.size();
-  // then silence
-  const int64_t end = MonotonicNanos() + 1'500'000'000;
-  while (MonotonicNanos() < end) probe.Pump(20);
   ASSERT_GT(pressing, 100u);
+  // then silence, until the tool is idle and its force has faded (or the test fails at 30 s)
+  EXPECT_TRUE(Eventually([&] {
+    const auto& f = forces.back();
+    return !f.active && std::hypot(f.force[0], f.force[1], f.force[2]) < 1e-3;
+  }, 30.0, [&] { probe.Pump(20); })) << "the force must fade to zero";
   double max_pressing = 0.0;
   for (size_t i = 0; i < pressing; ++i) {
     if (forces[i].active) max_pressing = std::max(max_pressing, std::abs(forces[i].force[2]));
   }
   EXPECT_GT(max_pressing, 0.05);
-  ASSERT_FALSE(forces.empty());
-  const auto& last = forces.back();
-  EXPECT_FALSE(last.active);
-  EXPECT_LT(std::hypot(last.force[0], last.force[1], last.force[2]), 1e-3) << "the force must fade to zero";
-  // no jump: the force fades over steps instead of dropping at once
+  // no jump: from the last active step on, the force fades step by step, never rises again,
+  // and is under 1 % 0.4 s later (eight of the coupling's 0.05 s time constants)
+  size_t idle = 0;
+  for (size_t i = 1; i < forces.size(); ++i) {
+    if (forces[i - 1].active && !forces[i].active) idle = i;
+  }
+  ASSERT_GT(idle, 0u);
+  const auto norm = [&](size_t i) { return std::hypot(forces[i].force[0], forces[i].force[1], forces[i].force[2]); };
+  const double before = norm(idle - 1);
+  EXPECT_GT(before, 0.05);
+  ASSERT_EQ(forces[idle].step, forces[idle - 1].step + 1) << "lost the step that went idle: cannot tell";
+  EXPECT_GE(norm(idle), 0.5 * before) << "the force dropped at once";
+  for (size_t i = idle + 1; i < forces.size(); ++i) {
+    EXPECT_LE(norm(i), norm(i - 1) * (1.0 + 1e-9)) << "rose again " << i - idle << " steps after going idle";
+    if (forces[i].sim_time - forces[idle].sim_time >= 0.4) {
+      EXPECT_LT(norm(i), 0.01 * before);
+    }
+  }
   const json s = Status(dir, id);
-  EXPECT_EQ(s["idle_events"], 1);
+  // at least the silence; a starved client may have let it go idle more often (each counted)
+  int64_t transitions = 0;
+  for (size_t i = 1; i < forces.size(); ++i) transitions += forces[i - 1].active && !forces[i].active;
+  EXPECT_GE(s["idle_events"].get<int64_t>(), std::max<int64_t>(1, transitions));
   // the 300 paced poses arrive; of the burst, UDP keeps what the receive buffer holds
   EXPECT_GT(s["poses"].get<int64_t>(), 250) << s.dump();
   const json so = Status(dir, other);
-  EXPECT_NEAR(so["rate_hz"].get<double>(), 100.0, 15.0) << so.dump();  // unaffected
-  EXPECT_NEAR(s["rate_hz"].get<double>(), 100.0, 15.0) << s.dump();
+  EXPECT_EQ(so["state"], "running");  // the other session is unaffected
+  EXPECT_EQ(so["rejected"], 0);
+  EXPECT_EQ(s["rejected"], 0);
 }
 
 }  // namespace

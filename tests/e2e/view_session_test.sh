@@ -37,11 +37,12 @@ id=$(v create hanging --width 320 --height 240 --frame-rate 25 --json --timeout 
 # (not through v, whose subshell would take the SIGTERM meant for it)
 "$viscera" view "$id" --http 127.0.0.1:18080 --lcm-url "$url" 2>"$work/view.err" &
 view_pid=$!
-for _ in $(seq 100); do
+for _ in $(seq 300); do
   grep -q 'http://127.0.0.1:18080/' "$work/view.err" && break
   kill -0 "$view_pid" 2>/dev/null || fail "viscera view exited"
   sleep 0.1
 done
+grep -q 'http://127.0.0.1:18080/' "$work/view.err" || fail "viscera view never listened (30 s)"
 
 "$here/chromium_mjpeg_check.sh" "http://127.0.0.1:18080/" 5 || fail "Chromium did not show the session"
 

@@ -27,13 +27,13 @@ fail() {
 # long enough for a slow Chromium start; the trap ends it sooner
 "$feeder" --seconds 100 >"$work/feeder.out" 2>"$work/feeder.err" &
 feeder_pid=$!
-for _ in $(seq 100); do
+for _ in $(seq 300); do
   grep -q '^port ' "$work/feeder.out" && break
   kill -0 "$feeder_pid" 2>/dev/null || fail "mjpeg_feeder exited"
   sleep 0.1
 done
 port=$(sed -n 's/^port //p' "$work/feeder.out")
-[[ -n $port ]] || fail "mjpeg_feeder printed no port"
+[[ -n $port ]] || fail "mjpeg_feeder printed no port (30 s)"
 url="http://127.0.0.1:$port"
 
 "$here/chromium_mjpeg_check.sh" "$url/" 5 || fail "Chromium did not show the stream"

@@ -1,6 +1,9 @@
 // Laparoscopic tools: virtual coupling, force feedback, grasping, idling, clamping.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
+#include <vector>
+
 #include "mechanics/step.h"
 #include "scene/scene.h"
 
@@ -114,12 +117,75 @@ TEST_F(Tools, AGraspLiftsTheTubeAndReleasingLetsItFallBack) {
   EXPECT_LT(MiddleHeight(), 0.02);  // back on the table
 }
 
-TEST_F(Tools, AnIdleDeviceFadesTheForceToZero) {
+// A device that stops sending must not be kicked: the force fades over steps, never drops
+// at once, never comes back up, and is gone within a few of the coupling's 0.05 s time
+// constants (the felt force lags the coupling's scale a little: as the coupling weakens,
+// the tube pushes the tip further from the target).
+TEST_F(Tools, AnIdleDeviceFadesTheForceToZeroStepByStep) {
   Hold(Vec3(0.3, 0.0, 0.08), 1.0, 0.2);
   const double pushing = Hold(Vec3(0.3, 0.0, kTouch - 0.01), 1.0, 0.5).force.norm();
   ASSERT_GT(pushing, 0.5);
-  const ToolState& idle = Hold(Vec3(0.3, 0.0, kTouch - 0.01), 1.0, 0.4, /*active=*/false);
-  EXPECT_LT(idle.force.norm(), 0.01 * pushing);
+  const double h = 1.0 / model_->params().rate_hz;
+  std::vector<double> f = {pushing};  // f[0]: the last active step; f[k]: k steps idle
+  for (int k = 1; k * h <= 0.4 + 1e-9; ++k) f.push_back(Hold(Vec3(0.3, 0.0, kTouch - 0.01), 1.0, h, false).force.norm());
+  EXPECT_GE(f[1], 0.5 * f[0]) << "the force dropped at once";
+  for (size_t k = 1; k < f.size(); ++k) EXPECT_LE(f[k], f[k - 1] * (1.0 + 1e-9)) << "rose again at idle step " << k;
+  const auto at = [&](double t) { return f[static_cast<size_t>(std::lround(t / h))]; };
+  for (double t : {0.05, 0.1, 0.2, 0.3, 0.4}) std::printf("idle %.2f s: %.4f of the force\n", t, at(t) / pushing);
+  // the coupling's scale is exp(-t / 0.05 s) (docs/protocol.md)
+  EXPECT_LT(at(0.1), 0.5 * pushing);
+  EXPECT_LT(at(0.3), 0.02 * pushing);
+  EXPECT_LT(at(0.4), 0.01 * pushing);
+}
+
+// The local stiffness K the device renders between answers (F + dF = F - K dx) against an
+// independent oracle: central differences of the settled force over the tip's target, on a
+// tube held rigid so that only the tool moves. Along the contact normal n they must agree.
+// Across it they do not, by design: a tool pressed on a convex surface (radius rho = tube +
+// tool radius) has a negative tangential stiffness of about |F| / rho (it slides off the top),
+// which K leaves out so that it stays symmetric and PSD, the restoring-only model a device can
+// render passively. The test bounds that omission too, so neither part can drift unnoticed.
+TEST_F(Tools, LocalStiffnessMatchesFiniteDifferencesOfTheForce) {
+  ModelParams p = scene::ParseScene(kScene).model;
+  const int n = static_cast<int>(p.initial_q.rows());
+  p.pinned.clear();
+  for (int i = 0; i < n; ++i) p.pinned.push_back(static_cast<double>(i) / (n - 1));  // a rigid tube
+  const double rho = p.radius + p.tools[0].radius;
+  for (const Vec3& dir : {Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.6, -0.8)}) {  // straight down, and oblique
+    SCOPED_TRACE(::testing::Message() << "push along " << dir.transpose());
+    const Vec3 normal = -dir;                                   // from the tube's axis to the tool
+    const Vec3 surface = Vec3(0.3, 0.0, 0.0125) + rho * normal;  // where the tool's side touches
+    auto settled = [&](const Vec3& target) {
+      Reset(p);
+      Hold(surface + 0.05 * normal, 1.0, 0.2);  // arrive from outside
+      ToolState t = Hold(target, 1.0, 2.0);
+      EXPECT_LT(t.tip_velocity.norm(), 1e-6) << "not settled";
+      return t;
+    };
+    const Vec3 base_target = surface - 0.0025 * normal;  // 2.5 mm in
+    const ToolState base = settled(base_target);
+    const Mat3& K = base.stiffness;
+    ASSERT_GT(K.norm(), 1.0) << "no contact at the base pose";
+    EXPECT_LE((K - K.transpose()).norm(), 1e-9 * K.norm());
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(0.5 * (K + K.transpose()));
+    EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-9 * K.norm());
+    const Mat3 across = Mat3::Identity() - normal * normal.transpose();
+    const double d = 0.001;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Vec3 delta = 2.0 * d * Vec3::Unit(axis);  // central difference: +d and -d
+      const Vec3 dF = settled(base_target + 0.5 * delta).force - settled(base_target - 0.5 * delta).force;
+      const Vec3 predicted = -K * delta;  // restoring: the hand is pushed back
+      const Vec3 miss = dF - predicted;
+      const double scale = K.norm() * delta.norm();
+      EXPECT_LE(std::abs(normal.dot(miss)), 0.2 * std::max(std::abs(normal.dot(dF)), 0.1 * scale))
+          << "axis " << axis << "\nK =\n" << K << "\ndF = " << dF.transpose();
+      // what K leaves out: tangential, destabilizing, of size |F| / rho (within 30 %)
+      const Vec3 slide = across * delta;
+      EXPECT_LE((across * miss - base.force.norm() / rho * slide).norm(), 0.3 * base.force.norm() / rho * slide.norm() + 1e-4 * scale)
+          << "axis " << axis << ": tangential miss " << (across * miss).transpose() << ", |F| / rho = " << base.force.norm() / rho;
+    }
+    EXPECT_LT((state_.q - p.initial_q).cwiseAbs().maxCoeff(), 1e-3) << "the tube was meant to stay put";
+  }
 }
 
 TEST_F(Tools, ForceIsClampedToTheDeviceMaximum) {

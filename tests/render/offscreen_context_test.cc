@@ -12,16 +12,31 @@
 namespace viscera::render {
 namespace {
 
-TEST(OffscreenContext, GetsGl33CoreAndLimitsRasterizerThreads) {
+// Runs in a child process (a death-test fork) so that the environment starts as given: unset,
+// a context sets LP_NUM_THREADS to 0 (rasterize in this thread); preset, it is left alone.
+void ExitWithThreadsAfterAContext(const char* preset) {
+  if (preset == nullptr) {
+    ::unsetenv("LP_NUM_THREADS");
+  } else {
+    ::setenv("LP_NUM_THREADS", preset, 1);
+  }
+  { OffscreenContext context(16, 16); }
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  std::exit(threads == nullptr ? 100 : std::atoi(threads));
+}
+
+TEST(OffscreenContext, GetsGl33Core) {
   OffscreenContext context(64, 48);
   std::cout << "GL_VERSION: " << context.gl_version() << "\n";
   EXPECT_TRUE(context.core_profile());
   EXPECT_GE(context.gl_version_number(), 33);
   EXPECT_NE(context.gl_version().find("Mesa"), std::string::npos) << context.gl_version();
-  const char* threads = std::getenv("LP_NUM_THREADS");
-  ASSERT_NE(threads, nullptr);
-  // Whatever the environment said wins; our default is 0 (rasterize in this thread).
-  EXPECT_FALSE(std::string(threads).empty());
+}
+
+TEST(OffscreenContextDeathTest, LimitsRasterizerThreadsUnlessTheEnvironmentSaysOtherwise) {
+  ::testing::FLAGS_gtest_death_test_style = "threadsafe";
+  EXPECT_EXIT(ExitWithThreadsAfterAContext(nullptr), ::testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(ExitWithThreadsAfterAContext("3"), ::testing::ExitedWithCode(3), "");
 }
 
 TEST(OffscreenContext, FrameIsBgraTopRowFirst) {

@@ -14,6 +14,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "common/clock.h"
 #include "tests/server/manager_fixture.h"
 
 namespace viscera::server {
@@ -61,8 +62,30 @@ TEST_F(SessionManagerTest, CreateCommandsAndDestroyWithTheToken) {
   const int64_t id = created.header.session_id;
   EXPECT_EQ(created.header.token.size(), 16u);
   EXPECT_EQ(manager_->num_sessions(), 1);
-  // full: one session at most
-  EXPECT_EQ(Ask(create).result, R::kRefused);
+  // full: one session at most, and no peer heard yet
+  const R full = Ask(create);
+  EXPECT_EQ(full.result, R::kRefused);
+  EXPECT_EQ(full.message, "server srv is full (1 of 1 sessions); no other server with room heard");
+  // once a peer with room beats, the refusal names it (and not a full one, nor itself)
+  PeerDirectory peers("srv", 3'000'000'000);
+  manager_->SetPeers(&peers);
+  viscera_proto::heartbeat_t hb;
+  hb.header = bus::MakeHeader(0, 0);
+  hb.server_id = "srv";  // our own heartbeat: not a peer
+  hb.num_sessions = 0;
+  hb.max_sessions = 8;
+  peers.Observe(hb, MonotonicNanos());
+  hb.server_id = "busy";
+  hb.num_sessions = 2;
+  hb.max_sessions = 2;
+  peers.Observe(hb, MonotonicNanos());
+  hb.server_id = "roomy";
+  hb.num_sessions = 1;
+  hb.max_sessions = 4;
+  peers.Observe(hb, MonotonicNanos());
+  EXPECT_EQ(Ask(create).message,
+            "server srv is full (1 of 1 sessions); server roomy has room (1 of 4 sessions): "
+            "viscera create --server roomy");
 
   auto pause = Request(Q::kPause, id);
   EXPECT_EQ(Ask(pause).result, R::kBadToken);  // no token

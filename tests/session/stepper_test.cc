@@ -40,8 +40,11 @@ TEST(Stepper, ResetGoesBackToTheStartButTimeCarriesOn) {
   const auto model = testing::SmallModel(0);
   Stepper s(*model);
   for (int k = 0; k < 30; ++k) s.Advance({});
+  const double t = s.state().t;
   s.Reset();
   EXPECT_EQ(s.state().steps, 30);
+  EXPECT_EQ(s.state().t, t);
+  EXPECT_DOUBLE_EQ(t, 0.3);
   EXPECT_TRUE(s.state().q.isApprox(model->params().initial_q));
   EXPECT_EQ(s.state().qd.norm(), 0.0);
 }

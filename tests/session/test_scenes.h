@@ -18,6 +18,23 @@ inline std::string SmallSceneToml(double rate_hz = 100.0) {
          "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, 0.0]\n";
 }
 
+/// The small scene with one tool, as a scene file declares it ([[tool]]), so that a record
+/// of it replays with its tool: idle 0.2 s after the last pose.
+inline std::string ToolSceneToml() {
+  return SmallSceneToml() +
+         "[[tool]]\nname = \"grasper\"\nport = [0.05, 0.0, 0.4]\nidle_timeout = 0.2\n";
+}
+
+/// A scene whose step costs several milliseconds (RK4, 200 sub-steps of a 101-point tube)
+/// at 1 kHz: no machine keeps its 1 ms deadlines.
+inline std::string OverloadedSceneToml() {
+  return "[simulation]\nrate_hz = 1000\nsubsteps = 200\nintegrator = \"rk4\"\n"
+         "gravity = [0.0, 0.0, -9.81]\n"
+         "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\ncontrol_points = 101\n"
+         "stretch_stiffness = 10.0\nbend_stiffness = 1.0e-4\npinned = [\"start\", \"end\"]\n"
+         "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, 0.0]\n";
+}
+
 /// A scene whose explicit integrator is far beyond its stability limit: it blows up within
 /// a few steps (RK4, one sub-step, stiff springs).
 inline std::string UnstableSceneToml() {

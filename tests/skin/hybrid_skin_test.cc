@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "common/check.h"
+#include "mesh_geometry.h"
 #include "skeletons.h"
 #include "skin/parametric_skin.h"
 
@@ -43,6 +44,8 @@ TEST(HybridSkinTest, ClosedWithoutCracksAndExactOutsideTheBand) {
                                             << " non-manifold, " << r.misoriented_edges << " misoriented";
   EXPECT_EQ(r.components, 1);
   EXPECT_GT(SignedVolume(mesh), 0.0);
+  EXPECT_EQ(testing::SelfIntersections(mesh), 0);  // where the two skins meet, too
+  EXPECT_EQ(testing::BadVertexFans(mesh), 0);
 
   ConvolutionSkin convolution(kR, ConvolutionOptions{});
   convolution.Bind(150);

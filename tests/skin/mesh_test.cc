@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "mesh_geometry.h"
+
 #include "common/check.h"
 
 namespace viscera::skin {
@@ -23,6 +25,33 @@ TEST(MeshTest, TetrahedronIsClosedOrientedWithVolumeOneSixth) {
   EXPECT_TRUE(r.closed_oriented_manifold());
   EXPECT_EQ(r.components, 1);
   EXPECT_NEAR(SignedVolume(m), 1.0 / 6.0, 1e-15);
+}
+
+// The geometric checks see what indices cannot: two closed tetrahedra passing through each
+// other, and two that touch at one vertex only (each closed and oriented).
+TEST(MeshTest, GeometricChecksCatchCrossingsAndPinchedVertices) {
+  const Mesh one = Tetrahedron();
+  EXPECT_EQ(testing::SelfIntersections(one), 0);
+  EXPECT_EQ(testing::BadVertexFans(one), 0);
+  auto two = [&](const Vec3& offset, bool share_vertex) {
+    Mesh m = Tetrahedron();
+    const int base = m.num_vertices();
+    for (int v = 0; v < 4; ++v) m.positions.push_back(Tetrahedron().positions[v] + offset);
+    for (Eigen::Vector3i t : Tetrahedron().triangles) {
+      for (int i = 0; i < 3; ++i) t[i] = share_vertex && t[i] == 0 ? 3 : t[i] + base;  // 2nd's corner 0 = 1st's 3
+      m.triangles.push_back(t);
+    }
+    return m;
+  };
+  const Mesh crossing = two(Vec3(0.2, 0.2, 0.2), false);
+  EXPECT_TRUE(CheckTopology(crossing).closed_oriented_manifold());
+  EXPECT_GT(testing::SelfIntersections(crossing, /*neighbourhood=*/0), 0);
+  EXPECT_EQ(testing::BadVertexFans(crossing), 0);
+  const Mesh apart = two(Vec3(3, 0, 0), false);
+  EXPECT_EQ(testing::SelfIntersections(apart, 0), 0);
+  const Mesh pinched = two(Vec3(0, 0, 1), true);  // second tetrahedron stands on the first's apex
+  EXPECT_EQ(testing::BadVertexFans(pinched), 1);
+  EXPECT_EQ(testing::SelfIntersections(pinched, 0), 0);
 }
 
 TEST(MeshTest, TopologyCheckCatchesHolesFlipsAndFins) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "common/check.h"
+#include "mesh_geometry.h"
 #include "skeletons.h"
 #include "test_support.h"
 
@@ -76,6 +77,8 @@ TEST(ParametricSkinTest, ClosedOutwardWithExpectedVolume) {
   const TopologyReport r = CheckTopology(mesh);
   EXPECT_TRUE(r.closed_oriented_manifold());
   EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(testing::SelfIntersections(mesh), 0);
+  EXPECT_EQ(testing::BadVertexFans(mesh), 0);
   const double r_min = 0.9 * kR, dr = 0.2 * kR;
   const double mean_r2 = r_min * r_min + r_min * dr + 0.375 * dr * dr;
   const double polygon = 32.0 / (2.0 * std::numbers::pi) * std::sin(2.0 * std::numbers::pi / 32.0);
@@ -94,7 +97,9 @@ TEST(ParametricSkinTest, NoSelfIntersectingRingsWhileKappaRmaxBelowOne) {
     ParametricOptions options;
     options.frame_rule = rule;
     options.radius_min_factor = 1.1;  // constant radius Rmax isolates the bend effect
-    for (double factor : {2.0, 1.3, 0.6}) {
+    // (not 1.3 Rmax: the spline overshoots the arc's curvature where it meets the arms, kappa
+    // Rmax reaches 1.2 there, so neither bound would apply and the case would check nothing)
+    for (double factor : {2.0, 0.6}) {
       const Points q = testing::UBend(120, 10 * kR, factor * r_max);
       ParametricSkin skin(kR, options);
       skin.Bind(120);
@@ -109,9 +114,7 @@ TEST(ParametricSkinTest, NoSelfIntersectingRingsWhileKappaRmaxBelowOne) {
       }
       if (factor < 1.0) {
         EXPECT_GT(inverted, 0) << "bend radius " << factor << " Rmax, kappa Rmax = " << kappa * r_max;
-      } else if (factor >= 2.0) {
-        // (at 1.3 Rmax the spline overshoots the arc's curvature where it meets the arms:
-        // kappa Rmax reaches 1.2 there, so only the conditional check above applies)
+      } else {
         EXPECT_LT(kappa * r_max, 0.95) << "the test skeleton should stay below the bound";
       }
     }
@@ -135,6 +138,38 @@ TEST(ParametricSkinTest, PreventFoldsRemovesRingCrossings) {
     EXPECT_GT(testing::BackwardRingSteps(paper.rays(), a), 0) << "bend radius " << factor << " R";
     EXPECT_EQ(testing::BackwardRingSteps(guarded.rays(), b), 0) << "bend radius " << factor << " R";
     EXPECT_TRUE(CheckTopology(b).closed_oriented_manifold());
+    EXPECT_EQ(testing::BadVertexFans(b), 0);
+  }
+}
+
+// By geometry, which the index-only topology check cannot see, on a right-angle bend (whose
+// arms, unlike a U-bend's, never overlap): the paper's skin crosses itself once the bend is
+// tighter than R (the negative control: the check can fail), and no skin does above R.
+TEST(ParametricSkinTest, TheUnguardedSkinCrossesItselfInBendsTighterThanR) {
+  for (double factor : {1.5, 0.6, 0.4}) {
+    ParametricSkin paper(kR, ParametricOptions{});
+    paper.Bind(60);
+    Mesh a;
+    paper.Build(testing::LBend(60, 6 * kR, factor * kR), &a);
+    if (factor < 1.0) {
+      EXPECT_GT(testing::SelfIntersections(a), 0) << "bend radius " << factor << " R";
+    } else {
+      EXPECT_EQ(testing::SelfIntersections(a), 0) << "bend radius " << factor << " R";
+    }
+  }
+}
+
+// KNOWN FAILURE (ctest WILL_FAIL, tests/CMakeLists.txt). Missing capability: a fold-free skin
+// in bends tighter than R. The fold guard (prevent_folds) keeps the rings in order, so no ring
+// crosses the next, but the creased inner side still crosses itself (hundreds of triangle
+// pairs at 0.6 R and 0.4 R, beyond any 8-edge neighbourhood). docs/skins.md says so. When this
+// starts passing, ctest reports a failure: remove WILL_FAIL then.
+TEST(ParametricSkinKnownFailure, PreventFoldsRemovesSelfIntersections) {
+  for (double factor : {1.5, 0.6, 0.4}) {
+    ParametricOptions options;
+    options.prevent_folds = true;
+    ParametricSkin guarded(kR, options);
+    EXPECT_EQ(testing::CrossingsOnABend(&guarded, testing::LBend(60, 6 * kR, factor * kR), factor), 0);
   }
 }
 

@@ -72,6 +72,23 @@ inline Points Hairpin(int n, double arm, double gap) {
 /// A U-bend: arms of length `arm` and a half circle of radius `bend_radius`.
 inline Points UBend(int n, double arm, double bend_radius) { return Hairpin(n, arm, 2.0 * bend_radius); }
 
+/// A right-angle bend in z = 0: `arm` along +x, a quarter circle of radius `bend_radius`,
+/// `arm` along +y. Unlike a U-bend, its arms never come near each other, so a skin of it
+/// that crosses itself does so at the bend (a fold), whatever the bend radius.
+inline Points LBend(int n, double arm, double bend_radius) {
+  const double quarter = 0.5 * std::numbers::pi * bend_radius;
+  return ResampleByArcLength(
+      [&](double t) -> Vec3 {
+        if (t < arm) return Vec3(t, 0.0, 0.0);
+        if (t < arm + quarter) {
+          const double a = (t - arm) / bend_radius;
+          return Vec3(arm + bend_radius * std::sin(a), bend_radius * (1.0 - std::cos(a)), 0.0);
+        }
+        return Vec3(arm + bend_radius, bend_radius + (t - arm - quarter), 0.0);
+      },
+      0.0, 2.0 * arm + quarter, n);
+}
+
 /// Flat Archimedean spiral in z = 0 of total length `length`, starting at radius r0 with
 /// `spacing` between the centre lines of neighbouring turns: the "packed" stand-in for the
 /// settled fall scene (4 m, 250 control points, turns 2.2-2.6 R apart).

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "common/check.h"
+#include "mesh_geometry.h"
 #include "skeletons.h"
 
 namespace viscera::skin {
@@ -26,6 +27,8 @@ TEST(SkinTest, EverySkinByNameBuildsAndExports) {
     Mesh mesh;
     skin->Build(q, &mesh);
     EXPECT_TRUE(CheckTopology(mesh).closed_oriented_manifold()) << name;
+    EXPECT_EQ(testing::SelfIntersections(mesh), 0) << name;
+    EXPECT_EQ(testing::BadVertexFans(mesh), 0) << name;
     EXPECT_GT(SignedVolume(mesh), 0.0) << name;
     EXPECT_EQ(skin->stats().triangles, mesh.num_triangles());
     ASSERT_EQ(mesh.normals.size(), mesh.positions.size());

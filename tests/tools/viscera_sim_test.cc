@@ -79,7 +79,7 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   // The centre of mass moves exactly as a point under gravity with viscous friction
   // gamma = 0.5 / s: internal forces sum to zero, and so do the rows of their Jacobians. With
   // the scene's linearly implicit Euler at h = 0.01 s that is v' = (v + h g) / (1 + h gamma),
-  // z' = z + h v' (within 2 % of the exact g / gamma (t - (1 - exp(-gamma t)) / gamma)).
+  // z' = z + h v' the implementation must match this recurrence.
   ASSERT_EQ(summary["integrator"], "implicit");
   const double g = 9.81, gamma = 0.5, h = 0.01;
   double v = 0.0, drop = 0.0;
@@ -87,8 +87,8 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
     v = (v + h * g) / (1.0 + h * gamma);
     drop += h * v;
   }
-  const double exact = g / gamma * (0.5 - (1.0 - std::exp(-gamma * 0.5)) / gamma);
-  EXPECT_NEAR(drop, exact, 0.02 * exact);
+  // (the recurrence itself is within 2 % of g / gamma (t - (1 - exp(-gamma t)) / gamma): a
+  // fact about the formula, not the program, so it is not asserted here)
   const double z0 = summary["centre_of_mass_start"][2], z1 = summary["centre_of_mass_end"][2];
   EXPECT_NEAR(z0 - z1, drop, 1e-9);
   // Damping only removes energy.
@@ -146,7 +146,8 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
     last = force;
   }
   EXPECT_GT(peak, 0.3);
-  EXPECT_LE(peak, 5.0);
+  // below the tools' clamp (max_force = 5 N): a clamped peak would hide a force blow-up
+  EXPECT_LT(peak, 0.8 * 5.0);
   EXPECT_LT(jump, 0.5);
 }
 

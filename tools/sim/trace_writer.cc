@@ -84,6 +84,7 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
     } else {
       Number(&line_, c.min_clearance);
     }
+    line_ += ",\"deepest\":\"" + std::string(c.deepest) + '"';
     line_ += ",\"tool_force\":{";
     for (size_t t = 0; t < state.tools.size(); ++t) {
       if (t) line_ += ',';

@@ -166,7 +166,10 @@ int Replay(const Options& opt) {
                             {"scene", r.scene},            {"rate_hz", r.rate_hz},
                             {"steps", r.steps},            {"resets", r.resets},
                             {"recoveries", r.recoveries},  {"skeletons_compared", r.skeletons_compared},
-                            {"max_deviation", r.max_deviation}, {"frames", trace ? trace->frames() : 0}};
+                            {"max_deviation", r.max_deviation}, {"forces_compared", r.forces_compared},
+                            {"force_mismatches", r.force_mismatches},
+                            {"first_force_mismatch", r.first_force_mismatch},
+                            {"frames", trace ? trace->frames() : 0}};
   if (opt.json) {
     std::cout << summary.dump(2) << "\n";
   } else {
@@ -175,6 +178,9 @@ int Replay(const Options& opt) {
     std::printf("reproduced       %lld recorded skeleton states, largest deviation %.3g m%s\n",
                 static_cast<long long>(r.skeletons_compared), r.max_deviation,
                 r.max_deviation == 0.0 ? " (exact)" : "");
+    std::printf("force messages   %lld compared, %lld differ%s%s\n", static_cast<long long>(r.forces_compared),
+                static_cast<long long>(r.force_mismatches), r.force_mismatches == 0 ? " (exact)" : ": first at ",
+                r.first_force_mismatch.c_str());
   }
   return 0;
 }

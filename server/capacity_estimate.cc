@@ -1,0 +1,121 @@
+#include "server/capacity_estimate.h"
+
+#include <sched.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <thread>
+#include <vector>
+
+#include "common/check.h"
+#include "common/clock.h"
+#include "render/frame_renderer.h"
+#include "render/laparoscope.h"
+#include "session/session_scene.h"
+#include "session/stepper.h"
+
+namespace viscera::server {
+namespace {
+
+constexpr int kWarmupSteps = 5;   // first steps fill caches and factor the solver
+constexpr int kMinSteps = 20;
+constexpr int kFrames = 5;        // after one warm-up frame (context, buffers, skin binding)
+
+double Median(std::vector<double> v) {
+  VISCERA_DEMAND(!v.empty());
+  std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+// CPU ms of one frame (skin, draw, JPEG) of `state`, on the calling thread.
+double MeasureFrame(const mechanics::Model& model, const mechanics::State& state,
+                    const ServerConfig& config) {
+  render::FrameOptions options;
+  options.width = config.frame_width;
+  options.height = config.frame_height;
+  options.jpeg_quality = config.jpeg_quality;
+  options.skin = config.skin;
+  options.skin_options.parametric.sides = config.skin_sides;
+  options.skin_options.convolution.sides = config.skin_sides;
+  render::FrameRenderer renderer(model.params(), options);
+  const render::Laparoscope camera = render::FramingLaparoscope(
+      state.q.colwise().minCoeff().transpose(), state.q.colwise().maxCoeff().transpose(),
+      renderer.width(), renderer.height());
+  std::vector<double> costs;
+  for (int i = 0; i <= kFrames; ++i) {
+    const int64_t cpu0 = ThreadCpuNanos();
+    renderer.Render(state, camera);
+    renderer.Encode();
+    if (i > 0) costs.push_back(static_cast<double>(ThreadCpuNanos() - cpu0) * 1e-6);
+  }
+  return Median(costs);
+}
+
+}  // namespace
+
+std::string CapacityEstimate::Describe() const {
+  std::string frames = frame_rate_hz > 0.0
+                           ? Cat(" + a frame ", std::lround(frame_cpu_ms * 10.0) / 10.0,
+                                 " ms at ", frame_rate_hz, " Hz")
+                           : std::string();
+  return Cat("max ", max_sessions, " sessions: a ", scene, " session costs ",
+             std::lround(session_cores * 1000.0) / 1000.0, " core (a step ",
+             std::lround(step_cpu_us), " us at ", rate_hz, " Hz", frames, "), ", cores,
+             " core(s) at ", std::lround(kCoreBudget * 100.0), " %");
+}
+
+int AvailableCores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+int SessionsThatFit(int cores, double session_cores) {
+  VISCERA_DEMAND(session_cores > 0.0 && cores >= 1);
+  // 1e-9: a budget that holds exactly k sessions must not round to k - 1 (8 x 0.7 / 0.05)
+  const double fit = std::floor(cores * kCoreBudget / session_cores + 1e-9);
+  return static_cast<int>(std::clamp(fit, 1.0, 1024.0));
+}
+
+CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string& scene_name,
+                                  double seconds) {
+  const session::SessionScene scene = session::LoadSessionScene(
+      config.scene_dir, scene_name, "", config.rate_hz, config.max_rate_hz);
+  CapacityEstimate e;
+  e.scene = scene.label;
+  e.cores = AvailableCores();
+  e.rate_hz = scene.model->params().rate_hz;
+
+  // mechanics: the scene as a session starts it, no tool driven
+  session::Stepper stepper(*scene.model);
+  std::vector<double> costs;
+  const int64_t end = MonotonicNanos() + static_cast<int64_t>(seconds * 1e9);
+  for (int i = 0; i < kWarmupSteps + kMinSteps || MonotonicNanos() < end; ++i) {
+    const int64_t cpu0 = ThreadCpuNanos();
+    stepper.Advance({});
+    if (i >= kWarmupSteps) costs.push_back(static_cast<double>(ThreadCpuNanos() - cpu0) * 1e-3);
+  }
+  e.step_cpu_us = Median(costs);
+  e.session_cores = e.step_cpu_us * 1e-6 * e.rate_hz;
+
+  if (config.frame_rate_hz > 0.0) {
+    e.frame_rate_hz = config.frame_rate_hz;
+    std::exception_ptr error;
+    std::thread render([&] {
+      try {
+        e.frame_cpu_ms = MeasureFrame(*scene.model, stepper.state(), config);
+      } catch (...) {
+        error = std::current_exception();
+      }
+    });
+    render.join();
+    if (error) std::rethrow_exception(error);
+    e.session_cores += e.frame_cpu_ms * 1e-3 * e.frame_rate_hz;
+  }
+  e.max_sessions = SessionsThatFit(e.cores, e.session_cores);
+  return e;
+}
+
+}  // namespace viscera::server

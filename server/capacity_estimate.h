@@ -1,0 +1,42 @@
+#pragma once
+/// How many sessions this machine holds: viscerad's default --max-sessions. Measured at
+/// start-up, not assumed: the reference scene is stepped on this machine (and, when the
+/// server streams frames by default, a few of its frames are drawn), and the cost of one
+/// session in cores is compared with the cores this process may run on.
+#include <string>
+
+#include "server/server_config.h"
+
+namespace viscera::server {
+
+/// Share of the cores sessions may use; the rest is headroom for the I/O thread, LCM's
+/// receive thread and wake-up jitter (docs/capacity.md: misses start near 80 % busy).
+inline constexpr double kCoreBudget = 0.7;
+
+struct CapacityEstimate {
+  std::string scene;            ///< reference scene measured
+  int cores = 1;                ///< CPUs this process may run on (its affinity mask)
+  double rate_hz = 0.0;         ///< mechanics rate of a session (Hz)
+  double step_cpu_us = 0.0;     ///< median CPU time of one step (us)
+  double frame_rate_hz = 0.0;   ///< default frame rate (Hz); 0 without frames
+  double frame_cpu_ms = 0.0;    ///< median CPU time of one frame: skin, draw, JPEG (ms)
+  double session_cores = 0.0;   ///< cost of one session (cores): steps and frames per second
+  int max_sessions = 1;         ///< floor(cores * kCoreBudget / session_cores), at least 1
+  std::string Describe() const; ///< one line for the start-up message
+};
+
+/// CPUs in this process's affinity mask (what taskset or a container grants), at least 1.
+int AvailableCores();
+
+/// Sessions of `session_cores` each that fit in `cores` at kCoreBudget (at least 1, at
+/// most 1024). @pre session_cores > 0.
+int SessionsThatFit(int cores, double session_cores);
+
+/// Measures `scene_name` from config.scene_dir at config.rate_hz (0: the scene's rate) for
+/// about `seconds` of stepping, plus a few frames of config's default frames when
+/// config.frame_rate_hz > 0 (on a thread of its own: an OSMesa context belongs to one).
+/// @throws InputError when the scene cannot be loaded; std::runtime_error when OSMesa fails.
+CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string& scene_name,
+                                  double seconds = 0.3);
+
+}  // namespace viscera::server

@@ -1,0 +1,87 @@
+// The clinical scene as users run it: scenes/cavity.toml driven by scenes/clearing.csv at the
+// rates a session may ask for. No pair sinks deeper than 10 % of the radius at any step, and the
+// force on the hand is the same at every rate, phase by phase.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <map>
+
+#include "mechanics/step.h"
+#include "scene/scene.h"
+#include "script/tool_script.h"
+
+namespace viscera::mechanics {
+namespace {
+
+struct GestureRun {
+  double deepest = 0.0;              // m, the deepest penetration at the end of any step
+  std::map<int, Vec3> force_at_ms;   // left tool's force on the hand, at whole 10 ms
+};
+
+// The settled cavity (settled at its own 100 Hz, so every rate starts from the same pile), then
+// the gesture at `rate_hz` with the scene's sub-step length.
+GestureRun Clearing(double rate_hz) {
+  scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
+  scene::ChangeRate(&scene.model, rate_hz);
+  const script::ToolScript script = script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv");
+  const Model model(scene.model);
+  State state = InitialState(model);
+  Workspace workspace(model);
+  std::vector<ToolTarget> targets(model.params().tools.size());
+  script::Tube tube;
+  tube.radius = model.params().radius;
+  GestureRun run;
+  const int steps = static_cast<int>(std::lround(script.duration() * rate_hz));
+  for (int k = 0; k < steps; ++k) {
+    tube.centre_line.clear();
+    for (const collision::Sphere& s : workspace.interactions()->chain().spheres()) tube.centre_line.push_back(s.centre);
+    for (size_t i = 0; i < targets.size(); ++i) {
+      const std::string& name = model.params().tools[i].name;
+      targets[i].active = script.Has(name);
+      if (!targets[i].active) continue;
+      const script::ToolKeyframe key = script.At(name, state.t + model.step_size(), tube);
+      targets[i].tip = key.tip;
+      targets[i].orientation = key.orientation;
+      targets[i].jaw = key.jaw;
+    }
+    Step(model, {{}, targets}, &state, &workspace);
+    if (!std::isnan(state.contacts.min_clearance)) run.deepest = std::max(run.deepest, -state.contacts.min_clearance);
+    const double ms = state.t * 1e3;
+    if (std::abs(ms / 10.0 - std::round(ms / 10.0)) < 1e-6) run.force_at_ms[static_cast<int>(std::lround(ms))] = state.tools[0].force;
+  }
+  EXPECT_EQ(state.nonfinite_resets, 0);
+  return run;
+}
+
+// Mean force over [from, to) ms.
+Vec3 Mean(const GestureRun& run, int from, int to) {
+  Vec3 sum = Vec3::Zero();
+  int n = 0;
+  for (const auto& [ms, f] : run.force_at_ms) {
+    if (ms >= from && ms < to) sum += f, ++n;
+  }
+  return n > 0 ? Vec3(sum / n) : sum;
+}
+
+TEST(ClearingGesture, NothingSinksDeeperThanATenthOfTheRadiusAndTheFeelDoesNotDependOnTheRate) {
+  const double radius = 0.0125;
+  const GestureRun reference = Clearing(1000.0);
+  EXPECT_LE(reference.deepest, 0.1 * radius) << "1 kHz";
+  // The phases of clearing.csv that load the hand: lifting the loop, carrying it aside, lowering
+  // it and holding it down before the release.
+  const std::array<std::pair<int, int>, 4> phases{{{1600, 2500}, {2500, 3500}, {3500, 4000}, {4000, 4300}}};
+  for (const auto& [from, to] : phases) ASSERT_GT(Mean(reference, from, to).norm(), 0.3) << "the loop was not carried";
+  for (double rate : {100.0, 250.0, 500.0}) {
+    const GestureRun run = Clearing(rate);
+    EXPECT_LE(run.deepest, 0.1 * radius) << rate << " Hz";
+    for (const auto& [from, to] : phases) {
+      const Vec3 expected = Mean(reference, from, to);
+      EXPECT_LE((Mean(run, from, to) - expected).norm(), 0.1 * expected.norm())
+          << rate << " Hz, " << from << "-" << to << " ms: " << Mean(run, from, to).transpose() << " vs "
+          << expected.transpose() << " at 1 kHz";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace viscera::mechanics

@@ -1,0 +1,153 @@
+"""Unit tests of the Python client's parts that need no network: the MAC (against its
+definition and by tampering), the fast partial decoders (against lcm-gen's full decode),
+placement, and the load tester's statistics."""
+import hashlib
+import hmac
+import random
+import struct
+import unittest
+
+import viscera_proto
+from viscera_client import MessageAuth, ServerInfo, make_header, pick_server
+from viscera_client.auth import mac_len_offset
+from viscera_client.fast import force_echo, frame_times
+from viscera_client.load.stats import SeqCounter, latency_summary, percentile
+
+
+def force_message(seq, tool, pose_seq, pose_utime, token=b"\x07" * 16):
+    f = viscera_proto.force_feedback_t()
+    f.header = make_header(1234, seq, token)
+    f.tool = tool
+    f.step = 99
+    f.sim_time = 0.5
+    f.force = [1.0, -2.0, 3.5]
+    f.torque = [0.1, 0.2, 0.3]
+    f.stiffness = [[1.0, 2.0, 3.0], [4.0, 5.0, 6.0], [7.0, 8.0, 9.0]]
+    f.tip = [0.01, 0.02, 0.03]
+    f.pose_seq = pose_seq
+    f.pose_utime = pose_utime
+    f.clamped = False
+    f.active = True
+    f.grasping = False
+    return f
+
+
+class AuthTest(unittest.TestCase):
+    key = bytes(range(32))
+
+    def test_mac_is_hmac_sha512_256_over_the_unsigned_message(self):
+        data = force_message(5, 0, 4, 17).encode()
+        signed = MessageAuth(self.key).sign(data)
+        offset = mac_len_offset(data)
+        self.assertEqual(len(signed), len(data) + 32)
+        self.assertEqual(struct.unpack_from(">i", signed, offset)[0], 32)
+        expected = hmac.new(self.key, data, hashlib.sha512).digest()[:32]
+        self.assertEqual(signed[offset + 4:offset + 36], expected)
+        # still a valid message of its type: the header's mac field holds it
+        decoded = viscera_proto.force_feedback_t.decode(signed)
+        self.assertEqual(decoded.header.mac, expected)
+        self.assertEqual(decoded.pose_seq, 4)
+
+    def test_every_flipped_byte_fails_verification(self):
+        auth = MessageAuth(self.key)
+        signed = auth.sign(force_message(5, 0, 4, 17).encode())
+        self.assertTrue(auth.verify(signed))
+        for i in range(len(signed)):
+            tampered = bytearray(signed)
+            tampered[i] ^= 0x01
+            self.assertFalse(auth.verify(bytes(tampered)), f"byte {i}")
+        self.assertFalse(MessageAuth(bytes(32)).verify(signed))  # another key
+        self.assertFalse(auth.verify(force_message(5, 0, 4, 17).encode()))  # unsigned
+        self.assertFalse(auth.verify(b"short"))
+
+    def test_key_file_is_blake2b_of_its_content(self):
+        import tempfile
+        with tempfile.NamedTemporaryFile("wb") as f:
+            f.write(b"0123456789abcdef0123")
+            f.flush()
+            a = MessageAuth.from_key_file(f.name)
+        self.assertEqual(a._key, hashlib.blake2b(b"0123456789abcdef0123", digest_size=32).digest())
+        with tempfile.NamedTemporaryFile("wb") as f:
+            f.write(b"too short")
+            f.flush()
+            with self.assertRaises(ValueError):
+                MessageAuth.from_key_file(f.name)
+
+
+class FastDecodeTest(unittest.TestCase):
+    def test_force_echo_matches_full_decode(self):
+        rng = random.Random(7)
+        auth = MessageAuth(bytes(32))
+        for i in range(200):
+            token = bytes(rng.randrange(256) for _ in range(rng.choice([0, 16])))
+            m = force_message(rng.randrange(1 << 40), rng.randrange(3), rng.randrange(-1, 1 << 40),
+                              rng.randrange(1 << 52), token)
+            data = m.encode()
+            if i % 2:
+                data = auth.sign(data)
+            full = viscera_proto.force_feedback_t.decode(data)
+            self.assertEqual(force_echo(data), (full.header.version, full.header.seq, full.tool,
+                                                full.pose_seq, full.pose_utime))
+
+    def test_frame_times_match_full_decode(self):
+        f = viscera_proto.jpeg_frame_t()
+        f.header = make_header(9, 41, b"\x01" * 16)
+        f.step, f.sim_time, f.snapshot_utime, f.dropped = 10, 0.1, 1700000000000001, 2
+        f.skin_ms = f.render_ms = f.encode_ms = 1.0
+        f.width, f.height = 4, 2
+        f.data = b"\xff\xd8jpeg\xff\xd9"
+        f.size = len(f.data)
+        data = f.encode()
+        self.assertEqual(frame_times(data), (f.header.version, 41, f.header.utime, f.snapshot_utime))
+
+    def test_other_types_and_truncations_are_refused(self):
+        data = force_message(1, 0, 0, 0).encode()
+        hb = viscera_proto.heartbeat_t()
+        hb.header = make_header()
+        hb.server_id, hb.num_sessions, hb.max_sessions = "s", 0, 1
+        hb.load, hb.uptime_us, hb.rejected = 0.0, 0, 0
+        self.assertIsNone(force_echo(hb.encode()))
+        self.assertIsNone(frame_times(data))
+        for cut in range(len(data)):
+            self.assertIsNone(force_echo(data[:cut]), cut)
+
+
+class PlacementTest(unittest.TestCase):
+    def test_emptiest_share_then_load_then_id(self):
+        a = ServerInfo("a", sessions=2, max_sessions=4, load=0.1)
+        b = ServerInfo("b", sessions=1, max_sessions=4, load=0.9)
+        self.assertEqual(pick_server([a, b]).server_id, "b")
+        big = ServerInfo("big", sessions=4, max_sessions=16, load=2.0)  # a quarter full
+        self.assertEqual(pick_server([a, b, big]).server_id, "b")       # also a quarter: lower load
+        c = ServerInfo("c", sessions=1, max_sessions=4, load=0.9)
+        self.assertEqual(pick_server([c, b]).server_id, "b")            # tie: smaller id
+
+    def test_full_servers_are_skipped(self):
+        full = ServerInfo("full", sessions=3, max_sessions=3)
+        self.assertIsNone(pick_server([full]))
+        self.assertIsNone(pick_server([]))
+        self.assertEqual(pick_server([full, ServerInfo("x", 7, 8, 1.5)]).server_id, "x")
+
+
+class StatsTest(unittest.TestCase):
+    def test_percentiles_are_nearest_rank(self):
+        v = list(range(1, 101))
+        self.assertEqual(percentile(v, 50), 50)
+        self.assertEqual(percentile(v, 99), 99)
+        self.assertEqual(percentile(v, 100), 100)
+        self.assertEqual(percentile([5], 99), 5)
+        self.assertIsNone(percentile([], 50))
+        s = latency_summary([3, 1, 2])
+        self.assertEqual((s["p50"], s["max"], s["count"]), (2, 3, 3))
+
+    def test_seq_counter_counts_gaps_once(self):
+        c = SeqCounter()
+        for seq in [10, 11, 13, 14, 12, 14, 17]:
+            c.add(seq)
+        # 10..17 is 8 messages; 15 and 16 never came; 12 came late, 14 twice
+        self.assertEqual(c.lost, 2)
+        self.assertEqual(SeqCounter().lost, 0)
+
+
+if __name__ == "__main__":
+    unittest.main()
