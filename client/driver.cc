@@ -86,12 +86,14 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
       std::max<int64_t>(1, static_cast<int64_t>(script.duration() * options.pose_rate_hz) + 1);
   const int64_t start = MonotonicNanos();
   int64_t seq = 0;
+  const int64_t sender = bus::NewSenderId();  // this drive's own sequence (replay protection)
   for (int64_t k = 0; k < n; ++k) {
     SleepUntil(start + k * period_ns);
     const double t = static_cast<double>(k) / options.pose_rate_hz;
     for (const auto& [name, index] : tools) {
       const script::ToolKeyframe key = script.At(name, t, tube);
       bus::FillToolPose(options.session_id, seq, options.token, index, key.tip, key.orientation, key.jaw, &pose);
+      pose.header.sender = sender;
       if (targets.size() < 1'000'000) targets[seq] = key.tip;
       ++seq;
       if (client.bus().Publish(pose_channel, pose)) ++r.poses_sent;

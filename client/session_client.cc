@@ -39,7 +39,7 @@ viscera_proto::session_request_t MakeRequest(int8_t command, int64_t session_id)
 }
 
 SessionClient::SessionClient(const std::string& url, std::shared_ptr<const bus::MessageAuth> auth)
-    : bus_(url) {
+    : bus_(url), sender_(bus::NewSenderId()) {
   bus_.SetAuth(std::move(auth));
 }
 
@@ -56,6 +56,13 @@ std::optional<viscera_proto::heartbeat_t> SessionClient::FindServer(const std::s
   while (!found && Clock::now() < deadline) bus_.Pump(MillisLeft(deadline));
   bus_.Unsubscribe(sub);
   return found;
+}
+
+bool SessionClient::Send(viscera_proto::session_request_t* request) {
+  request->header.sender = sender_;
+  request->header.seq = seq_++;
+  request->header.utime = bus::WallMicros();
+  return bus_.Publish(bus::kRequestChannel, *request);
 }
 
 std::vector<ServerInfo> SessionClient::HearServers(double listen_s, double timeout_s) {
@@ -84,9 +91,7 @@ std::vector<viscera_proto::session_reply_t> SessionClient::Request(
         replies.push_back(reply);
         if (reply.result != viscera_proto::session_reply_t::kUnknownSession) owner_answered = true;
       });
-  request.header.seq = seq_++;
-  request.header.utime = bus::WallMicros();
-  bus_.Publish(bus::kRequestChannel, request);
+  Send(&request);
 
   auto deadline = After(timeout_s);
   bool extended = false;

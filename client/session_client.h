@@ -1,6 +1,7 @@
 #pragma once
 /// SessionClient: the request/reply side of the protocol for the thin client (and for
 /// tests and tools): find a server, send a session_request_t, wait for its reply.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -30,12 +31,17 @@ class SessionClient {
   std::optional<viscera_proto::heartbeat_t> FindServer(const std::string& server_id,
                                                        double timeout_s);
 
+  /// Publishes `request` (its sender, seq and utime are set here) without waiting for a reply.
+  /// Thread-safe (a keep-alive thread and the owner may both send).
+  bool Send(viscera_proto::session_request_t* request);
+
+
   /// Every server heard on the heartbeat channel, sorted by id: listens `listen_s` (a little
   /// over one heartbeat period hears each running server once), and longer, up to
   /// `timeout_s`, while none has been heard yet (one that is starting).
   std::vector<ServerInfo> HearServers(double listen_s, double timeout_s);
 
-  /// Publishes `request` (its seq is set here) and waits up to `timeout_s` for replies with
+  /// Publishes `request` (its sender, seq and utime are set here) and waits up to `timeout_s` for replies with
   /// its request_id. Returns at the first kOk reply; other replies (kUnknownSession from
   /// servers that do not hold the session) keep it waiting `grace_s` more for an owner.
   /// With `collect_all`, waits the whole `grace_s` after the first reply and returns all
@@ -45,10 +51,13 @@ class SessionClient {
                                                       double grace_s = 0.3);
 
   bus::LcmBus& bus() { return bus_; }
+  /// The sender id of this client's requests (header.sender): one per sequence counter.
+  int64_t sender() const { return sender_; }
 
  private:
   bus::LcmBus bus_;
-  int64_t seq_ = 0;
+  const int64_t sender_;
+  std::atomic<int64_t> seq_{0};
 };
 
 }  // namespace viscera::client

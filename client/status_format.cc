@@ -35,6 +35,9 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"tools", s.tool_names},
           {"poses", s.poses},
           {"rejected", s.rejected},
+          {"replayed", s.replayed},
+          {"lease_s", s.lease_s},
+          {"lease_left_s", s.lease_left_s},
           {"recoveries", s.recoveries},
           {"idle_events", s.idle_events},
           {"frames", {{"skin", s.skin},
@@ -53,9 +56,9 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
 std::string StatusTable(const std::vector<session_status_t>& sessions) {
   std::string out;
   char line[768];
-  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s  %s\n",
+  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s %7s  %s\n",
                 "SESSION", "SCENE", "STATE", "SIM_TIME", "RATE_HZ", "MISSES", "P99_US", "FPS",
-                "REJECTED", "RECOVER", "LAST_ERROR");
+                "REJECTED", "RECOVER", "LEASE", "LAST_ERROR");
   out += line;
   for (const session_status_t& s : sessions) {
     const std::string rate = std::to_string(static_cast<int>(s.achieved_rate_hz + 0.5)) + "/" +
@@ -63,12 +66,13 @@ std::string StatusTable(const std::vector<session_status_t>& sessions) {
     const std::string fps = s.frame_rate_hz > 0 ? std::to_string(static_cast<int>(s.achieved_frame_rate_hz + 0.5)) + "/" +
                                                       std::to_string(static_cast<int>(s.frame_rate_hz + 0.5))
                                                 : "-";
-    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld  %s\n",
+    const std::string lease = s.lease_s > 0 ? std::to_string(static_cast<int>(s.lease_left_s + 0.5)) + "s" : "-";
+    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7s  %s\n",
                   static_cast<long long>(s.header.session_id), s.scene.c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),
                   static_cast<long long>(s.deadline_misses), s.step_cost_p99_us, fps.c_str(),
                   static_cast<long long>(s.rejected), static_cast<long long>(s.recoveries),
-                  s.last_error.c_str());
+                  lease.c_str(), s.last_error.c_str());
     out += line;
   }
   return out;

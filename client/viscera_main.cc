@@ -9,6 +9,7 @@
 #include <iterator>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@
 #include "client/server_directory.h"
 #include "client/session_client.h"
 #include "client/status_format.h"
+#include "client/keep_alive.h"
 #include "client/token_store.h"
 
 namespace {
@@ -83,6 +85,12 @@ int ReplyError(const session_reply_t& reply, int64_t id) {
     case session_reply_t::kBadToken:
       std::fprintf(stderr, "viscera: server %s refused: %s (this client has no valid token for session %lld)\n",
                    reply.server_id.c_str(), reply.message.c_str(), static_cast<long long>(id));
+      return kRefused;
+    case session_reply_t::kReplayed:
+      std::fprintf(stderr,
+                   "viscera: server %s refused this command as replayed or stale: %s (nothing "
+                   "changed; send it again)\n",
+                   reply.server_id.c_str(), reply.message.c_str());
       return kRefused;
     default:
       std::fprintf(stderr, "viscera: server %s refused: %s\n", reply.server_id.c_str(),
@@ -378,11 +386,20 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
       return kRefused;
     }
   }
+  // poses renew the lease too; the keep-alive covers pauses in a script
+  std::optional<viscera::client::KeepAlive> keep_alive;
+  keep_alive.emplace(&client, o.id, options.token, viscera::client::KeepAlivePeriod(status.lease_s));
   const viscera::client::DriveResult r = viscera::client::Drive(client, script, options);
+  keep_alive.reset();
   const auto after =
       client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
   if (after.empty() || after.front().num_sessions < 1) return NoServer(c, url, "the status request");
   const auto& s = after.front().sessions[0];
+  if (s.replayed > status.replayed) {
+    std::fprintf(stderr, "viscera: session %lld refused %lld messages as replayed or stale while driving (last: %s)\n",
+                 static_cast<long long>(o.id), static_cast<long long>(s.replayed - status.replayed),
+                 s.last_error.c_str());
+  }
   if (c.json) {
     std::cout << Json{{"session", o.id},
                       {"drive", viscera::client::DriveToJson(r)},
@@ -607,6 +624,21 @@ int main(int argc, char** argv) {
       listen.auth = LoadAuth(common);
       listen.timeout_s = std::max(common.timeout_s, 5.0);  // the first frame may need a scene built
       listen.json = common.json;
+      // a viewer with the session's token keeps the session alive while it watches
+      viscera::client::SessionClient keeper(url, listen.auth);
+      const std::vector<uint8_t> token = TokenFor(common, listen.session_id, nullptr);
+      if (token.empty()) {
+        std::fprintf(stderr, "viscera: no token for session %lld here: watching without renewing its lease\n",
+                     static_cast<long long>(listen.session_id));
+      }
+      double lease_s = 0.0;
+      if (!token.empty()) {
+        const auto replies = keeper.Request(
+            viscera::client::MakeRequest(session_request_t::kStatus, listen.session_id), common.timeout_s);
+        if (!replies.empty() && replies.front().num_sessions > 0) lease_s = replies.front().sessions[0].lease_s;
+      }
+      viscera::client::KeepAlive keep_alive(&keeper, listen.session_id, token,
+                                            viscera::client::KeepAlivePeriod(lease_s));
       if (frames->parsed()) return viscera::client::SaveFrames(listen, frames_dir);
       if (record->parsed()) return viscera::client::RecordVideo(listen, record_file, record_fps);
       return viscera::client::ViewOverHttp(listen, view_address);

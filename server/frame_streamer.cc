@@ -1,11 +1,5 @@
 #include "server/frame_streamer.h"
 
-#include <pthread.h>
-#include <sched.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -24,22 +18,10 @@
 #include "common/rate_window.h"
 #include "render/laparoscope.h"
 #include "server/frame_schedule.h"
+#include "server/idle_priority.h"
 
 namespace viscera::server {
 namespace {
-
-// Render threads run on the CPU time nothing else in the server wants: SCHED_IDLE (which
-// also drops a SCHED_FIFO inherited from a realtime server). A waking mechanics, output or
-// I/O thread preempts them at once; nice 10 alone still cost a 1 kHz session 5 % of its
-// deadlines (docs/benchmarks.md, Frame streams). Falls back to nice 19 where SCHED_IDLE is
-// refused.
-void LowerThisThreadsPriority() {
-  sched_param param{};
-  if (pthread_setschedparam(pthread_self(), SCHED_IDLE, &param) != 0) {
-    pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
-    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
-  }
-}
 
 bool SamePose(const session::CameraPose& a, const session::CameraPose& b) {
   return a.set_by_client == b.set_by_client && a.eye == b.eye && a.target == b.target &&

@@ -14,6 +14,21 @@ int64_t ProcessCpuNanos() {
   return int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
 
+void PutLimits(const ServerConfig& config, viscera_proto::heartbeat_t* heartbeat) {
+  heartbeat->max_clock_skew_s = config.max_clock_skew_s;
+  heartbeat->session_lease_s = config.session_lease_s;
+  heartbeat->max_message_bytes = config.max_message_bytes;
+  heartbeat->max_creates_per_minute = config.max_creates_per_minute;
+  heartbeat->max_rate_hz = config.max_rate_hz;
+  heartbeat->max_frame_mpix_per_s = config.max_frame_mpix_per_s;
+  heartbeat->max_control_points = config.max_control_points;
+  heartbeat->max_obstacles = config.max_obstacles;
+  heartbeat->max_mesh_resolution = config.max_mesh_resolution;
+  heartbeat->max_mesh_bytes = config.max_mesh_bytes;
+  heartbeat->max_settle_s = config.max_settle_s;
+  heartbeat->max_session_load = config.max_session_load;
+}
+
 HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions, HeartbeatClocks clocks)
     : server_id_(std::move(server_id)),
       max_sessions_(max_sessions),

@@ -7,11 +7,16 @@
 #include <viscera_proto/heartbeat_t.hpp>
 
 #include "common/clock.h"
+#include "server/server_config.h"
 
 namespace viscera::server {
 
 /// CPU time used by every thread of this process (ns).
 int64_t ProcessCpuNanos();
+
+/// Writes the limits of `config` into a heartbeat (clients and operators see what a server
+/// will refuse before asking).
+void PutLimits(const ServerConfig& config, viscera_proto::heartbeat_t* heartbeat);
 
 /// Where the load's two times come from (ns): the process's CPU time and monotonic wall
 /// time. Tests inject their own, so the load they check is exact rather than timed.

@@ -30,7 +30,9 @@ IoLoop::IoLoop(const ServerConfig& config)
               config_.heartbeat_period.count());
   ThrowUnless(config_.status_rate_hz > 0.0 && config_.max_rate_hz >= 1.0,
               "status rate and max rate must be positive");
+  ThrowUnless(config_.max_clock_skew_s > 0.0, "clock-skew bound must be > 0 s");
   bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
+  if (config_.max_message_bytes > 0) bus_->SetMaxMessageSize(config_.max_message_bytes);
   frame_bus_ = std::make_unique<bus::LcmBus>(config_.lcm_url);
   if (!config_.key_file.empty()) {
     auto auth = std::make_shared<bus::MessageAuth>(bus::MessageAuth::FromKeyFile(config_.key_file));
@@ -40,8 +42,8 @@ IoLoop::IoLoop(const ServerConfig& config)
   sessions_ = std::make_unique<SessionManager>(config_, bus_.get(), frame_bus_.get());
   sessions_->SetPeers(&peers_);
   // subscribed here, before the thread pumps: LCM 1.3.1 must not subscribe while dispatching
-  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason) {
-    sessions_->OnDrop(channel, reason);
+  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason, const uint8_t* data, int size) {
+    sessions_->OnDrop(channel, reason, data, size);
   });
   bus_->SubscribeWithInfo<viscera_proto::session_request_t>(
       bus::kRequestChannel,
@@ -64,6 +66,13 @@ IoLoop::~IoLoop() { Stop(); }
 void IoLoop::Start() {
   VISCERA_DEMAND(!thread_.joinable());
   thread_ = std::thread([this] { Run(); });
+}
+
+int IoLoop::HandleWaiting() {
+  VISCERA_DEMAND(!thread_.joinable());
+  const int handled = bus_->Drain();
+  sessions_->Poll();
+  return handled;
 }
 
 void IoLoop::Stop() {
@@ -102,7 +111,10 @@ void IoLoop::Run() {
       }
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
-        if (bus_->Publish(bus::kHeartbeatChannel, heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected()))) {
+        viscera_proto::heartbeat_t heartbeat = heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());
+        heartbeat.replayed = sessions_->replayed();
+        PutLimits(config_, &heartbeat);
+        if (bus_->Publish(bus::kHeartbeatChannel, heartbeat)) {
           ++heartbeats_sent_;
         }
         // absolute schedule, but never a burst of catch-up heartbeats after a stall

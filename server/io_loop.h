@@ -35,6 +35,12 @@ class IoLoop {
   /// every session (final status, records flushed). Idempotent.
   void Stop();
 
+  /// Handles what waits on the bus, then finishes what is ready (creations, leases), on the
+  /// calling thread: for tests and fuzzing, only while the I/O thread is not started.
+  /// @return messages handled.
+  int HandleWaiting();
+  /// The bus requests and poses arrive on (with memq://, the only way in).
+  bus::LcmBus& bus() { return *bus_; }
   /// Accept at most `max_sessions` sessions from now on (sessions running stay); the I/O
   /// thread applies it at its next turn (within 100 ms). Any thread. @pre max_sessions >= 1.
   void SetMaxSessions(int max_sessions);

@@ -32,6 +32,22 @@ struct ServerConfig {
   int realtime_priority = 0;  ///< > 0: SCHED_FIFO for mechanics and I/O threads (1..99)
   double spin_us = -1.0;      ///< mechanics loops spin this long before each deadline (us; < 0 auto)
   std::string key_file;       ///< pre-shared key: every message must carry its MAC ("" = none)
+  bool insecure = false;      ///< start off loopback without a key (docs/security.md)
+
+  // Replay protection and leases (docs/security.md).
+  double max_clock_skew_s = 10.0;  ///< |utime - server clock| a session-changing message may have
+  double session_lease_s = 60.0;   ///< a session without client traffic this long ends
+  // Limits (docs/security.md, "Limits"); reported in every heartbeat.
+  int max_message_bytes = 256 * 1024;  ///< larger datagrams are dropped before decoding
+  int max_creates_per_minute = 10;     ///< per sender
+  double max_frame_mpix_per_s = 40.0;  ///< all frame streams together (width x height x rate)
+  int max_control_points = 1000;       ///< of a create's scene
+  int max_obstacles = 32;
+  int max_mesh_resolution = 100;       ///< grid cells along a mesh's longest side
+  int64_t max_mesh_bytes = 16 << 20;   ///< size of a mesh file a scene names
+  int max_substeps = 64;
+  double max_settle_s = 10.0;
+  double max_session_load = 1.0;       ///< estimated mechanics load, fraction of one core
 };
 
 }  // namespace viscera::server

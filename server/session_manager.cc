@@ -14,6 +14,8 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "server/frame_schedule.h"
+#include "server/idle_priority.h"
+#include "server/scene_budget.h"
 #include "session/session_scene.h"
 #include "skin/skin.h"
 
@@ -47,6 +49,20 @@ int64_t SessionOfChannel(const std::string& channel, const char* prefix) {
     id = id * 10 + (channel[i] - '0');
   }
   return id;
+}
+
+uint64_t ReadBe(const uint8_t* p, int bytes) {
+  uint64_t v = 0;
+  for (int i = 0; i < bytes; ++i) v = (v << 8) | p[i];
+  return v;
+}
+
+// Tokens and MACs never reach a record (docs/security.md): a record may be shared.
+void Scrub(viscera_proto::header_t* header) {
+  header->token.clear();
+  header->token_len = 0;
+  header->mac.clear();
+  header->mac_len = 0;
 }
 
 }  // namespace
@@ -96,7 +112,10 @@ std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg
 
 SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
                                bus::LcmBus* frame_bus)
-    : config_(config), bus_(bus), frame_bus_(frame_bus) {
+    : config_(config),
+      bus_(bus),
+      frame_bus_(frame_bus),
+      replay_(static_cast<int64_t>(config.max_clock_skew_s * 1e6)) {
   VISCERA_DEMAND(bus_ != nullptr && frame_bus_ != nullptr);
 }
 
@@ -139,10 +158,89 @@ void SessionManager::Reject(session::Session* session, const std::string& why) {
   if (session != nullptr) session->CountRejected(why);
 }
 
-void SessionManager::OnDrop(const std::string& channel, bus::DropReason reason) {
-  const char* what = reason == bus::DropReason::kBadMac ? "message without a valid MAC"
-                                                        : "malformed message";
+std::string SessionManager::CheckReplay(const viscera_proto::header_t& header,
+                                       const std::string& channel, session::Session* session) {
+  const int64_t now = bus::WallMicros();
+  const bus::ReplayGuard::Verdict verdict = replay_.Check(header.sender, channel, header.seq, header.utime, now);
+  if (verdict == bus::ReplayGuard::Verdict::kAccepted) return "";
+  const std::string why = replay_.Explain(verdict, header.seq, header.utime, now);
+  ++rejected_;
+  ++replayed_;
+  if (session != nullptr) session->CountReplayed(Cat(channel, ": ", why));
+  return why;
+}
+
+std::string SessionManager::CreateRateProblem(int64_t sender) {
+  if (config_.max_creates_per_minute <= 0) return "";
+  const int64_t now = MonotonicNanos();
+  constexpr int64_t kMinute = 60'000'000'000;
+  for (auto it = creates_.begin(); it != creates_.end();) {
+    std::deque<int64_t>& times = it->second;
+    while (!times.empty() && now - times.front() > kMinute) times.pop_front();
+    it = times.empty() ? creates_.erase(it) : std::next(it);
+  }
+  std::deque<int64_t>& times = creates_[sender];
+  if (static_cast<int>(times.size()) >= config_.max_creates_per_minute) {
+    return Cat("too many creates: ", times.size(), " in the last minute from this client (limit ",
+               config_.max_creates_per_minute, " per minute)");
+  }
+  times.push_back(now);
+  return "";
+}
+
+double SessionManager::FrameLoadMpix() const {
+  double sum = 0.0;
+  for (const auto& [id, running] : sessions_) sum += running.frame_mpix_per_s;
+  for (const PendingCreate& p : pending_) sum += p.frame_mpix_per_s;
+  return sum;
+}
+
+viscera_proto::session_status_t SessionManager::Retire(int64_t id) {
+  const auto it = sessions_.find(id);
+  if (it->second.frames != nullptr) it->second.frames->RequestStop();
+  it->second.session->Stop();
+  viscera_proto::session_status_t status = it->second.session->Status();
+  retiring_.push_back(std::move(it->second));  // its render thread may be mid-frame
+  sessions_.erase(it);
+  num_sessions_ = static_cast<int>(sessions_.size());
+  return status;
+}
+
+void SessionManager::ExpireLeases() {
+  const int64_t now = MonotonicNanos();
+  std::vector<int64_t> expired;
+  for (const auto& [id, running] : sessions_) {
+    if (running.session->LeaseLeft(now) <= 0.0) expired.push_back(id);
+  }
+  for (const int64_t id : expired) {
+    session::Session* session = Find(id);
+    session->SetError(Cat("lease expired: no pose, command or keep-alive for ",
+                               session->config().lease_s, " s"));
+    Retire(id);
+    ++expired_;
+    std::fprintf(stderr, "viscerad: session %lld ended: its lease of %g s expired\n",
+                 static_cast<long long>(id), config_.session_lease_s);
+  }
+}
+
+void SessionManager::OnDrop(const std::string& channel, bus::DropReason reason, const uint8_t* data,
+                            int size) {
+  const char* what = reason == bus::DropReason::kBadMac     ? "message without a valid MAC"
+                     : reason == bus::DropReason::kOversize ? "oversize message"
+                                                            : "malformed message";
   Reject(Find(SessionOfChannel(channel, bus::kPosePrefix)), Cat(what, " on ", channel));
+  if (reason != bus::DropReason::kOversize || channel != bus::kRequestChannel) return;
+  // say why to the client: request_id follows the header's mac (encoded layout, big-endian)
+  const int mac_len_at = bus::MacLenOffset(data, size);
+  if (mac_len_at < 0 || mac_len_at + 4 > size) return;
+  const int32_t mac_len = static_cast<int32_t>(ReadBe(data + mac_len_at, 4));
+  if (mac_len < 0 || mac_len > size - mac_len_at - 4 - 9) return;
+  session_request_t request{};
+  request.request_id = static_cast<int64_t>(ReadBe(data + mac_len_at + 4 + mac_len, 8));
+  request.command = static_cast<int8_t>(data[mac_len_at + 4 + mac_len + 8]);
+  Reply(request, session_reply_t::kRefused,
+        Cat("message of ", size, " bytes: above this server's limit of ", config_.max_message_bytes,
+            " bytes (--max-message-size)"));
 }
 
 void SessionManager::Reply(const session_request_t& request, int8_t result,
@@ -176,6 +274,16 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
 
   switch (request.command) {
     case session_request_t::kCreate:
+      if (request.server_id != config_.server_id) {
+        ++rejected_;
+        Reply(request, session_reply_t::kBadRequest,
+              "create must name its server (server_id from the heartbeat)");
+        return;
+      }
+      if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, nullptr); !why.empty()) {
+        Reply(request, session_reply_t::kReplayed, why);
+        return;
+      }
       Create(request);
       return;
     case session_request_t::kList:
@@ -189,6 +297,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
     case session_request_t::kPause:
     case session_request_t::kResume:
     case session_request_t::kCamera:
+    case session_request_t::kKeepAlive:
       break;
     default:
       Reject(Find(request.header.session_id), Cat("unknown command ", int{request.command}));
@@ -220,21 +329,26 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
                                        : "wrong session token", id);
     return;
   }
+  // before any effect: a replayed or stale command changes nothing, not even the lease
+  if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, session); !why.empty()) {
+    Reply(request, session_reply_t::kReplayed, why, id);
+    return;
+  }
+  session->Touch();
   if (session->recorder() != nullptr) {
-    session->recorder()->Write(bus::kRequestChannel, request, bus::WallMicros());
+    record_request_ = request;
+    Scrub(&record_request_.header);
+    session->recorder()->Write(bus::kRequestChannel, record_request_, bus::WallMicros());
   }
 
   session::Command command;
   switch (request.command) {
+    case session_request_t::kKeepAlive:
+      Reply(request, session_reply_t::kOk, "", id);
+      return;
     case session_request_t::kDestroy: {
-      const auto it = sessions_.find(id);
-      if (it->second.frames != nullptr) it->second.frames->RequestStop();
-      session->Stop();
-      reply_.sessions.push_back(session->Status());
+      reply_.sessions.push_back(Retire(id));
       reply_.num_sessions = 1;
-      retiring_.push_back(std::move(it->second));  // its render thread may be mid-frame
-      sessions_.erase(it);
-      num_sessions_ = static_cast<int>(sessions_.size());
       Reply(request, session_reply_t::kOk, "", id);
       return;
     }
@@ -283,10 +397,9 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
 }
 
 void SessionManager::Create(const session_request_t& request) {
-  if (request.server_id != config_.server_id) {
+  if (const std::string problem = CreateRateProblem(request.header.sender); !problem.empty()) {
     ++rejected_;
-    Reply(request, session_reply_t::kBadRequest,
-          "create must name its server (server_id from the heartbeat)");
+    Reply(request, session_reply_t::kRefused, problem);
     return;
   }
   if (static_cast<int>(sessions_.size() + pending_.size()) >= config_.max_sessions) {
@@ -308,17 +421,36 @@ void SessionManager::Create(const session_request_t& request) {
     return;
   }
 
-  // building the model may take long (mesh distance fields): a helper thread does it
+  const double frame_rate = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
+  const double mpix = frame_rate <= 0.0 ? 0.0
+                      : 1e-6 * frame_rate *
+                            (request.frame_width > 0 ? request.frame_width : config_.frame_width) *
+                            (request.frame_height > 0 ? request.frame_height : config_.frame_height);
+  if (const double in_use = FrameLoadMpix();
+      config_.max_frame_mpix_per_s > 0.0 && in_use + mpix > config_.max_frame_mpix_per_s) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused,
+          Cat("frame bandwidth: this stream needs ", mpix, " Mpixel/s and the server's streams use ", in_use,
+              " of its ", config_.max_frame_mpix_per_s, " (ask for a smaller or slower stream, or none)"));
+    return;
+  }
+
+  // Building the model may take long (mesh distance fields, settling): a helper thread does
+  // it at idle priority, within the server's scene budget, so no session waits for it.
   const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
-  pending_.push_back({request, std::async(std::launch::async, [this, request, rate] {
+  const scene::SceneLimits limits = NetworkSceneLimits(config_, rate);
+  const std::string inline_source = config_.scene_dir + "/<inline>";  // meshes: the scene dir
+  pending_.push_back({request, mpix, std::async(std::launch::async, [this, request, rate, limits, inline_source] {
+                        LowerThisThreadsPriority();
                         return session::LoadSessionScene(config_.scene_dir, request.scene_name,
-                                                         request.scene_toml, rate,
-                                                         config_.max_rate_hz);
+                                                         request.scene_toml, rate, config_.max_rate_hz,
+                                                         inline_source, limits);
                       })});
 }
 
 
 void SessionManager::Poll() {
+  ExpireLeases();
   std::erase_if(retiring_, [](const Running& r) { return r.frames == nullptr || r.frames->finished(); });
   for (size_t i = 0; i < pending_.size();) {
     PendingCreate& p = pending_[i];
@@ -327,6 +459,7 @@ void SessionManager::Poll() {
       continue;
     }
     const session_request_t request = p.request;
+    const double mpix = p.frame_mpix_per_s;
     std::future<session::SessionScene> future = std::move(p.scene);
     pending_.erase(pending_.begin() + static_cast<long>(i));
     session::SessionScene scene;
@@ -337,11 +470,12 @@ void SessionManager::Poll() {
       Reply(request, session_reply_t::kRefused, e.what());
       continue;
     }
-    FinishCreate(request, std::move(scene));
+    FinishCreate(request, std::move(scene), mpix);
   }
 }
 
-void SessionManager::FinishCreate(const session_request_t& request, session::SessionScene scene) {
+void SessionManager::FinishCreate(const session_request_t& request, session::SessionScene scene,
+                                  double frame_mpix_per_s) {
   if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused, FullMessage());
@@ -358,6 +492,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
       request.skeleton_rate_hz != 0.0 ? request.skeleton_rate_hz : config_.skeleton_rate_hz;
   sc.status_rate_hz = config_.status_rate_hz;
   sc.realtime_priority = config_.realtime_priority;
+  sc.lease_s = config_.session_lease_s;
   sc.spin_ns = config_.spin_us < 0.0 ? -1 : static_cast<int64_t>(config_.spin_us * 1e3);
   FrameStreamConfig frames;
   frames.rate_hz = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
@@ -383,8 +518,10 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
     }
     // the request as it came, and the scene as loaded with the rate in use: replay needs both
     const int64_t now = bus::WallMicros();
-    recorder->Write(bus::kRequestChannel, request, now);
-    session_request_t scene_record = request;
+    record_request_ = request;
+    Scrub(&record_request_.header);
+    recorder->Write(bus::kRequestChannel, record_request_, now);
+    session_request_t scene_record = record_request_;
     scene_record.header = bus::MakeHeader(sc.id, 0);
     scene_record.scene_toml = scene.toml;
     scene_record.scene_name = scene.source;  // meshes resolve against it on replay
@@ -393,6 +530,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   }
 
   Running& running = sessions_[sc.id];  // in the map first: nothing below can lose a thread
+  running.frame_mpix_per_s = frame_mpix_per_s;
   running.session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
   session::Session* session = running.session.get();
   session->Start();
@@ -438,6 +576,8 @@ void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::M
                                               : "pose with a wrong session token");
     return;
   }
+  if (!CheckReplay(pose.header, *info.channel, session).empty()) return;
+  session->Touch();
   if (const std::string problem = PoseProblem(pose, session->num_tools()); !problem.empty()) {
     Reject(session, Cat("pose: ", problem));
     return;
@@ -458,7 +598,9 @@ void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::M
   }
   session->CountPose();
   if (session->recorder() != nullptr) {
-    session->recorder()->Write(*info.channel, pose, info.recv_utime);
+    record_pose_ = pose;
+    Scrub(&record_pose_.header);
+    session->recorder()->Write(*info.channel, record_pose_, info.recv_utime);
   }
 }
 

@@ -4,8 +4,10 @@
 /// answered; never thrown), creates and destroys sessions, and answers status and list.
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <future>
 #include <map>
+#include <unordered_map>
 #include <memory>
 #include <string>
 
@@ -14,6 +16,7 @@
 #include <viscera_proto/tool_pose_t.hpp>
 
 #include "bus/lcm_bus.h"
+#include "bus/replay_guard.h"
 #include "server/frame_streamer.h"
 #include "server/peer_directory.h"
 #include "server/server_config.h"
@@ -49,14 +52,16 @@ class SessionManager {
 
   void OnRequest(const viscera_proto::session_request_t& request, const bus::MessageInfo& info);
   void OnPose(const viscera_proto::tool_pose_t& pose, const bus::MessageInfo& info);
-  /// A datagram the bus dropped (malformed, bad MAC): counted, and charged to the session
-  /// when its channel names one.
-  void OnDrop(const std::string& channel, bus::DropReason reason);
+  /// A datagram the bus dropped (malformed, bad MAC, oversize): counted, and charged to the
+  /// session when its channel names one. An oversize request is answered (kRefused, with
+  /// the limit) when its request_id can be read from the raw bytes.
+  void OnDrop(const std::string& channel, bus::DropReason reason, const uint8_t* data, int size);
 
   /// Finishes creations whose model is built (building a model can take a while, e.g. a
-  /// mesh obstacle's distance field: a helper thread builds it so the I/O thread never
-  /// stalls), and lets go of destroyed sessions whose render thread has ended. Call from the
-  /// I/O loop; cheap when nothing is pending.
+  /// mesh obstacle's distance field: a helper thread at idle priority builds it so neither
+  /// the I/O thread nor a session waits), ends sessions whose lease ran out, and lets go of
+  /// destroyed sessions whose render thread has ended. Call from the I/O loop; cheap when
+  /// nothing is pending.
   void Poll();
   bool creating() const { return !pending_.empty(); }
 
@@ -73,13 +78,30 @@ class SessionManager {
   int num_sessions() const { return num_sessions_.load(); }
   /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
   int64_t rejected() const { return rejected_.load(); }
+  /// Of those, replayed or stale session-changing messages.
+  int64_t replayed() const { return replayed_.load(); }
+  /// Sessions ended because their lease ran out.
+  int64_t expired() const { return expired_.load(); }
 
  private:
   void Reply(const viscera_proto::session_request_t& request, int8_t result,
              const std::string& message, int64_t session_id = 0);
   void Create(const viscera_proto::session_request_t& request);
-  void FinishCreate(const viscera_proto::session_request_t& request, session::SessionScene scene);
+  void FinishCreate(const viscera_proto::session_request_t& request, session::SessionScene scene,
+                    double frame_mpix_per_s);
   void Reject(session::Session* session, const std::string& why);
+  /// The replay verdict on an otherwise authentic message: "" to go on, else why it was
+  /// dropped (counted, charged to `session` when there is one).
+  std::string CheckReplay(const viscera_proto::header_t& header, const std::string& channel,
+                          session::Session* session);
+  /// Why `sender` may not create now ("" if it may): more than max_creates_per_minute.
+  std::string CreateRateProblem(int64_t sender);
+  /// Frame streams of all sessions and creations in flight (megapixels per second).
+  double FrameLoadMpix() const;
+  /// Stops session `id` (which exists) and moves it to retiring_ (its render thread may be
+  /// mid-frame). @return its final status.
+  viscera_proto::session_status_t Retire(int64_t id);
+  void ExpireLeases();
   /// Why a create is refused when the server is full, naming a peer with room if known.
   std::string FullMessage() const;
   session::Session* Find(int64_t id);
@@ -92,6 +114,7 @@ class SessionManager {
   struct Running {
     std::unique_ptr<session::Session> session;
     std::unique_ptr<FrameStreamer> frames;
+    double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
   };
 
   bus::LcmBus* frame_bus_;
@@ -102,13 +125,20 @@ class SessionManager {
   std::vector<Running> retiring_;
   struct PendingCreate {
     viscera_proto::session_request_t request;
+    double frame_mpix_per_s = 0.0;
     std::future<session::SessionScene> scene;  // the helper's result or its exception
   };
   std::vector<PendingCreate> pending_;
   std::atomic<int> num_sessions_{0};
   std::atomic<int64_t> rejected_{0};
+  std::atomic<int64_t> replayed_{0};
+  std::atomic<int64_t> expired_{0};
+  bus::ReplayGuard replay_;
+  std::unordered_map<int64_t, std::deque<int64_t>> creates_;  // sender -> create times (ns)
   int64_t reply_seq_ = 0;
   viscera_proto::session_reply_t reply_;
+  viscera_proto::tool_pose_t record_pose_;           // a pose as recorded: without its token
+  viscera_proto::session_request_t record_request_;  // a request as recorded: likewise
 };
 
 }  // namespace viscera::server

@@ -15,6 +15,7 @@ packages=(
   libsodium-dev libcli11-dev
   iproute2 util-linux python3 python3-venv
   chromium
+  clang libclang-rt-14-dev llvm ccache
 )
 
 missing=()

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "bus/message_auth.h"
 #include "common/check.h"
 
 namespace viscera::bus {
@@ -12,6 +13,18 @@ int64_t WallMicros() {
   return duration_cast<microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+int64_t NewSenderId() {
+  const std::vector<uint8_t> r = RandomBytes(8);
+  uint64_t v = 0;
+  for (const uint8_t b : r) v = (v << 8) | b;
+  return static_cast<int64_t>(v >> 1) | 1;  // positive, never 0
+}
+
+int64_t ProcessSender() {
+  static const int64_t sender = NewSenderId();
+  return sender;
+}
+
 viscera_proto::header_t MakeHeader(int64_t session_id, int64_t seq) {
   VISCERA_DEMAND(seq >= 0);
   viscera_proto::header_t header;
@@ -19,6 +32,7 @@ viscera_proto::header_t MakeHeader(int64_t session_id, int64_t seq) {
   header.session_id = session_id;
   header.seq = seq;
   header.utime = WallMicros();
+  header.sender = ProcessSender();
   header.token_len = 0;
   header.mac_len = 0;
   return header;

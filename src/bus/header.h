@@ -10,7 +10,14 @@ namespace viscera::bus {
 /// Wall-clock time now, in microseconds since the Unix epoch (the header's utime).
 int64_t WallMicros();
 
-/// A header of this build's protocol version, stamped now, without a token.
+/// This process's sender id (random, != 0, drawn once): the default header.sender.
+int64_t ProcessSender();
+
+/// A fresh random sender id (!= 0), for a client that keeps its own sequence counter.
+int64_t NewSenderId();
+
+/// A header of this build's protocol version, stamped now, from ProcessSender(), without a
+/// token.
 /// @pre seq >= 0.
 viscera_proto::header_t MakeHeader(int64_t session_id, int64_t seq);
 

@@ -1,5 +1,6 @@
 #include "bus/lcm_bus.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <exception>
 #include <utility>
@@ -11,6 +12,24 @@ std::string ResolveUrl(const std::string& flag) {
   const char* env = std::getenv("LCM_DEFAULT_URL");
   if (env != nullptr && env[0] != '\0') return env;
   return kDefaultUrl;
+}
+
+bool UrlLeavesHost(const std::string& url) {
+  if (url.rfind("memq://", 0) == 0 || url.rfind("file://", 0) == 0) return false;
+  if (url.rfind("udpm://", 0) != 0) return true;
+  const size_t query = url.find('?');
+  if (query == std::string::npos) return false;
+  for (size_t start = query + 1; start < url.size();) {
+    const size_t end = std::min(url.find('&', start), url.size());
+    const std::string option = url.substr(start, end - start);
+    if (option.rfind("ttl=", 0) == 0) {
+      const std::string value = option.substr(4);
+      // anything but a plain 0 may leave the host (LCM reads it with atoi)
+      return value.empty() || value.find_first_not_of('0') != std::string::npos;
+    }
+    start = end + 1;
+  }
+  return false;
 }
 
 LcmBus::LcmBus(const std::string& url) : url_(url), lcm_(url) {
@@ -78,21 +97,30 @@ void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   LcmBus& bus = *subscription->bus;
   ++bus.received_;
   // Nothing may escape into LCM's C code: catch everything, count it, keep going.
+  const auto* data = static_cast<const uint8_t*>(rbuf->data);
+  const int size = static_cast<int>(rbuf->data_size);
   try {
+    if (bus.max_message_size_ > 0 && rbuf->data_size > static_cast<uint32_t>(bus.max_message_size_)) {
+      ++bus.oversize_;
+      bus.RecordError(Cat("message of ", rbuf->data_size, " bytes on ", channel, " (limit ",
+                          bus.max_message_size_, "): dropped"));
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kOversize, data, size);
+      return;
+    }
     if (bus.auth_ != nullptr &&
         !bus.auth_->Verify(static_cast<const uint8_t*>(rbuf->data),
                            static_cast<int>(rbuf->data_size), &bus.verify_scratch_)) {
       ++bus.auth_failures_;
       bus.RecordError(Cat("message without a valid MAC on ", channel, " (", rbuf->data_size,
                           " bytes): dropped"));
-      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kBadMac);
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kBadMac, data, size);
       return;
     }
     if (subscription->dispatch(*rbuf, channel) == Outcome::kDecodeFailed) {
       ++bus.decode_failures_;
       bus.RecordError(Cat("malformed message on ", channel, " (", rbuf->data_size,
                           " bytes): dropped"));
-      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kMalformed);
+      if (bus.on_drop_) bus.on_drop_(channel, DropReason::kMalformed, data, size);
       return;
     }
     ++bus.handled_;
@@ -152,6 +180,7 @@ BusStats LcmBus::stats() const {
   s.published = published_.load();
   s.publish_failures = publish_failures_.load();
   s.auth_failures = auth_failures_.load();
+  s.oversize = oversize_.load();
   return s;
 }
 

@@ -30,6 +30,11 @@ inline constexpr char kDefaultUrl[] = "udpm://239.255.76.67:7667?ttl=0";
 /// else kDefaultUrl.
 std::string ResolveUrl(const std::string& flag);
 
+/// True when traffic on `url` can reach other hosts: udpm:// with a ttl above 0, or any
+/// provider other than udpm://, memq:// and file:// (docs/security.md). A ttl of 0 (LCM's
+/// default when absent) keeps multicast on this machine.
+bool UrlLeavesHost(const std::string& url);
+
 /// Counters of one bus since construction (a consistent-enough snapshot: each counter
 /// is read atomically, not all of them together).
 struct BusStats {
@@ -40,10 +45,11 @@ struct BusStats {
   int64_t published = 0;         ///< messages handed to LCM successfully
   int64_t publish_failures = 0;  ///< encode or LCM publish failed
   int64_t auth_failures = 0;     ///< with a key: missing or wrong MAC, dropped undecoded
+  int64_t oversize = 0;          ///< above the size limit, dropped undecoded
 };
 
 /// Why the bus dropped a datagram before any handler saw it.
-enum class DropReason { kMalformed, kBadMac };
+enum class DropReason { kMalformed, kBadMac, kOversize };
 
 /// What a handler learns about a datagram besides its content.
 struct MessageInfo {
@@ -63,8 +69,10 @@ class LcmBus {
   /// Handler that also learns the channel (for subscriptions to a channel regex).
   template <typename Msg>
   using InfoHandler = std::function<void(const Msg& msg, const MessageInfo& info)>;
-  /// Told about every datagram dropped before its handler (owner thread).
-  using DropHandler = std::function<void(const std::string& channel, DropReason reason)>;
+  /// Told about every datagram dropped before its handler (owner thread), with its bytes
+  /// (valid during the call only).
+  using DropHandler = std::function<void(const std::string& channel, DropReason reason,
+                                         const uint8_t* data, int size)>;
 
   /// Opens LCM on `url` (udpm://, memq://, ...).
   /// @throws InputError when LCM cannot open the URL.
@@ -89,6 +97,10 @@ class LcmBus {
   /// Call before publishing or pumping. nullptr turns authentication off.
   void SetAuth(std::shared_ptr<const MessageAuth> auth) { auth_ = std::move(auth); }
   bool authenticated() const { return auth_ != nullptr; }
+
+  /// Datagrams larger than `bytes` (> 0) are dropped before the MAC check or decoding, and
+  /// counted in oversize. Call before pumping; default: no limit.
+  void SetMaxMessageSize(int bytes) { max_message_size_ = bytes; }
 
   /// Calls `on_drop` for every datagram dropped before reaching its handler (malformed or
   /// failing the MAC), so owners can count them per channel. Owner thread only.
@@ -159,6 +171,7 @@ class LcmBus {
   std::thread::id owner_;  // set by the first Pump/Drain
 
   std::shared_ptr<const MessageAuth> auth_;
+  int max_message_size_ = 0;  // 0: no limit
   DropHandler on_drop_;
   std::vector<uint8_t> verify_scratch_;  // owner thread
 
@@ -175,6 +188,7 @@ class LcmBus {
   std::atomic<int64_t> published_{0};
   std::atomic<int64_t> publish_failures_{0};
   std::atomic<int64_t> auth_failures_{0};
+  std::atomic<int64_t> oversize_{0};
 };
 
 // ---------------------------------------------------------------- template bodies
@@ -214,6 +228,7 @@ SubscriptionId LcmBus::SubscribeWithInfo(const std::string& channel, InfoHandler
     const int size = static_cast<int>(rbuf.data_size);
     // A fresh message each time: lcm-gen 1.3.1's decode leaves an array whose count is 0
     // untouched, so a reused message would keep the previous datagram's bytes (a token!).
+    if (!HeaderCountsFit(static_cast<const uint8_t*>(rbuf.data), size)) return Outcome::kDecodeFailed;
     Msg msg;
     if (msg.decode(rbuf.data, 0, size) != size) return Outcome::kDecodeFailed;
     handler(msg, MessageInfo{&on, rbuf.recv_utime, size});

@@ -13,9 +13,9 @@ namespace viscera::bus {
 namespace {
 
 // Encoded layout of a top-level message: 8-byte type fingerprint, then header_t's fields
-// big-endian: version (2), session_id (8), seq (8), utime (8), token_len (4), token, mac_len
-// (4), mac.
-constexpr int kTokenLenOffset = 8 + 2 + 8 + 8 + 8;
+// big-endian: version (2), session_id (8), seq (8), utime (8), sender (8), token_len (4),
+// token, mac_len (4), mac.
+constexpr int kTokenLenOffset = 8 + 2 + 8 + 8 + 8 + 8;
 
 int32_t ReadBe32(const uint8_t* p) {
   return static_cast<int32_t>((uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) |
@@ -55,6 +55,13 @@ int MacLenOffset(const uint8_t* data, int size) {
   const int32_t token_len = ReadBe32(data + kTokenLenOffset);
   if (token_len < 0 || token_len > size - kTokenLenOffset - 8) return -1;
   return kTokenLenOffset + 4 + token_len;
+}
+
+bool HeaderCountsFit(const uint8_t* data, int size) {
+  const int offset = MacLenOffset(data, size);
+  if (offset < 0 || offset + 4 > size) return false;
+  const int32_t mac_len = ReadBe32(data + offset);
+  return mac_len >= 0 && mac_len <= size - offset - 4;
 }
 
 MessageAuth::MessageAuth(const Key& key) : key_(key) { InitSodium(); }

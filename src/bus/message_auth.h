@@ -53,4 +53,10 @@ bool SecureEquals(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b);
 /// is too short or its token_len is out of range.
 int MacLenOffset(const uint8_t* data, int size);
 
+/// True when the header's token_len and mac_len fit in the datagram. LCM 1.3.1's generated
+/// C++ decode resizes an array to its count *before* checking the bytes are there, so a
+/// 60-byte datagram claiming a 2 GB token made the decoder allocate and zero 2 GB (found by
+/// fuzz/fuzz_server_messages); the bus checks this before decoding any viscera message.
+bool HeaderCountsFit(const uint8_t* data, int size);
+
 }  // namespace viscera::bus

@@ -1,5 +1,8 @@
 #include "collision/mesh_sdf.h"
 
+#include <cerrno>
+#include <cstdlib>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -42,6 +45,22 @@ double SolidAngle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
 
 }  // namespace
 
+namespace {
+
+// The vertex index of an OBJ face token ("7", "7/1", "-2//3"), or InputError: std::stoi threw
+// std::invalid_argument and std::out_of_range instead (found by fuzz/fuzz_obj_loader).
+int FaceIndex(const std::string& token, const std::string& path, int line_no) {
+  const std::string digits = token.substr(0, token.find('/'));
+  char* end = nullptr;
+  errno = 0;
+  const long i = std::strtol(digits.c_str(), &end, 10);
+  ThrowUnless(!digits.empty() && *end == '\0' && errno == 0 && std::abs(i) < (1L << 30), path, ":", line_no,
+              ": malformed face index '", token.substr(0, 40), "'");
+  return static_cast<int>(i);
+}
+
+}  // namespace
+
 MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offset, int resolution) {
   std::ifstream in(path);
   ThrowUnless(in.good(), path, ": cannot open mesh");
@@ -61,7 +80,7 @@ MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offs
     } else if (tag == "f") {
       std::vector<int> idx;
       for (std::string token; s >> token;) {
-        const int i = std::stoi(token.substr(0, token.find('/')));
+        const int i = FaceIndex(token, path, line_no);
         idx.push_back(i > 0 ? i - 1 : static_cast<int>(v.size()) + i);
       }
       ThrowUnless(idx.size() >= 3, path, ":", line_no, ": a face needs 3 vertices");

@@ -30,14 +30,23 @@ const toml::table& SubTable(const toml::table& root, const std::string& name) {
   return *node->as_table();
 }
 
-void ReadSimulation(const toml::table& table, ModelParams* p, double* settle) {
+// Refuses `value` above `limit` (when the limit is set) with the key and the limit.
+template <typename T>
+void WithinLimit(const std::string& what, T value, T limit) {
+  ThrowUnless(limit <= 0 || value <= limit, what, " = ", value, ": above this server's limit of ", limit);
+}
+
+void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelParams* p, double* settle) {
   const TomlReader r(table, "simulation");
   *settle = r.Double("settle", 0.0);
   ThrowUnless(*settle >= 0.0 && *settle <= 60.0, "simulation.settle = ", *settle, ": expected 0..60 s");
+  WithinLimit("simulation.settle", *settle, limits.max_settle_s);
   p->rate_hz = r.Double("rate_hz", 100.0);
   ThrowUnless(p->rate_hz > 0.0, "simulation.rate_hz = ", p->rate_hz, ": must be > 0");
+  WithinLimit("simulation.rate_hz", p->rate_hz, limits.max_rate_hz);
   p->substeps = r.Int("substeps", 1);
   ThrowUnless(p->substeps >= 1, "simulation.substeps = ", p->substeps, ": must be >= 1");
+  WithinLimit("simulation.substeps", p->substeps, limits.max_substeps);
   p->integrator = r.Choice<IntegratorKind>(
       "integrator", {{"rk4", IntegratorKind::kRk4}, {"implicit", IntegratorKind::kImplicitEuler}});
   p->mass_solver = r.Choice<MassSolverKind>(
@@ -87,12 +96,13 @@ std::vector<double> ReadPinned(const TomlReader& r) {
   return pins;
 }
 
-void ReadIntestine(const toml::table& table, ModelParams* p) {
+void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelParams* p) {
   const TomlReader r(table, "intestine");
   p->length = Positive(r, "length");
   p->radius = Positive(r, "radius");
   p->mass = Positive(r, "mass");
   const int n = r.Int("control_points", 0);
+  WithinLimit("intestine.control_points", n, limits.max_control_points);
   p->stretch_stiffness = NonNegative(r, "stretch_stiffness", 0.0);
   p->bend_stiffness = NonNegative(r, "bend_stiffness", 0.0);
   p->bend_reference_curvature = NonNegative(r, "bend_reference_curvature", 0.0);
@@ -106,6 +116,7 @@ void ReadIntestine(const toml::table& table, ModelParams* p) {
   ThrowUnless(shape != nullptr, "[intestine.shape]: missing (required table)");
   ThrowUnless(shape->is_table(), "intestine.shape: expected a table");
   p->initial_q = MakeShape(TomlReader(*shape->as_table(), "intestine.shape"), n, p->length);
+  WithinLimit("intestine.shape points", static_cast<int>(p->initial_q.rows()), limits.max_control_points);
   r.Finish();
 }
 
@@ -135,7 +146,7 @@ void ReadAttachments(const toml::table& root, ModelParams* p) {
   }
 }
 
-collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_dir) {
+collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_dir, const SceneLimits& limits) {
   using collision::ObstacleKind;
   collision::Obstacle o;
   const std::string kind = r.String("kind");
@@ -186,11 +197,16 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
   } else if (kind == "mesh") {
     o.kind = ObstacleKind::kMesh;
     std::string file = r.String("file");
-    if (!file.empty() && file[0] != '/') file = base_dir + file;
+    if (limits.resolve_file) {
+      file = limits.resolve_file(file);
+    } else if (!file.empty() && file[0] != '/') {
+      file = base_dir + file;
+    }
     const double scale = r.Double("scale", 1.0);
     ThrowUnless(scale > 0.0, r.Name("scale"), " = ", scale, ": must be > 0");
     const int resolution = r.Int("resolution", 40);
     ThrowUnless(resolution >= 8 && resolution <= 200, r.Name("resolution"), " = ", resolution, ": expected 8..200");
+    WithinLimit(r.Name("resolution"), resolution, limits.max_mesh_resolution);
     o.sdf = std::make_shared<collision::MeshSdf>(
         collision::MeshSdf::FromObj(file, scale, r.Vector("offset", Vec3::Zero()), resolution));
   } else {
@@ -200,10 +216,14 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
   return o;
 }
 
-void ReadObstacles(const toml::table& root, const std::string& base_dir, ModelParams* p) {
+void ReadObstacles(const toml::table& root, const std::string& base_dir, const SceneLimits& limits,
+                   ModelParams* p) {
   int index = 0;
-  for (const toml::table* t : TableArray(root, "obstacle")) {
-    p->obstacles.push_back(ReadObstacle(TomlReader(*t, "obstacle[" + std::to_string(index++) + "]"), base_dir));
+  const std::vector<const toml::table*> tables = TableArray(root, "obstacle");
+  WithinLimit("[[obstacle]] count", static_cast<int>(tables.size()), limits.max_obstacles);
+  for (const toml::table* t : tables) {
+    p->obstacles.push_back(
+        ReadObstacle(TomlReader(*t, "obstacle[" + std::to_string(index++) + "]"), base_dir, limits));
   }
 }
 
@@ -263,7 +283,7 @@ void Settle(double seconds, ModelParams* p) {
   p->initial_q = state.q;
 }
 
-Scene Build(const toml::table& root, const std::string& source) {
+Scene Build(const toml::table& root, const std::string& source, const SceneLimits& limits) {
   Scene scene;
   scene.source = source;
   for (const auto& [key, node] : root) {
@@ -275,13 +295,15 @@ Scene Build(const toml::table& root, const std::string& source) {
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
   }
   double settle = 0.0;
-  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), &scene.model, &settle);
-  ReadIntestine(SubTable(root, "intestine"), &scene.model);
+  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), limits, &scene.model, &settle);
+  ReadIntestine(SubTable(root, "intestine"), limits, &scene.model);
   ReadAttachments(root, &scene.model);
   const size_t slash = source.find_last_of('/');
-  ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), &scene.model);
+  ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), limits,
+                &scene.model);
   ReadContacts(root, &scene.model);
   ReadTools(root, &scene.model);
+  if (limits.vet) limits.vet(scene.model);
   if (settle > 0.0) Settle(settle, &scene.model);
   return scene;
 }
@@ -289,6 +311,10 @@ Scene Build(const toml::table& root, const std::string& source) {
 }  // namespace
 
 Scene ParseScene(const std::string& text, const std::string& source) {
+  return ParseScene(text, source, SceneLimits{});
+}
+
+Scene ParseScene(const std::string& text, const std::string& source, const SceneLimits& limits) {
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -297,7 +323,7 @@ Scene ParseScene(const std::string& text, const std::string& source) {
     Fail(source, ":", where.line, ":", where.column, ": ", e.description());
   }
   try {
-    return Build(root, source);
+    return Build(root, source, limits);
   } catch (const InputError& e) {
     Fail(source, ": ", e.what());
   }

@@ -13,6 +13,7 @@
 #include <viscera_proto/step_record_t.hpp>
 
 #include "bus/channels.h"
+#include "bus/message_auth.h"
 #include "common/check.h"
 #include "session/force_feedback.h"
 #include "session/session_scene.h"
@@ -27,14 +28,18 @@ bool StartsWith(const std::string& s, const char* prefix) { return s.rfind(prefi
 template <typename Msg>
 Msg DecodeOrThrow(const lcm::LogEvent& e, const std::string& path) {
   Msg msg;
-  ThrowUnless(msg.decode(e.data, 0, e.datalen) == e.datalen, path, ": malformed ",
+  // the header's counts first: LCM's decode would size its arrays before checking them
+  ThrowUnless(bus::HeaderCountsFit(static_cast<const uint8_t*>(e.data), e.datalen) &&
+                  msg.decode(e.data, 0, e.datalen) == e.datalen,
+              path, ": malformed ",
               Msg::getTypeName(), " on ", e.channel, " (event ", e.eventnum, ")");
   return msg;
 }
 
 }  // namespace
 
-ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step) {
+ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step,
+                          const scene::SceneLimits& limits) {
   lcm::LogFile log(path, "r");
   ThrowUnless(log.good(), "cannot read session record '", path, "'");
 
@@ -75,7 +80,7 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
       // the scene record keeps the scene's text and, in scene_name, the file it came from
       scene = std::make_unique<SessionScene>(LoadSessionScene(
           "", "", request.scene_toml, request.rate_hz, std::numeric_limits<double>::infinity(),
-          request.scene_name.empty() ? "<inline>" : request.scene_name));
+          request.scene_name.empty() ? "<inline>" : request.scene_name, limits));
       result.session_id = request.header.session_id;
       result.scene = request.scene_name.empty() ? "<inline>" : request.scene_name;
       result.rate_hz = scene->model->params().rate_hz;

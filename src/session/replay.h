@@ -8,6 +8,7 @@
 #include <string>
 
 #include "mechanics/state.h"
+#include "scene/scene.h"
 
 namespace viscera::session {
 
@@ -34,9 +35,12 @@ struct ReplayResult {
 /// a trace. It must not keep references past the call.
 using ReplayObserver = std::function<void(const mechanics::Model& model, const mechanics::State& state)>;
 
-/// Replays the record at `path`. Only the first session in the file is replayed.
+/// Replays the record at `path`. Only the first session in the file is replayed; its scene
+/// is read within `limits` (none by default: records are local files; a record from
+/// elsewhere is as hostile as a scene from the network).
 /// @throws InputError when the file cannot be read, holds no scene record, or a record
 ///         is malformed.
-ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step = nullptr);
+ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step = nullptr,
+                          const scene::SceneLimits& limits = scene::SceneLimits{});
 
 }  // namespace viscera::session

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <exception>
 
@@ -71,7 +72,8 @@ Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> m
       model_(std::move(model)),
       bus_(bus),
       recorder_(std::move(recorder)),
-      inbox_(static_cast<int>(model_->params().tools.size())) {
+      inbox_(static_cast<int>(model_->params().tools.size())),
+      last_touch_ns_(MonotonicNanos()) {
   VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 &&
                  config_.snapshot_rate_hz > 0.0 && bus_ != nullptr);
   status_.header = bus::MakeHeader(config_.id, 0);
@@ -109,6 +111,16 @@ void Session::CountRejected(const std::string& why) {
   SetError(why);
 }
 
+void Session::CountReplayed(const std::string& why) {
+  ++replayed_;
+  CountRejected(why);
+}
+
+double Session::LeaseLeft(int64_t now_ns) const {
+  if (config_.lease_s <= 0.0) return std::numeric_limits<double>::infinity();
+  return config_.lease_s - static_cast<double>(now_ns - last_touch_ns_.load()) * 1e-9;
+}
+
 void Session::SetError(const std::string& why) {
   std::lock_guard<std::mutex> lock(status_mutex_);
   last_error_ = why;
@@ -135,6 +147,9 @@ session_status_t Session::Status() const {
   s.state = state_.load();
   s.poses = poses_.load();
   s.rejected = rejected_.load();
+  s.replayed = replayed_.load();
+  s.lease_s = std::max(config_.lease_s, 0.0);
+  s.lease_left_s = config_.lease_s > 0.0 ? std::max(LeaseLeft(MonotonicNanos()), 0.0) : 0.0;
   s.last_error = last_error_;
   s.skin = frames_seen_.skin;
   s.frame_width = frames_seen_.width;

@@ -15,6 +15,7 @@
 #include <viscera_proto/session_status_t.hpp>
 
 #include "bus/lcm_bus.h"
+#include "common/clock.h"
 #include "mechanics/model.h"
 #include "session/inbox.h"
 #include "session/recorder.h"
@@ -36,6 +37,9 @@ struct SessionConfig {
   /// thread at it (1..98), so builds, other processes and the server's other threads cannot
   /// delay its steps; 0: normal scheduling.
   int realtime_priority = 0;
+  /// The session ends when its client sends nothing for this long (s); <= 0: never. The
+  /// server enforces it (Expired); the status reports the time left.
+  double lease_s = 0.0;
   /// The mechanics loop sleeps until this long before each deadline, then spins (ns; at most
   /// half a period); < 0: AutoSpinNs (common/pacer.h and docs/haptics.md, "Pacing", say why).
   int64_t spin_ns = -1;
@@ -98,6 +102,14 @@ class Session {
   void ReportFrames(const FrameStreamReport& report);
   /// Counts an accepted pose (I/O thread).
   void CountPose() { ++poses_; }
+  /// Keeps `why` as the last error (shown in status), counting nothing. Any thread.
+  void SetError(const std::string& why);
+  /// Counts a replayed or stale message of this session (also a rejected one).
+  void CountReplayed(const std::string& why);
+  /// Renews the lease: the client sent an authentic pose, command or keep-alive (any thread).
+  void Touch() { last_touch_ns_ = MonotonicNanos(); }
+  /// Lease time left (s) at monotonic time `now_ns`; +infinity without a lease.
+  double LeaseLeft(int64_t now_ns) const;
 
   /// The latest status (refreshed at status rate and on every state change).
   viscera_proto::session_status_t Status() const;
@@ -117,7 +129,6 @@ class Session {
   void PublishForces(int64_t now_ns);
   void PublishSkeleton();
   void PublishStatus(int64_t now_ns, bool summarize);
-  void SetError(const std::string& why);
 
   SessionConfig config_;
   std::shared_ptr<const mechanics::Model> model_;
@@ -129,6 +140,8 @@ class Session {
   std::atomic<int8_t> state_{viscera_proto::session_status_t::kRunning};
   std::atomic<int64_t> poses_{0};
   std::atomic<int64_t> rejected_{0};
+  std::atomic<int64_t> replayed_{0};
+  std::atomic<int64_t> last_touch_ns_;
 
   // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
   // a thread that low, preempted while holding a lock, could hold it for a long time.

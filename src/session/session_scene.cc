@@ -6,7 +6,6 @@
 #include <sstream>
 
 #include "common/check.h"
-#include "scene/scene.h"
 
 namespace viscera::session {
 
@@ -22,7 +21,7 @@ bool ValidSceneName(const std::string& name) {
 
 SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& scene_name,
                               const std::string& scene_toml, double rate_hz, double max_rate_hz,
-                              const std::string& inline_source) {
+                              const std::string& inline_source, const scene::SceneLimits& limits) {
   ThrowUnless(scene_name.empty() != scene_toml.empty(),
               "give either a scene name or an inline scene, not ",
               scene_name.empty() ? "neither" : "both");
@@ -49,7 +48,7 @@ SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& s
     out.label = "<inline>";
     out.source = inline_source;
   }
-  scene::Scene scene = scene::ParseScene(out.toml, out.source);
+  scene::Scene scene = scene::ParseScene(out.toml, out.source, limits);
   out.warnings = scene.warnings;
   if (rate_hz != 0.0) scene::ChangeRate(&scene.model, rate_hz);
   ThrowUnless(scene.model.rate_hz <= max_rate_hz, "scene rate ", scene.model.rate_hz,

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mechanics/model.h"
+#include "scene/scene.h"
 
 namespace viscera::session {
 
@@ -24,11 +25,13 @@ bool ValidSceneName(const std::string& name);
 
 /// Loads `scene_name` from `scene_dir` (NAME.toml) or, when scene_name is empty, parses
 /// `scene_toml` as if it came from `inline_source` (a path: meshes it names relative resolve
-/// against its directory); then sets the mechanics rate to `rate_hz` unless it is 0.
+/// against its directory), within `limits`; then sets the mechanics rate to `rate_hz` unless
+/// it is 0.
 /// @throws InputError when the name is invalid or unknown, both or neither source is
 ///         given, the scene is invalid, or rate_hz is not 0 and not in [1, max_rate_hz].
 SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& scene_name,
                               const std::string& scene_toml, double rate_hz, double max_rate_hz,
-                              const std::string& inline_source = "<inline>");
+                              const std::string& inline_source = "<inline>",
+                              const scene::SceneLimits& limits = scene::SceneLimits{});
 
 }  // namespace viscera::session

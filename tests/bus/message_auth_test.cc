@@ -105,7 +105,7 @@ TEST(MessageAuth, BusWithAKeyDropsUnsignedDatagramsAndCountsThem) {
   bus.SetAuth(std::make_shared<MessageAuth>(KeyOf(3)));
   int handled = 0;
   std::vector<DropReason> drops;
-  bus.SetDropHandler([&](const std::string& channel, DropReason reason) {
+  bus.SetDropHandler([&](const std::string& channel, DropReason reason, const uint8_t*, int) {
     EXPECT_EQ(channel, kHeartbeatChannel);
     drops.push_back(reason);
   });
@@ -129,6 +129,37 @@ TEST(SecureEquals, ComparesContentAndSize) {
   EXPECT_FALSE(SecureEquals({}, {1}));
   EXPECT_EQ(RandomBytes(16).size(), 16u);
   EXPECT_NE(RandomBytes(16), RandomBytes(16));  // 2^-128 chance of a false failure
+}
+
+// LCM 1.3.1's decode sizes an array before checking its bytes: a datagram claiming a 2 GB
+// token must be dropped before decoding, not allocate 2 GB (found by fuzz_server_messages).
+TEST(HeaderCountsFit, RefusesCountsBeyondTheDatagramBeforeDecoding) {
+  viscera_proto::heartbeat_t hb{};
+  hb.header = MakeHeader(0, 0);
+  std::vector<uint8_t> bytes(static_cast<size_t>(hb.getEncodedSize()));
+  ASSERT_EQ(hb.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  EXPECT_TRUE(HeaderCountsFit(bytes.data(), static_cast<int>(bytes.size())));
+  const int token_len_at = MacLenOffset(bytes.data(), static_cast<int>(bytes.size())) - 4;
+  std::vector<uint8_t> huge_token = bytes;
+  for (int i = 0; i < 4; ++i) huge_token[static_cast<size_t>(token_len_at + i)] = i == 0 ? 0x7f : 0xff;
+  EXPECT_FALSE(HeaderCountsFit(huge_token.data(), static_cast<int>(huge_token.size())));
+  std::vector<uint8_t> huge_mac = bytes;
+  const int mac_len_at = MacLenOffset(bytes.data(), static_cast<int>(bytes.size()));
+  for (int i = 0; i < 4; ++i) huge_mac[static_cast<size_t>(mac_len_at + i)] = i == 0 ? 0x7f : 0xff;
+  EXPECT_FALSE(HeaderCountsFit(huge_mac.data(), static_cast<int>(huge_mac.size())));
+
+  // through the bus: dropped as malformed, never handed on
+  LcmBus bus("memq://");
+  int handled = 0, malformed = 0;
+  bus.Subscribe<viscera_proto::heartbeat_t>(kHeartbeatChannel, [&](const viscera_proto::heartbeat_t&, int64_t) { ++handled; });
+  bus.SetDropHandler([&](const std::string&, DropReason reason, const uint8_t*, int) {
+    malformed += reason == DropReason::kMalformed ? 1 : 0;
+  });
+  bus.PublishRaw(kHeartbeatChannel, huge_token.data(), static_cast<int>(huge_token.size()));
+  bus.PublishRaw(kHeartbeatChannel, bytes.data(), static_cast<int>(bytes.size()));
+  bus.Drain();
+  EXPECT_EQ(handled, 1);
+  EXPECT_EQ(malformed, 1);
 }
 
 }  // namespace

@@ -45,9 +45,10 @@ inline std::string ScratchDir() {
 /// A running viscerad; SIGTERM (then waits) on Stop or destruction.
 class Daemon {
  public:
-  Daemon(const std::string& server_id, std::vector<std::string> extra, const std::string& dir)
+  Daemon(const std::string& server_id, std::vector<std::string> extra, const std::string& dir,
+         const std::string& url = kUrl)
       : stderr_path_(dir + "/viscerad-" + server_id + ".err") {
-    std::vector<std::string> args = {VISCERAD, "--server-id", server_id, "--lcm-url", kUrl,
+    std::vector<std::string> args = {VISCERAD, "--server-id", server_id, "--lcm-url", url,
                                      "--scene-dir", std::string(VISCERA_SOURCE_DIR) + "/scenes"};
     args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
@@ -70,6 +71,20 @@ class Daemon {
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
+  /// Waits up to `timeout_s` for the process to exit. @return its exit status, or -1 if it runs on.
+  int WaitExit(double timeout_s) {
+    const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (std::chrono::steady_clock::now() < give_up) {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+  pid_t pid() const { return pid_; }
   bool Alive() const { return pid_ > 0 && kill(pid_, 0) == 0 && waitpid(pid_, nullptr, WNOHANG) == 0; }
   std::string Stderr() const { return ReadFile(stderr_path_); }
 
@@ -109,6 +124,13 @@ inline CliResult Viscera(const std::string& dir, const std::string& args) {
 /// Creates a session with `args` and returns its create JSON (asserting success).
 inline nlohmann::json Create(const std::string& dir, const std::string& args) {
   const CliResult r = Viscera(dir, "create " + args + " --json");
+  EXPECT_EQ(r.rc, 0) << r.out;
+  return r.rc == 0 ? r.json() : nlohmann::json();
+}
+
+/// The status of session `id` as `viscera status --json` prints it (`extra`: more flags).
+inline nlohmann::json Status(const std::string& dir, int64_t id, const std::string& extra = "") {
+  const CliResult r = Viscera(dir, "status " + std::to_string(id) + " --json " + extra);
   EXPECT_EQ(r.rc, 0) << r.out;
   return r.rc == 0 ? r.json() : nlohmann::json();
 }

@@ -34,12 +34,6 @@ namespace {
 using nlohmann::json;
 using viscera::testing::Eventually;
 
-json Status(const std::string& dir, int64_t id, const std::string& extra = "") {
-  const CliResult r = Viscera(dir, "status " + std::to_string(id) + " --json" + extra);
-  EXPECT_EQ(r.rc, 0) << r.out;
-  return r.rc == 0 ? r.json() : json();
-}
-
 // Polls the status of `id` until `done` holds (or 30 s pass: the test then fails, showing the
 // last status). No fixed sleep: as fast as the server gets there, however loaded the machine.
 json StatusWhen(const std::string& dir, int64_t id, const std::function<bool(const json&)>& done,

@@ -15,6 +15,7 @@
 #include "bus/channels.h"
 #include "bus/header.h"
 #include "common/clock.h"
+#include "tests/server/manager_fixture.h"
 
 namespace viscera::server {
 namespace {
@@ -50,51 +51,6 @@ TEST(PoseProblem, AcceptsAGoodPoseAndNamesWhatIsWrongWithBadOnes) {
   p.jaw = -0.01;
   EXPECT_NE(PoseProblem(p, 1).find("jaw"), std::string::npos);
 }
-
-// The manager on an in-process bus: requests in, replies out, nothing thrown.
-class SessionManagerTest : public ::testing::Test {
- protected:
-  SessionManagerTest() : bus_("memq://") {
-    config_.server_id = "srv";
-    config_.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/scenes";
-    config_.max_sessions = 1;
-    manager_ = std::make_unique<SessionManager>(config_, &bus_, &bus_);  // memq: one bus
-    bus_.Subscribe<viscera_proto::session_reply_t>(
-        bus::kReplyChannel,
-        [this](const viscera_proto::session_reply_t& r, int64_t) { replies_.push_back(r); });
-  }
-
-  viscera_proto::session_reply_t Ask(viscera_proto::session_request_t r) {
-    r.header.version = viscera_proto::header_t::kProtocolVersion;
-    r.header.utime = bus::WallMicros();
-    r.request_id = ++request_id_;
-    const std::string channel = bus::kRequestChannel;
-    manager_->OnRequest(r, bus::MessageInfo{&channel, 0, 0});
-    for (int i = 0; i < 400 && manager_->creating(); ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      manager_->Poll();
-    }
-    bus_.Drain();
-    EXPECT_FALSE(replies_.empty());
-    if (replies_.empty()) return {};
-    EXPECT_EQ(replies_.back().request_id, request_id_);
-    return replies_.back();
-  }
-
-  static viscera_proto::session_request_t Request(int8_t command, int64_t id = 0) {
-    viscera_proto::session_request_t r{};
-    r.header = bus::MakeHeader(id, 0);
-    r.command = command;
-    r.server_id = "srv";
-    return r;
-  }
-
-  bus::LcmBus bus_;
-  ServerConfig config_;
-  std::unique_ptr<SessionManager> manager_;
-  std::vector<viscera_proto::session_reply_t> replies_;
-  int64_t request_id_ = 0;
-};
 
 TEST_F(SessionManagerTest, CreateCommandsAndDestroyWithTheToken) {
   using R = viscera_proto::session_reply_t;
