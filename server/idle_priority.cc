@@ -16,4 +16,10 @@ void LowerThisThreadsPriority() {
   }
 }
 
+void NiceThisThread() {
+  sched_param param{};
+  pthread_setschedparam(pthread_self(), SCHED_OTHER, &param);
+  setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10);
+}
+
 }  // namespace viscera::server

@@ -10,4 +10,10 @@ namespace viscera::server {
 /// streams). Falls back to nice 19 where SCHED_IDLE is refused.
 void LowerThisThreadsPriority();
 
+/// nice 10 for the calling thread (SCHED_OTHER, which also drops an inherited SCHED_FIFO): for
+/// work a client waits for, such as building a scene. It yields to the sessions' threads but is
+/// never starved: at SCHED_IDLE a create waited for minutes, and timed out, whenever any other
+/// process kept the cores busy.
+void NiceThisThread();
+
 }  // namespace viscera::server

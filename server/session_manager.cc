@@ -436,12 +436,12 @@ void SessionManager::Create(const session_request_t& request) {
   }
 
   // Building the model may take long (mesh distance fields, settling): a helper thread does
-  // it at idle priority, within the server's scene budget, so no session waits for it.
+  // it at low priority (nice 10), within the server's scene budget, so no session waits for it.
   const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
   const scene::SceneLimits limits = NetworkSceneLimits(config_, rate);
   const std::string inline_source = config_.scene_dir + "/<inline>";  // meshes: the scene dir
   pending_.push_back({request, mpix, std::async(std::launch::async, [this, request, rate, limits, inline_source] {
-                        LowerThisThreadsPriority();
+                        NiceThisThread();
                         return session::LoadSessionScene(config_.scene_dir, request.scene_name,
                                                          request.scene_toml, rate, config_.max_rate_hz,
                                                          inline_source, limits);

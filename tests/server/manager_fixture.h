@@ -48,7 +48,7 @@ class SessionManagerTest : public ::testing::Test {
     const size_t before = replies_.size();
     const std::string channel = bus::kRequestChannel;
     manager_->OnRequest(r, bus::MessageInfo{&channel, 0, 0});
-    for (int i = 0; i < 400 && manager_->creating(); ++i) {
+    for (int i = 0; i < 6000 && manager_->creating(); ++i) {  // up to 30 s on a busy machine
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
       manager_->Poll();
     }
