@@ -29,6 +29,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "mechanics/implicit_euler.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
 #include "script/tool_script.h"
@@ -75,7 +76,8 @@ struct Tally {
 //   substeps         average integrator sub-steps per step (more at impacts); max_substeps
 //   self, env        average self and environment contacts (pairs in contact) per step
 //   resets           non-finite steps (must be 0, or the figures are meaningless)
-void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets) {
+void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets,
+            Workspace& workspace) {
   const double steps = static_cast<double>(tally.steps);
   const double simulated = steps * model.step_size();
   const double n = model.num_points();
@@ -91,6 +93,10 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   bench.counters["self"] = static_cast<double>(tally.self_contacts) / steps;
   bench.counters["env"] = static_cast<double>(tally.environment_contacts) / steps;
   bench.counters["resets"] = static_cast<double>(resets);
+  if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
+    // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
+    bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
+  }
 }
 
 void BM_FallWhole(benchmark::State& bench) {
@@ -116,7 +122,7 @@ void BM_FallWhole(benchmark::State& bench) {
     }
   }
   resets += state.nonfinite_resets;
-  Report(bench, model, workspace.interactions()->chain().size(), tally, resets);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
 }
 
 void BM_FallSettled(benchmark::State& bench) {
@@ -132,7 +138,7 @@ void BM_FallSettled(benchmark::State& bench) {
     Step(model, {}, &state, &workspace);
     tally.Add(state);
   }
-  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets, workspace);
   bench.counters["warmup_resets"] = static_cast<double>(resets_before);
 }
 
@@ -178,7 +184,7 @@ void BM_CavityClearing(benchmark::State& bench) {
     }
     resets += state.nonfinite_resets;
   }
-  Report(bench, model, workspace.interactions()->chain().size(), tally, resets);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
   bench.counters["p99_us"] = Quantile(costs_us, 0.99);
   bench.counters["deepest_pct_r"] = 100.0 * deepest / model.params().radius;
   bench.counters["peak_force"] = peak;

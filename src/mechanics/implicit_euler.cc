@@ -190,6 +190,7 @@ void ImplicitEulerIntegrator::RefineExactly(double h, const VecX& b, Eigen::Ref<
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
   Points& q = state->q;
   Points& v = state->qd;
+  ++substeps_;
   ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_, interactions_);
   const bool coupled = interactions_ != nullptr && interactions_->coupled_pairs() > 0;
 

@@ -77,10 +77,21 @@ class Interactions {
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
-  // Geometry plus the force law, at the velocities last gathered by GatherVelocities.
-  Penalty Evaluate(const collision::ContactCandidate& c) const;
+  // The force law on a candidate's geometry, at the velocities last gathered.
+  Penalty Evaluate(const collision::ContactCandidate& c, const Penalty& geometry) const;
   Vec3 SphereVelocity(int sphere, const Points& qd) const;
   void GatherVelocities(const Points& qd);
+  // The chain at q: re-placed along its arc length if `place`, else its spheres moved with the
+  // curve. Nothing is redone for the configuration the chain already has; the geometry is
+  // invalidated otherwise.
+  void Configure(const Points& q, bool place);
+  // Finds the candidates for `margin`, keeping the geometry unless the list changed.
+  void UpdateCandidates(double margin);
+  // Every candidate's geometry at the current configuration, computed once: RequiredSubsteps,
+  // the tools' advance, the force evaluations and EndStep all read it (and EndStep's serves the
+  // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
+  void EnsureGeometry();
+  void RefreshToolGeometry();
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
@@ -103,6 +114,10 @@ class Interactions {
 
   collision::SphereChain chain_;
   collision::VerletList candidates_;
+  Points configured_q_, gathered_qd_;
+  bool configured_ = false, placed_ = false, gathered_ = false;
+  std::vector<Penalty> geometry_;  // per candidate, valid while geometry_valid_
+  bool geometry_valid_ = false;
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
