@@ -268,14 +268,18 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   return energy;
 }
 
-void Interactions::AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const {
+void Interactions::WeighCommonModes(double ck, double cd) {
+  for (PairCoupling& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
+}
+
+void Interactions::AddCommonModeTerms(const Points& x, Points* y) const {
   const auto& spheres = chain_.spheres();
   for (const PairCoupling& pair : pairs_) {
     const collision::Sphere& sa = spheres[pair.a];
     const collision::Sphere& sb = spheres[pair.b];
     Vec3 common = Vec3::Zero();  // (J_a + J_b) x
     for (int i = 0; i < 4; ++i) common += sa.w[i] * x.row(sa.first + i).transpose() + sb.w[i] * x.row(sb.first + i).transpose();
-    const Vec3 f = ck * (pair.k * common) + cd * (pair.d * common);
+    const Vec3 f = pair.weighed * common;
     AddToWindow(pair.a, f, y);
     AddToWindow(pair.b, f, y);
   }
