@@ -19,7 +19,6 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bus/message_auth.h"
-#include "bus/wire_counts.h"
 #include "common/check.h"
 
 namespace viscera::bus {
@@ -229,8 +228,7 @@ SubscriptionId LcmBus::SubscribeWithInfo(const std::string& channel, InfoHandler
     const int size = static_cast<int>(rbuf.data_size);
     // A fresh message each time: lcm-gen 1.3.1's decode leaves an array whose count is 0
     // untouched, so a reused message would keep the previous datagram's bytes (a token!).
-    // Every array count first: LCM's decode would size the arrays before checking them.
-    if (!ArrayCountsFit<Msg>(static_cast<const uint8_t*>(rbuf.data), size)) return Outcome::kDecodeFailed;
+    if (!HeaderCountsFit(static_cast<const uint8_t*>(rbuf.data), size)) return Outcome::kDecodeFailed;
     Msg msg;
     if (msg.decode(rbuf.data, 0, size) != size) return Outcome::kDecodeFailed;
     handler(msg, MessageInfo{&on, rbuf.recv_utime, size});

@@ -192,4 +192,22 @@ bool ArrayCountsFit<viscera_proto::force_feedback_t>(const uint8_t* data, int si
   return HeaderOnly(data, size);
 }
 
+bool CountsFitForFingerprint(const uint8_t* data, int size) {
+  if (size < 8) return false;
+  uint64_t hash = 0;
+  for (int i = 0; i < 8; ++i) hash = (hash << 8) | data[i];
+  const auto is = [hash](int64_t type_hash) { return hash == static_cast<uint64_t>(type_hash); };
+  using namespace viscera_proto;
+  if (is(jpeg_frame_t::getHash())) return ArrayCountsFit<jpeg_frame_t>(data, size);
+  if (is(skeleton_state_t::getHash())) return ArrayCountsFit<skeleton_state_t>(data, size);
+  if (is(session_status_t::getHash())) return ArrayCountsFit<session_status_t>(data, size);
+  if (is(session_reply_t::getHash())) return ArrayCountsFit<session_reply_t>(data, size);
+  if (is(step_record_t::getHash())) return ArrayCountsFit<step_record_t>(data, size);
+  if (is(session_request_t::getHash())) return ArrayCountsFit<session_request_t>(data, size);
+  if (is(heartbeat_t::getHash())) return ArrayCountsFit<heartbeat_t>(data, size);
+  if (is(tool_pose_t::getHash())) return ArrayCountsFit<tool_pose_t>(data, size);
+  if (is(force_feedback_t::getHash())) return ArrayCountsFit<force_feedback_t>(data, size);
+  return HeaderOnly(data, size);
+}
+
 }  // namespace viscera::bus

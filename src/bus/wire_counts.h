@@ -5,8 +5,9 @@
 // *before* checking that the datagram holds that many elements, so a 60-byte datagram claiming
 // 2^31 frame bytes, skeleton points, statuses or tool names makes the receiver allocate (and
 // zero) gigabytes, and a negative count throws from std::vector. ArrayCountsFit walks the
-// message's wire layout and says whether every count fits in the bytes that follow it; the bus
-// and the record reader call it before every decode (docs/security.md, "Decoding").
+// message's wire layout and says whether every count fits in the bytes that follow it. The bus
+// (through HeaderCountsFit, by fingerprint) and the record reader call it before every decode
+// (docs/reliability.md, "Fuzzing").
 #include <cstdint>
 
 namespace viscera_proto {
@@ -27,6 +28,10 @@ namespace viscera::bus {
 /// fits in the `size` bytes of `data`. Defined for every viscera_proto top-level type.
 template <typename Msg>
 bool ArrayCountsFit(const uint8_t* data, int size);
+
+/// ArrayCountsFit for the type the datagram's fingerprint names; for a fingerprint of no
+/// viscera type, the header's counts only (its decode then fails on the fingerprint).
+bool CountsFitForFingerprint(const uint8_t* data, int size);
 
 template <> bool ArrayCountsFit<viscera_proto::force_feedback_t>(const uint8_t*, int);
 template <> bool ArrayCountsFit<viscera_proto::heartbeat_t>(const uint8_t*, int);
