@@ -6,6 +6,7 @@
 
 #include "common/check.h"
 #include "mechanics/step.h"
+#include "scene/mesentery_table.h"
 #include "scene/shapes.h"
 #include "scene/toml_reader.h"
 
@@ -289,7 +290,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
     if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
-        k == "tool") {
+        k == "tool" || k == "mesentery") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
@@ -298,6 +299,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), limits, &scene.model, &settle);
   ReadIntestine(SubTable(root, "intestine"), limits, &scene.model);
   ReadAttachments(root, &scene.model);
+  scene.model.mesentery = ReadMesentery(root);
   const size_t slash = source.find_last_of('/');
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), limits,
                 &scene.model);
