@@ -14,9 +14,10 @@ TetherPull TetherPullAt(double e, double d) {
     p.slope = 1.0;
     p.energy = 0.5 * e * e;
   } else {
-    p.g = e * e / (2.0 * d);
-    p.slope = e / d;
-    p.energy = e * e * e / (6.0 * d);
+    const double r = e / d;
+    p.g = e * r * r / 3.0;
+    p.slope = r * r;
+    p.energy = e * e * r * r / 12.0;
   }
   return p;
 }

@@ -1,12 +1,14 @@
 #pragma once
 /// The mesentery as a fan of one-sided tethers (docs/mechanics.md, "Mesentery"). Tether k holds
 /// curve point P(s_k) to its root point r_k: slack while l = |P(s_k) - r_k| <= L_k, pulling
-/// beyond with a force that grows smoothly over the onset d and then like a spring:
-///   e = l - L,   g(e) = 0 (e <= 0),  e^2 / (2 d) (0 < e < d),  e - d / 2 (e >= d),
-///   F = -k g(e) t,  t = (P - r) / l,   E = k integral g,
-/// so the force is C1 in q (no jump in stiffness for the linearized implicit step to miss) and
-/// the stiffness k g'(e) t t^T + k g(e) / l (I - t t^T) is positive semi-definite (g >= 0).
-/// A taut tether also damps along itself: -c min(e / d, 1) (t . dP/dt) t.
+/// beyond with a force that stiffens with the stretch, J-shaped like collagen:
+///   e = l - L,   g(e) = 0 (e <= 0),  e^3 / (3 d^2) (e > 0),   d the onset,
+///   F = -k g(e) t,  t = (P - r) / l,   E = k e^4 / (12 d^2),
+/// so the force is C2 in q (no jump in stiffness for the linearized implicit step to miss), soft
+/// while barely taut (a resting pile does not press loops together) and stiff under a pull (k at
+/// e = d, 4 k at 2 d). The stiffness k g'(e) t t^T + k g(e) / l (I - t t^T) is positive
+/// semi-definite (g >= 0). A taut tether also damps along itself: -c min(e / d, 1) (t . dP/dt) t.
+/// d = 0 makes a plain one-sided spring (g = e).
 #include <span>
 
 #include "mechanics/block_band.h"
@@ -14,8 +16,8 @@
 
 namespace viscera::mechanics {
 
-/// The pull g(e) of a tether stretched e (m) past its length, per unit stiffness (m), and its
-/// slope g'(e). `onset` d >= 0 (0: a plain one-sided spring).
+/// The pull g(e) of a tether stretched e (m) past its length, per unit stiffness (m), its slope
+/// g'(e) and its integral (m^2). `onset` d >= 0 (0: a plain one-sided spring).
 struct TetherPull {
   double g = 0.0;
   double slope = 0.0;

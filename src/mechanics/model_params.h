@@ -40,7 +40,7 @@ struct MesenteryParams {
   std::vector<std::pair<double, double>> lengths;
   double stiffness = 0.0;   ///< N/m per metre of tube (a tether gets it times its share of tube)
   double damping = 0.0;     ///< N s/m per metre of tube, along a taut tether
-  double onset = 0.003;     ///< m: the pull grows smoothly over this much stretch (C1 force)
+  double onset = 0.01;      ///< m: stretch d where the J-shaped pull k e^3 / (3 d^2) reaches stiffness k
   int tethers = 0;          ///< tethers at equal steps of s; 0: one per control point
 };
 
