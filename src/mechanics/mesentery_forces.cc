@@ -13,11 +13,18 @@ TetherPull TetherPullAt(double e, double d) {
     p.g = e;
     p.slope = 1.0;
     p.energy = 0.5 * e * e;
-  } else {
+  } else if (e <= 2.0 * d) {
     const double r = e / d;
     p.g = e * r * r / 3.0;
     p.slope = r * r;
     p.energy = e * e * r * r / 12.0;
+  } else {
+    // linear beyond 2 d, with the slope (4) the cubic has there: the stiffness stays bounded
+    // (a tether that starts far past its slack pulls hard, but not explosively)
+    const double x = e - 2.0 * d;
+    p.g = 8.0 * d / 3.0 + 4.0 * x;
+    p.slope = 4.0;
+    p.energy = 4.0 * d * d / 3.0 + 8.0 * d * x / 3.0 + 2.0 * x * x;
   }
   return p;
 }

@@ -2,11 +2,12 @@
 /// The mesentery as a fan of one-sided tethers (docs/mechanics.md, "Mesentery"). Tether k holds
 /// curve point P(s_k) to its root point r_k: slack while l = |P(s_k) - r_k| <= L_k, pulling
 /// beyond with a force that stiffens with the stretch, J-shaped like collagen:
-///   e = l - L,   g(e) = 0 (e <= 0),  e^3 / (3 d^2) (e > 0),   d the onset,
-///   F = -k g(e) t,  t = (P - r) / l,   E = k e^4 / (12 d^2),
-/// so the force is C2 in q (no jump in stiffness for the linearized implicit step to miss), soft
-/// while barely taut (a resting pile does not press loops together) and stiff under a pull (k at
-/// e = d, 4 k at 2 d). The stiffness k g'(e) t t^T + k g(e) / l (I - t t^T) is positive
+///   e = l - L,   g(e) = 0 (e <= 0),  e^3 / (3 d^2) (0 < e <= 2 d),  8 d / 3 + 4 (e - 2 d) beyond,
+///   F = -k g(e) t,  t = (P - r) / l,   E = k integral g,   d the onset,
+/// so the force is C1 in q (no jump in stiffness for the linearized implicit step to miss), soft
+/// while barely taut (a resting pile does not press loops together), stiff under a pull (k at
+/// e = d, 4 k from 2 d on) and never stiffer than 4 k (a tether far past its slack, as in a
+/// scene's starting pose, pulls hard but linearly). The stiffness k g'(e) t t^T + k g(e) / l (I - t t^T) is positive
 /// semi-definite (g >= 0). A taut tether also damps along itself: -c min(e / d, 1) (t . dP/dt) t.
 /// d = 0 makes a plain one-sided spring (g = e).
 #include <span>

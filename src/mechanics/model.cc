@@ -22,6 +22,7 @@ void ValidateMesentery(const MesenteryParams& m) {
   RequirePositive("mesentery.stiffness", m.stiffness);
   RequireNonNegative("mesentery.damping", m.damping);
   RequireNonNegative("mesentery.onset", m.onset);
+  RequireNonNegative("mesentery extra slack", m.extra_slack);
   ThrowUnless(m.tethers == 0 || m.tethers >= 2, "mesentery.tethers = ", m.tethers, ": must be 0 (one per control point) or >= 2");
   ThrowUnless(m.lengths.size() >= 2, "mesentery.lengths: need at least two [s, length] pairs, from s = 0 to s = 1");
   ThrowUnless(m.lengths.front().first == 0.0 && m.lengths.back().first == 1.0, "mesentery.lengths: s must run from 0 to 1, got ",
@@ -123,7 +124,7 @@ void Model::BuildTethers() {
     Tether t;
     t.at = MakeCurvePoint(s);
     t.root = m.root_start + s * (m.root_end - m.root_start);
-    t.length = l0 + (s - s0) / (s1 - s0) * (l1 - l0);
+    t.length = l0 + (s - s0) / (s1 - s0) * (l1 - l0) + m.extra_slack;
     t.stiffness = m.stiffness * share;
     t.damping = m.damping * share;
     t.onset = m.onset;

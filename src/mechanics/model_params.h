@@ -42,6 +42,9 @@ struct MesenteryParams {
   double damping = 0.0;     ///< N s/m per metre of tube, along a taut tether
   double onset = 0.01;      ///< m: stretch d where the J-shaped pull k e^3 / (3 d^2) reaches stiffness k
   int tethers = 0;          ///< tethers at equal steps of s; 0: one per control point
+  /// m added to every tether's length: a scene's settling starts with the tethers loose enough
+  /// for its starting pose and tightens them gradually (scene::Settle). 0 in a running scene.
+  double extra_slack = 0.0;
 };
 
 /// Penalty contacts of the sphere chain ([contacts]; France et al. 2005, section 3.5).
