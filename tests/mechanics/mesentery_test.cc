@@ -1,6 +1,6 @@
-// The mesentery fan (scenes/cavity.toml, [mesentery]): tethers hold every part of the intestine
+// The mesentery fan (scenes/cavity_mesentery.toml, [mesentery]): tethers hold every part of the intestine
 // within its slack length of the root while a tool pulls hard, the settled pile lies spread over
-// the posterior wall (more than the four-spring scene, scenes/cavity_springs.toml), and the tethers never add energy.
+// the posterior wall (more than the four-spring scene, scenes/cavity.toml), and the tethers never add energy.
 #include <gtest/gtest.h>
 
 
@@ -54,7 +54,7 @@ Fan Measure(const Model& model, const Points& q, const Vec3& root_start, const V
 
 
 MesenteryParams CavityMesentery() {
-  return *scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml").model.mesentery;
+  return *scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml").model.mesentery;
 }
 
 // The settled cavity; the left grasper takes the highest mid-gut loop and pulls it toward the
@@ -119,14 +119,14 @@ TEST(Mesentery, NoPartGoesFartherFromTheRootThanItsSlackWhileAToolPullsHard) {
   // Tolerance: the tethers stiffen like collagen (stiffness k e / onset); a 5 N pull on one
   // point of the mid-gut, whose slack is about 20 cm, stretches its tether about 1.5 cm.
   constexpr double kTolerance = 0.02;
-  const PullRun run = Pull(VISCERA_SOURCE_DIR "/scenes/cavity.toml", 5.0);
+  const PullRun run = Pull(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml", 5.0);
   EXPECT_TRUE(run.grasped);
   EXPECT_GE(run.peak_force, 4.9) << "the pull did not saturate the coupling: not a hard pull";
   EXPECT_LE(run.worst_stretch, kTolerance);
   EXPECT_GT(run.worst_stretch, 0.0) << "no tether went taut: the pull did not reach the mesentery";
   // Control: without the fan the same pull takes the grasped point farther than that from where
   // its root would be (the measure can fail).
-  const PullRun free = Pull(VISCERA_SOURCE_DIR "/scenes/cavity_springs.toml", 5.0);
+  const PullRun free = Pull(VISCERA_SOURCE_DIR "/scenes/cavity.toml", 5.0);
   EXPECT_TRUE(free.grasped);
   EXPECT_GT(free.grasped_pull, run.grasped_pull + kTolerance);
 }
@@ -134,8 +134,8 @@ TEST(Mesentery, NoPartGoesFartherFromTheRootThanItsSlackWhileAToolPullsHard) {
 TEST(Mesentery, TheSettledPileLiesFannedOverThePosteriorWall) {
   const MesenteryParams m = CavityMesentery();
   const double root_length = (m.root_end - m.root_start).norm();
-  const scene::Scene fanned = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
-  const scene::Scene hanging = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_springs.toml");
+  const scene::Scene fanned = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
+  const scene::Scene hanging = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   const Model fanned_model(fanned.model), hanging_model(hanging.model);
   const Fan fan = Measure(fanned_model, fanned_model.params().initial_q, m.root_start, m.root_end);
   const Fan springs = Measure(hanging_model, hanging_model.params().initial_q, m.root_start, m.root_end);
