@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace viscera::mechanics {
 namespace {
@@ -49,7 +51,8 @@ Interactions::Interactions(const Model& model)
       margin_(Margin(model)),
       chain_(model.curve(), model.params().length, model.params().radius),
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)),
-                  kVerletSkin * radius_) {
+                  kVerletSkin * radius_),
+      impacts_(model, chain_.size()) {
   const size_t tools = model.params().tools.size();
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
@@ -64,6 +67,7 @@ Interactions::Interactions(const Model& model)
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);
 }
 
@@ -407,7 +411,72 @@ double Interactions::CandidateMargin(const State& state, double h) const {
   return margin_ + 2.0 * h * (std::sqrt(speed) + tool_speed);
 }
 
-int Interactions::RequiredSubsteps(const State& state) {
+void Interactions::LimitImpacts(double h, Points* u, Points* v) {
+  const double allowed = model_.params().contacts.impact_depth * radius_;
+  if (!(allowed > 0.0)) return;
+  EnsureGeometry();
+  const auto& list = candidates();
+  // The set of contacts grows until the impulses on it leave no other contact too fast: an
+  // impulse can drive a sphere into a contact that was not closing before. Each round solves
+  // the whole set again from the velocities before any impulse, so the result is the set's
+  // exact (dissipative) solution.
+  constexpr int kMaxRounds = 8;
+  impact_set_.clear();
+  in_impact_set_.assign(list.size(), 0);  // grows with the list's high-water mark only
+  impacts_.Reset();
+  for (int round = 0; round < kMaxRounds; ++round) {
+    GatherVelocities(*u);
+    bool grew = false;
+    for (size_t i = 0; i < list.size(); ++i) {
+      if (in_impact_set_[i]) continue;
+      const Penalty& p = geometry_[i];
+      const double un = (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
+      // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
+      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9) continue;
+      in_impact_set_[i] = 1;
+      impact_set_.push_back(static_cast<int>(i));
+      grew = true;
+    }
+    if (!grew) return;
+    if (round == 0) {
+      impact_u0_ = *u;  // same size after the first: no allocation
+      if (v) impact_v0_ = *v;
+    } else {
+      *u = impact_u0_;
+      if (v) *v = impact_v0_;
+      GatherVelocities(*u);
+    }
+    impact_contacts_.clear();
+    for (int i : impact_set_) {
+      const ContactCandidate& c = list[i];
+      const Penalty& p = geometry_[i];
+      const Vec3 other = OtherVelocity(c, p.lever);
+      const double un = (sphere_velocity_[c.a] - other).dot(p.normal);
+      // The velocity whose kinetic energy counts (the step's end), when it is not u itself.
+      double vn = un;
+      if (v) {
+        const Vec3 vb = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, *v) : other;
+        vn = (SphereVelocity(c.a, *v) - vb).dot(p.normal);
+      }
+      impact_contacts_.push_back({c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un,
+                                  std::min(0.0, (p.depth - allowed) / h), vn});
+    }
+    impacts_.Apply(impact_contacts_, chain_, u, v);
+  }
+}
+
+void Interactions::EndSubstep(double h, State* state) {
+  if (!(model_.params().contacts.impact_depth > 0.0)) return;
+  // The sub-step moved q by h u. Limit u on the geometry at the sub-step's start, then move from
+  // there by the limited u; the end velocity gets the same impulses.
+  Configure(substep_q0_, false);  // the spheres as placed at the start (RK4's stages moved them)
+  impact_u_ = (state->q - substep_q0_) / h;
+  LimitImpacts(h, &impact_u_, &state->qd);
+  state->q = substep_q0_ + h * impact_u_;
+}
+
+int Interactions::RequiredSubsteps(State* state_in) {
+  const State& state = *state_in;
   const int base = model_.params().substeps;
   const double h = model_.step_size();
   Configure(state.q, true);  // usually as EndStep left it: nothing to redo
@@ -415,6 +484,8 @@ int Interactions::RequiredSubsteps(const State& state) {
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin);
   EnsureGeometry();
+  LimitImpacts(h, &state_in->qd, nullptr);
+  GatherVelocities(state.qd);
   substep_ = 0;
   double closing = 0.0;
   const auto& list = candidates();
@@ -450,12 +521,14 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   const double margin = CandidateMargin(*state, h);
   if (!candidates_fresh_) UpdateCandidates(margin);
   candidates_fresh_ = false;
-  if (state->tools.empty()) return;
-  // Tools move against the candidates of their current pose; then find those of the new one.
-  for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
-  substep_ = std::min(substep_ + 1, substeps_ - 1);
-  UpdateCandidates(margin);
-  RefreshToolGeometry();
+  if (!state->tools.empty()) {
+    // Tools move against the candidates of their current pose; then find those of the new one.
+    for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
+    substep_ = std::min(substep_ + 1, substeps_ - 1);
+    UpdateCandidates(margin);
+    RefreshToolGeometry();
+  }
+  substep_q0_ = state->q;
 }
 
 void Interactions::ReleaseHeldSpheres() {

@@ -11,6 +11,7 @@
 #include "collision/sphere_chain.h"
 #include "collision/verlet_list.h"
 #include "mechanics/block_band.h"
+#include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
 
@@ -25,8 +26,9 @@ class Interactions {
 
   /// Sub-steps this step needs so that no pair closes in by more than a fifth of the radius per
   /// sub-step (an impact found a sub-step late would start its penalty spring compressed,
-  /// creating energy): at least the model's, at most kMaxSubsteps.
-  int RequiredSubsteps(const State& state);
+  /// creating energy): at least the model's, at most kMaxSubsteps. First limits the impacts over
+  /// the whole step (LimitImpacts), so that a landing needs few sub-steps.
+  int RequiredSubsteps(State* state);
   static constexpr int kMaxSubsteps = 32;
 
   /// At the start of a sub-step: takes new targets (empty: keep the last), advances the tools
@@ -48,6 +50,11 @@ class Interactions {
   void AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const;
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
+
+  /// After each sub-step's integration: no pair ends it deeper than contacts.impact_depth. The
+  /// sub-step's motion q - q0 = h u is limited by inelastic impulses on the geometry at its start
+  /// (ImpactLimiter), and q and qd get them; kinetic energy only decreases.
+  void EndSubstep(double h, State* state);
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
@@ -92,6 +99,10 @@ class Interactions {
   // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
   void EnsureGeometry();
   void RefreshToolGeometry();
+  // Inelastic impulses on the pairs that would end the next h deeper than
+  // contacts.impact_depth moving at u (docs/contacts.md, "Impacts"): u changes, and so does v
+  // (if given: the velocity whose kinetic energy counts) by the same impulses.
+  void LimitImpacts(double h, Points* u, Points* v);
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
@@ -142,6 +153,12 @@ class Interactions {
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
   };
   std::vector<PairCoupling> pairs_;
+  ImpactLimiter impacts_;
+  std::vector<ImpactLimiter::Contact> impact_contacts_;
+  std::vector<int> impact_set_;     // candidates in the impulse solve
+  std::vector<char> in_impact_set_;
+  Points impact_u0_, impact_v0_;    // velocities before the impulses
+  Points substep_q0_, impact_u_;    // the sub-step's start and mean velocity
 };
 
 }  // namespace viscera::mechanics
