@@ -11,7 +11,8 @@ constexpr double kSpeedTolerance = 1e-6;  // m/s: a contact's speed this close t
 
 }  // namespace
 
-ImpactLimiter::ImpactLimiter(const Model& model, int spheres) : model_(model), mass_(model) {
+ImpactLimiter::ImpactLimiter(const Model& model, int spheres)
+    : model_(model), mass_(model), immobile_(1e-9 / model.segment_mass()) {
   columns_.setZero(model.num_points(), 3);
   slot_of_.assign(spheres, -1);
   sphere_of_.reserve(spheres);
@@ -97,7 +98,7 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
     double worst = 0.0;
     for (Eigen::Index i = 0; i < c; ++i) {
       const double gii = delassus_(i, i);
-      if (!(gii > 0.0)) continue;  // pinned in place: nothing to move
+      if (!(gii > immobile_)) continue;  // pinned in place: nothing to move
       const double next = std::max(0.0, lambda_(i) + (contacts[i].target - speed_(i)) / gii);
       const double change = next - lambda_(i);
       if (change == 0.0) continue;

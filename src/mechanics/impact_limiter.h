@@ -51,6 +51,7 @@ class ImpactLimiter {
 
   const Model& model_;
   MassSolver mass_;
+  double immobile_;                  // 1/kg: a contact this hard to move is pinned
   Points columns_;                   // three spheres' weights at a time, solved in place
   MatX y_;                           // #N by slots: M^-1 w_s per involved sphere
   std::vector<int> slot_of_;         // per sphere, -1 when not involved

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 namespace viscera::mechanics {
 namespace {
@@ -35,10 +33,30 @@ int SelfSkip(const collision::SphereChain& chain) {
   return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
 }
 
+// The contact law's stiffening: linear (k) up to impact_depth (fraction of R), then
+// f = k d + s (d - d1)^2 with s such that the slope reaches kStiffening k at 10 % of R. Its energy
+// k d^2 / 2 + s (d - d1)^3 / 3 is the force's integral, so it stores what it takes and returns it.
+constexpr double kStiffening = 100.0;
+constexpr double kDepthGoal = 0.10;  // fraction of R
+
 // Series stiffness of the coupling and a contact: what the hand feels through the tool.
 double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
 
 }  // namespace
+
+Interactions::Law Interactions::ContactLaw(ContactKind kind, double depth) const {
+  const ContactParams& cp = model_.params().contacts;
+  Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
+  const double d1 = cp.impact_depth * radius_;
+  // A tool's depth is the force the hand renders (docs/contacts.md, "Local stiffness"): linear.
+  if (kind == ContactKind::kTool || !(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
+  const double s = (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
+  const double e = depth - d1;
+  law.force += s * e * e;
+  law.slope += 2.0 * s * e;
+  law.energy += s * e * e * e / 3.0;
+  return law;
+}
 
 bool Interactions::Needed(const Model& model) {
   const ModelParams& p = model.params();
@@ -193,7 +211,7 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
   if (p.depth <= 0.0 && !speculative) return p;
   // Penalty spring and damping along the normal, regularized Coulomb friction.
-  const double fn = cp.stiffness * p.depth - cp.damping * vn;
+  const double fn = (p.depth > 0.0 ? ContactLaw(c.kind, p.depth).force : cp.stiffness * p.depth) - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
   const Vec3 vt = relative - vn * p.normal;
   const double friction = cp.friction * std::max(fn, 0.0);
@@ -221,7 +239,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
+    if (p.depth > 0.0) energy += ContactLaw(c.kind, p.depth).energy;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
@@ -229,7 +247,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
-    const Mat3 kn = cp.stiffness * nn;
+    const Mat3 kn = (p.depth > 0.0 ? ContactLaw(c.kind, p.depth).slope : cp.stiffness) * nn;
     const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
@@ -414,6 +432,14 @@ double Interactions::CandidateMargin(const State& state, double h) const {
 void Interactions::LimitImpacts(double h, Points* u, Points* v) {
   const double allowed = model_.params().contacts.impact_depth * radius_;
   if (!(allowed > 0.0)) return;
+  // Impacts are closing faster than the linear law stops within 2 x `allowed` (a sphere's own
+  // mass against k; 0.5 m/s with the defaults). Slower pairs (a tool pressing loops together,
+  // a pile settling) are the penalty's: with half that, the clearing gesture's 1 kHz reference
+  // carried its loop with 1 % less force, so impulses were absorbing what the hand should feel.
+  if (impact_speed_ < 0.0) {
+    const double sphere_mass = model_.params().mass * chain_.spacing() / model_.params().length;
+    impact_speed_ = 2.0 * allowed * std::sqrt(model_.params().contacts.stiffness / sphere_mass);
+  }
   EnsureGeometry();
   const auto& list = candidates();
   // The set of contacts grows until the impulses on it leave no other contact too fast: an
@@ -428,11 +454,15 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     GatherVelocities(*u);
     bool grew = false;
     for (size_t i = 0; i < list.size(); ++i) {
-      if (in_impact_set_[i]) continue;
+      // Tools are left to their coupling: their depth is what the hand feels, and the tip is
+      // integrated against its contacts so it cannot tunnel (docs/contacts.md, "Tools").
+      if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
       const Penalty& p = geometry_[i];
       const double un = (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
       // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
-      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9) continue;
+      // Slower pairs are the penalty's (the law stops them within `allowed`): a tool pressing
+      // loops together is felt through the contacts' springs, not absorbed by impulses.
+      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9 || -un < impact_speed_) continue;
       in_impact_set_[i] = 1;
       impact_set_.push_back(static_cast<int>(i));
       grew = true;
@@ -463,16 +493,6 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     }
     impacts_.Apply(impact_contacts_, chain_, u, v);
   }
-}
-
-void Interactions::EndSubstep(double h, State* state) {
-  if (!(model_.params().contacts.impact_depth > 0.0)) return;
-  // The sub-step moved q by h u. Limit u on the geometry at the sub-step's start, then move from
-  // there by the limited u; the end velocity gets the same impulses.
-  Configure(substep_q0_, false);  // the spheres as placed at the start (RK4's stages moved them)
-  impact_u_ = (state->q - substep_q0_) / h;
-  LimitImpacts(h, &impact_u_, &state->qd);
-  state->q = substep_q0_ + h * impact_u_;
 }
 
 int Interactions::RequiredSubsteps(State* state_in) {
@@ -528,7 +548,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     UpdateCandidates(margin);
     RefreshToolGeometry();
   }
-  substep_q0_ = state->q;
+  LimitImpacts(h, &state->qd, nullptr);
 }
 
 void Interactions::ReleaseHeldSpheres() {

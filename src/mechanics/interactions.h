@@ -51,11 +51,6 @@ class Interactions {
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
-  /// After each sub-step's integration: no pair ends it deeper than contacts.impact_depth. The
-  /// sub-step's motion q - q0 = h u is limited by inelastic impulses on the geometry at its start
-  /// (ImpactLimiter), and q and qd get them; kinetic energy only decreases.
-  void EndSubstep(double h, State* state);
-
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
 
@@ -74,6 +69,11 @@ class Interactions {
     double clearance = 0.0;     // signed distance beyond contact (m)
     double lever = 1.0;         // tool contacts: fraction along the shaft from the port
   };
+  // The penalty law at a penetration depth > 0: force (N), slope (N/m), stored energy (J).
+  struct Law {
+    double force, slope, energy;
+  };
+  Law ContactLaw(collision::ContactKind kind, double depth) const;
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
   Penalty Geometry(const collision::ContactCandidate& c) const;
@@ -158,7 +158,7 @@ class Interactions {
   std::vector<int> impact_set_;     // candidates in the impulse solve
   std::vector<char> in_impact_set_;
   Points impact_u0_, impact_v0_;    // velocities before the impulses
-  Points substep_q0_, impact_u_;    // the sub-step's start and mean velocity
+  double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
 };
 
 }  // namespace viscera::mechanics

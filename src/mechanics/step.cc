@@ -10,7 +10,6 @@ void Step(const Model& model, const StepInputs& inputs, State* state, Workspace*
   for (int k = 0; k < substeps; ++k) {
     if (interactions) interactions->BeginSubstep(k == 0 ? inputs.tools : std::span<const ToolTarget>{}, h, state);
     workspace->integrator().Advance(inputs.loads, h, state);
-    if (interactions) interactions->EndSubstep(h, state);
   }
   state->substeps = substeps;
   ++state->steps;
