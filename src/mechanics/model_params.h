@@ -57,6 +57,9 @@ struct ContactParams {
   /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own
   /// window (false: cheaper, but a pair moving together is dragged; docs/contacts.md).
   bool exact_pairs = true;
+  /// Fraction of the radius: a contact that would end a sub-step deeper than this at its current
+  /// speed is stopped there by an inelastic impulse (ImpactLimiter); 0 turns that off.
+  double impact_depth = 0.05;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.

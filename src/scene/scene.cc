@@ -241,6 +241,7 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   c.friction = NonNegative(r, "friction", c.friction);
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
   c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
+  c.impact_depth = NonNegative(r, "impact_depth", c.impact_depth);
   r.Finish();
 }
 
