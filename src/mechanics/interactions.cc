@@ -263,11 +263,13 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   GatherVelocities(qd);
   Vec3 force = Vec3::Zero();
   Mat3 stiffness = Mat3::Zero();
+  ts->tissue_force.setZero();
   for (const ContactCandidate& c : candidates()) {
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c);
     if (!p.active) continue;
     force -= p.lever * p.force;
+    ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
     stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();
   }
   if (grasping_[index]) {
@@ -275,7 +277,9 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     // The tube's grasped point where it will be at the end of the sub-step (it moves after the
     // tip): with the point as it was, the spring lagged the tube by one sub-step, v h, and the
     // hand felt k v h more while lifting at larger steps (15 % at 100 Hz).
-    force -= k * (GraspStretch(index, q) - h * Model::Evaluate(grasp_at_[index], qd));
+    const Vec3 grasp = k * (GraspStretch(index, q) - h * Model::Evaluate(grasp_at_[index], qd));
+    force -= grasp;
+    ts->tissue_force += grasp;
     stiffness += k * Mat3::Identity();
   }
   // Virtual coupling to the target, which moves from where it was at the start of the sub-step

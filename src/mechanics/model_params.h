@@ -6,6 +6,7 @@
 
 #include "collision/obstacle.h"
 #include "common/types.h"
+#include "mechanics/task_params.h"
 #include "mechanics/tool.h"
 
 namespace viscera::mechanics {
@@ -72,6 +73,9 @@ struct ModelParams {
 
   /// [[tool]]: laparoscopic tools, in this order in StepInputs::tools and State::tools.
   std::vector<ToolParams> tools;
+
+  /// [[target]] and [assessment]: the training task (not read by the mechanics).
+  TaskParams task;
 
   /// Starting control points (#N by 3, N >= 4).
   Points initial_q;

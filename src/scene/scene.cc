@@ -7,6 +7,7 @@
 #include "common/check.h"
 #include "mechanics/step.h"
 #include "scene/shapes.h"
+#include "scene/task_reader.h"
 #include "scene/toml_reader.h"
 
 #include <algorithm>
@@ -289,7 +290,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
     if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
-        k == "tool") {
+        k == "tool" || k == "target" || k == "assessment") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
@@ -303,6 +304,8 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
                 &scene.model);
   ReadContacts(root, &scene.model);
   ReadTools(root, &scene.model);
+  ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
+           &scene.model);
   if (limits.vet) limits.vet(scene.model);
   if (settle > 0.0) Settle(settle, &scene.model);
   return scene;
