@@ -55,8 +55,12 @@ TargetExposure ExposureEvaluator::Evaluate(int index, const View& view, const st
   out.seen.assign(samples.size(), false);
 
   // camera frame: forward, right, true up; half-angle tangents of the frame
-  const Vec3 forward = (view.look_at - view.eye).normalized();
-  const Vec3 right = forward.cross(view.up).normalized();
+  const Vec3 axis = view.look_at - view.eye;
+  const Vec3 side = axis.cross(view.up);
+  // a degenerate camera (the renderer refuses it too) has no image: nothing is seen
+  if (!(axis.norm() > 1e-12 && side.norm() > 1e-12 * axis.norm() * view.up.norm())) return out;
+  const Vec3 forward = axis.normalized();
+  const Vec3 right = side.normalized();
   const Vec3 up = right.cross(forward);
   const double tan_y = std::tan(0.5 * view.fov_y_deg * std::numbers::pi / 180.0);
   const double tan_x = tan_y * view.aspect;
