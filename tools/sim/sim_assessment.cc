@@ -9,8 +9,9 @@ namespace viscera::tools {
 
 SimAssessment::SimAssessment(const mechanics::Model& model, const assessment::View& view)
     : model_(model),
+      params_(model.params()),
       view_(view),
-      metrics_(model.params()),
+      metrics_(params_),
       tracker_(model.params().task),
       evaluator_(model.params().task.targets, model.params().radius),
       chain_(model.curve(), model.params().length, model.params().radius) {

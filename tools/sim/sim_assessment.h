@@ -16,7 +16,8 @@ namespace viscera::tools {
 
 class SimAssessment {
  public:
-  /// @pre model outlives this.
+  /// @pre model outlives every AddStep (Report needs it no longer: a replay's model is gone
+  ///      when the replay returns).
   SimAssessment(const mechanics::Model& model, const assessment::View& view);
 
   /// Takes the state after a step (a repeated step count, e.g. after a reset, adds nothing).
@@ -35,6 +36,7 @@ class SimAssessment {
   void EvaluateExposure(const mechanics::State& state);
 
   const mechanics::Model& model_;
+  mechanics::ModelParams params_;  // the metrics' own copy
   assessment::View view_;
   assessment::SessionMetrics metrics_;
   assessment::TargetTracker tracker_;
