@@ -343,8 +343,8 @@ int Run(const Options& opt) {
   summary["final_energy"]["contact"] = e.contact;
   assessment::Report report = assessed.Report(0, opt.scene);
   report.sim_time = simulated;
-  EmitAssessment(opt, assessed, report, opt.json ? &summary : nullptr);
   if (opt.json) {
+    EmitAssessment(opt, assessed, report, &summary);
     std::cout << summary.dump(2) << "\n";
     return 0;
   }
@@ -383,6 +383,7 @@ int Run(const Options& opt) {
     std::printf("frames           %d (%s skin, %s, every %d steps, %.1f ms each) -> %s\n", frames->frames(),
                 opt.skin.c_str(), opt.frame_size.c_str(), render_every, frames->mean_ms(), opt.render_dir.c_str());
   }
+  EmitAssessment(opt, assessed, report, nullptr);
   if (state.nonfinite_resets > 0) {
     std::printf("WARNING          %lld non-finite steps were reset\n", static_cast<long long>(state.nonfinite_resets));
   }
