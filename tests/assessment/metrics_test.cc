@@ -9,6 +9,7 @@
 #include "assessment/metrics.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
+#include "tests/mechanics/table_scene.h"
 
 namespace viscera::assessment {
 namespace {
@@ -154,46 +155,12 @@ TEST(SessionMetrics, OrganContactsCountTheJawsEnteringAnOrgan) {
 // at rest, above this scene's 2 N traction force) held 2 s, twice; a soft one (2 cm: 0.3 N) held
 // 1 s; a hard one gone again at once. The tip is light and its weight not simulated, so at rest
 // the force on the tissue equals the hand's pull.
-const char* kTable = R"(
-[simulation]
-rate_hz = 200
-integrator = "implicit"
-[intestine]
-length = 0.6
-radius = 0.0125
-mass = 0.15
-control_points = 40
-stretch_stiffness = 100.0
-bend_stiffness = 1.0e-4
-continuous_stretch = 0.2
-damping = 2.0
-spring_damping = 2.0
-[intestine.shape]
-kind = "straight"
-start = [0.0, 0.0, 0.0125]
-direction = [1.0, 0.0, 0.0]
-[contacts]
-self = false
-[[obstacle]]
-kind = "plane"
-point = [0, 0, 0]
-normal = [0, 0, 1]
-[[attachment]]
-at = 0.0
-stiffness = 50.0
-[[attachment]]
-at = 1.0
-stiffness = 50.0
-[[tool]]
-name = "grasper"
-port = [0.3, -0.15, 0.3]
-max_force = 5.0
+const std::string kTable = std::string(viscera::testing::kTableScene) + R"(
 [assessment]
 traction_force = 2.0
 traction_hold = 0.5
 regrasp_window = 1.0
 )";
-
 TEST(SessionMetrics, ScriptedPullsThroughTheMechanics) {
   const mechanics::Model model(scene::ParseScene(kTable).model);
   State state = mechanics::InitialState(model);
