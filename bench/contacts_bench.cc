@@ -29,9 +29,10 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "mechanics/implicit_euler.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
-#include "script/tool_script.h"
+#include "script/scripted_tools.h"
 #include "fall_scene.h"
 
 namespace viscera::mechanics {
@@ -75,7 +76,8 @@ struct Tally {
 //   substeps         average integrator sub-steps per step (more at impacts); max_substeps
 //   self, env        average self and environment contacts (pairs in contact) per step
 //   resets           non-finite steps (must be 0, or the figures are meaningless)
-void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets) {
+void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets,
+            Workspace& workspace) {
   const double steps = static_cast<double>(tally.steps);
   const double simulated = steps * model.step_size();
   const double n = model.num_points();
@@ -91,6 +93,10 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   bench.counters["self"] = static_cast<double>(tally.self_contacts) / steps;
   bench.counters["env"] = static_cast<double>(tally.environment_contacts) / steps;
   bench.counters["resets"] = static_cast<double>(resets);
+  if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
+    // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
+    bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
+  }
 }
 
 void BM_FallWhole(benchmark::State& bench) {
@@ -116,7 +122,7 @@ void BM_FallWhole(benchmark::State& bench) {
     }
   }
   resets += state.nonfinite_resets;
-  Report(bench, model, workspace.interactions()->chain().size(), tally, resets);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
 }
 
 void BM_FallSettled(benchmark::State& bench) {
@@ -132,42 +138,31 @@ void BM_FallSettled(benchmark::State& bench) {
     Step(model, {}, &state, &workspace);
     tally.Add(state);
   }
-  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets, workspace);
   bench.counters["warmup_resets"] = static_cast<double>(resets_before);
 }
 
 void BM_CavityClearing(benchmark::State& bench) {
   scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   scene::ChangeRate(&scene.model, static_cast<double>(bench.range(0)));
-  const script::ToolScript script = script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv");
   const Model model(scene.model);
   Workspace workspace(model);
   const State start = InitialState(model);
-  const int64_t steps = static_cast<int64_t>(script.duration() * model.params().rate_hz + 0.5);
-  std::vector<ToolTarget> targets(model.params().tools.size());
-  script::Tube tube;
-  tube.radius = model.params().radius;
   std::vector<double> costs_us;
-  costs_us.reserve(static_cast<size_t>(steps) * 4);
   Tally tally;
   double deepest = 0.0, peak = 0.0;
   int64_t resets = 0;
   for (auto _ : bench) {
+    bench.PauseTiming();
+    script::ScriptedTools scripted(model, script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv"));
+    const int64_t steps = static_cast<int64_t>(scripted.duration() * model.params().rate_hz + 0.5);
+    costs_us.reserve(costs_us.size() + static_cast<size_t>(steps));
     State state = start;
+    bench.ResumeTiming();
     for (int64_t i = 0; i < steps; ++i) {
       // The script's targets (aimed rows against the tube as it is): the device's work, not timed.
       bench.PauseTiming();
-      tube.centre_line.clear();
-      for (const collision::Sphere& s : workspace.interactions()->chain().spheres()) tube.centre_line.push_back(s.centre);
-      for (size_t t = 0; t < targets.size(); ++t) {
-        const std::string& name = model.params().tools[t].name;
-        targets[t].active = script.Has(name);
-        if (!targets[t].active) continue;
-        const script::ToolKeyframe key = script.At(name, state.t + model.step_size(), tube);
-        targets[t].tip = key.tip;
-        targets[t].orientation = key.orientation;
-        targets[t].jaw = key.jaw;
-      }
+      const std::span<const ToolTarget> targets = scripted.At(state.t + model.step_size(), workspace.interactions());
       bench.ResumeTiming();
       const int64_t begin = ThreadCpuNanos();
       Step(model, {{}, targets}, &state, &workspace);
@@ -178,7 +173,7 @@ void BM_CavityClearing(benchmark::State& bench) {
     }
     resets += state.nonfinite_resets;
   }
-  Report(bench, model, workspace.interactions()->chain().size(), tally, resets);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
   bench.counters["p99_us"] = Quantile(costs_us, 0.99);
   bench.counters["deepest_pct_r"] = 100.0 * deepest / model.params().radius;
   bench.counters["peak_force"] = peak;

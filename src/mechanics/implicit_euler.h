@@ -31,6 +31,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Conjugate-gradient iterations of the last sub-step (0 without self pairs), and in all.
   int last_cg_iterations() const { return last_cg_iterations_; }
   int64_t cg_iterations() const { return cg_iterations_; }
+  /// Sub-steps advanced so far.
+  int64_t substeps() const { return substeps_; }
   /// Sub-steps whose CG stopped at kMaxCgIterations before reaching kCgTolerance.
   int64_t cg_unconverged() const { return cg_unconverged_; }
   /// CG stops when the preconditioned residual norm falls below this fraction of b's
@@ -77,7 +79,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
   int last_cg_iterations_ = 0;
-  int64_t cg_iterations_ = 0, cg_unconverged_ = 0;
+  int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0;
 };
 
 }  // namespace viscera::mechanics

@@ -64,7 +64,43 @@ Interactions::Interactions(const Model& model)
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  chain_.Place(model.params().initial_q);
+  Configure(model.params().initial_q, true);
+}
+
+void Interactions::Configure(const Points& q, bool place) {
+  const bool same = configured_ && (placed_ || !place) && q.rows() == configured_q_.rows() &&
+                    (q.array() == configured_q_.array()).all();
+  if (same) return;
+  if (place) {
+    chain_.Place(q);
+  } else {
+    chain_.UpdateCentres(q);
+  }
+  configured_q_ = q;  // same size after the first: no allocation
+  configured_ = true;
+  placed_ = place;
+  geometry_valid_ = false;
+  gathered_ = false;  // the spheres' weights may have changed
+}
+
+void Interactions::UpdateCandidates(double margin) {
+  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin)) geometry_valid_ = false;
+}
+
+void Interactions::EnsureGeometry() {
+  if (geometry_valid_) return;
+  const auto& list = candidates();
+  geometry_.resize(list.size());  // grows with the list's high-water mark only
+  for (size_t i = 0; i < list.size(); ++i) geometry_[i] = Geometry(list[i]);
+  geometry_valid_ = true;
+}
+
+void Interactions::RefreshToolGeometry() {
+  if (!geometry_valid_) return;
+  const auto& list = candidates();
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (list[i].kind == ContactKind::kTool) geometry_[i] = Geometry(list[i]);
+  }
 }
 
 Vec3 Interactions::SphereVelocity(int sphere, const Points& qd) const {
@@ -140,9 +176,9 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const 
   return Vec3::Zero();
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c) const {
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Penalty& geometry) const {
   const ContactParams& cp = model_.params().contacts;
-  Penalty p = Geometry(c);
+  Penalty p = geometry;
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
   const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
@@ -163,17 +199,24 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c) const {
 }
 
 void Interactions::GatherVelocities(const Points& qd) {
+  const bool same = gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
+  if (same) return;
   for (int k = 0; k < chain_.size(); ++k) sphere_velocity_[k] = SphereVelocity(k, qd);
+  gathered_qd_ = qd;
+  gathered_ = true;
 }
 
 double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
   const ContactParams& cp = model_.params().contacts;
-  chain_.UpdateCentres(q);
+  Configure(q, false);
   GatherVelocities(qd);
+  EnsureGeometry();
   double energy = 0.0;
   pairs_.clear();
-  for (const ContactCandidate& c : candidates()) {
-    const Penalty p = Evaluate(c);
+  const auto& list = candidates();
+  for (size_t i = 0; i < list.size(); ++i) {
+    const ContactCandidate& c = list[i];
+    const Penalty p = Evaluate(c, geometry_[i]);
     if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
@@ -225,14 +268,18 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   return energy;
 }
 
-void Interactions::AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const {
+void Interactions::WeighCommonModes(double ck, double cd) {
+  for (PairCoupling& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
+}
+
+void Interactions::AddCommonModeTerms(const Points& x, Points* y) const {
   const auto& spheres = chain_.spheres();
   for (const PairCoupling& pair : pairs_) {
     const collision::Sphere& sa = spheres[pair.a];
     const collision::Sphere& sb = spheres[pair.b];
     Vec3 common = Vec3::Zero();  // (J_a + J_b) x
     for (int i = 0; i < 4; ++i) common += sa.w[i] * x.row(sa.first + i).transpose() + sb.w[i] * x.row(sb.first + i).transpose();
-    const Vec3 f = ck * (pair.k * common) + cd * (pair.d * common);
+    const Vec3 f = pair.weighed * common;
     AddToWindow(pair.a, f, y);
     AddToWindow(pair.b, f, y);
   }
@@ -259,14 +306,17 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
 
   // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
   // (the shaft pivots at the port), and their stiffness.
-  chain_.UpdateCentres(q);
+  Configure(q, false);
   GatherVelocities(qd);
+  EnsureGeometry();
   Vec3 force = Vec3::Zero();
   Mat3 stiffness = Mat3::Zero();
   ts->tissue_force.setZero();
-  for (const ContactCandidate& c : candidates()) {
+  const auto& list = candidates();
+  for (size_t i = 0; i < list.size(); ++i) {
+    const ContactCandidate& c = list[i];
     if (c.kind != ContactKind::kTool || c.b != index) continue;
-    const Penalty p = Evaluate(c);
+    const Penalty p = Evaluate(c, geometry_[i]);
     if (!p.active) continue;
     force -= p.lever * p.force;
     ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
@@ -368,14 +418,17 @@ double Interactions::CandidateMargin(const State& state, double h) const {
 int Interactions::RequiredSubsteps(const State& state) {
   const int base = model_.params().substeps;
   const double h = model_.step_size();
-  chain_.Place(state.q);
+  Configure(state.q, true);  // usually as EndStep left it: nothing to redo
   GatherVelocities(state.qd);
   const double margin = CandidateMargin(state, h);
-  candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin);
+  UpdateCandidates(margin);
+  EnsureGeometry();
   substep_ = 0;
   double closing = 0.0;
-  for (const ContactCandidate& c : candidates()) {
-    const Penalty p = Geometry(c);
+  const auto& list = candidates();
+  for (size_t i = 0; i < list.size(); ++i) {
+    const ContactCandidate& c = list[i];
+    const Penalty& p = geometry_[i];
     if (p.clearance >= margin) continue;  // the list's skin: too far to meet within the step
     const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
     closing = std::max(closing, -relative.dot(p.normal));
@@ -398,18 +451,19 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   speculative_h_ = model_.params().integrator == IntegratorKind::kImplicitEuler ? h : 0.0;
   // Candidates must include every pair that can meet within the sub-step (those found for the
   // whole step do, for its first sub-step, whose velocities RequiredSubsteps gathered).
-  if (!candidates_fresh_) GatherVelocities(state->qd);
-  const double margin = CandidateMargin(*state, h);
   if (!candidates_fresh_) {
-    chain_.Place(state->q);
-    candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin);
+    Configure(state->q, true);
+    GatherVelocities(state->qd);
   }
+  const double margin = CandidateMargin(*state, h);
+  if (!candidates_fresh_) UpdateCandidates(margin);
   candidates_fresh_ = false;
   if (state->tools.empty()) return;
   // Tools move against the candidates of their current pose; then find those of the new one.
   for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
   substep_ = std::min(substep_ + 1, substeps_ - 1);
-  candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin);
+  UpdateCandidates(margin);
+  RefreshToolGeometry();
 }
 
 void Interactions::ReleaseHeldSpheres() {
@@ -419,16 +473,24 @@ void Interactions::ReleaseHeldSpheres() {
     for (const ContactCandidate& c : candidates()) {
       if (Held(c) && c.b == static_cast<int>(t) && RawGeometry(c).clearance < 0.0) inside = true;
     }
-    if (!inside) held_sphere_[t] = -1;
+    if (!inside) {
+      held_sphere_[t] = -1;
+      geometry_valid_ = false;  // its spheres are contacts again
+    }
   }
 }
 
 void Interactions::EndStep(State* state) {
-  chain_.UpdateCentres(state->q);
+  // Re-placed here rather than at the next step's start: the geometry found for the statistics
+  // is then the next step's too.
+  Configure(state->q, true);
   ReleaseHeldSpheres();
+  EnsureGeometry();
   ContactStats stats;
-  for (const ContactCandidate& c : candidates()) {
-    const Penalty p = Geometry(c);
+  const auto& list = candidates();
+  for (size_t i = 0; i < list.size(); ++i) {
+    const ContactCandidate& c = list[i];
+    const Penalty& p = geometry_[i];
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) {
       stats.min_clearance = p.clearance;
       stats.deepest = c.kind == ContactKind::kSelf ? "self" : c.kind == ContactKind::kTool ? "tool" : "environment";
@@ -456,9 +518,10 @@ void Interactions::EndStep(State* state) {
     ts.torque = (ts.tip - tp.port).cross(f);
     // Local stiffness: each touching contact (and the grasp) in series with the coupling.
     Mat3 k = Mat3::Zero();
-    for (const ContactCandidate& c : candidates()) {
+    for (size_t i = 0; i < list.size(); ++i) {
+      const ContactCandidate& c = list[i];
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const Penalty p = Geometry(c);
+      const Penalty& p = geometry_[i];
       if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();
     }
     if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();

@@ -41,11 +41,13 @@ class Interactions {
   /// (J_a + J_b)^T H (J_a + J_b) (see AddCommonModeTerms; docs/contacts.md).
   double AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D);
 
-  /// y += sum over the self pairs of the last AddForces with K of
-  /// (J_a + J_b)^T (ck K_p + cd D_p) (J_a + J_b) x (x, y #N by 3): what the band overstates.
-  /// The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact implicit matrix
-  /// is the band's M + h D + h^2 K minus this with (h^2, h).
-  void AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const;
+  /// Weighs the self pairs of the last AddForces with K for AddCommonModeTerms: C_p = ck K_p +
+  /// cd D_p, once rather than at each of CG's products.
+  void WeighCommonModes(double ck, double cd);
+  /// y += sum over those pairs of (J_a + J_b)^T C_p (J_a + J_b) x (x, y #N by 3): what the band
+  /// overstates. The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact
+  /// implicit matrix is the band's M + h D + h^2 K minus this with (h^2, h).
+  void AddCommonModeTerms(const Points& x, Points* y) const;
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
@@ -77,10 +79,21 @@ class Interactions {
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
-  // Geometry plus the force law, at the velocities last gathered by GatherVelocities.
-  Penalty Evaluate(const collision::ContactCandidate& c) const;
+  // The force law on a candidate's geometry, at the velocities last gathered.
+  Penalty Evaluate(const collision::ContactCandidate& c, const Penalty& geometry) const;
   Vec3 SphereVelocity(int sphere, const Points& qd) const;
   void GatherVelocities(const Points& qd);
+  // The chain at q: re-placed along its arc length if `place`, else its spheres moved with the
+  // curve. Nothing is redone for the configuration the chain already has; the geometry is
+  // invalidated otherwise.
+  void Configure(const Points& q, bool place);
+  // Finds the candidates for `margin`, keeping the geometry unless the list changed.
+  void UpdateCandidates(double margin);
+  // Every candidate's geometry at the current configuration, computed once: RequiredSubsteps,
+  // the tools' advance, the force evaluations and EndStep all read it (and EndStep's serves the
+  // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
+  void EnsureGeometry();
+  void RefreshToolGeometry();
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
@@ -103,6 +116,10 @@ class Interactions {
 
   collision::SphereChain chain_;
   collision::VerletList candidates_;
+  Points configured_q_, gathered_qd_;
+  bool configured_ = false, placed_ = false, gathered_ = false;
+  std::vector<Penalty> geometry_;  // per candidate, valid while geometry_valid_
+  bool geometry_valid_ = false;
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
@@ -125,6 +142,7 @@ class Interactions {
   struct PairCoupling {
     int a = 0, b = 0;
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
+    Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };
   std::vector<PairCoupling> pairs_;
 };
