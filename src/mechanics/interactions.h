@@ -145,6 +145,13 @@ class Interactions {
     Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };
   std::vector<PairCoupling> pairs_;
+  // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
+  // sub-step and the contact normal times the lever (the tip moving along it presses deeper).
+  struct TipContact {
+    Vec3 force = Vec3::Zero();
+    Vec3 axis = Vec3::Zero();
+  };
+  std::vector<TipContact> tip_contacts_;
 };
 
 }  // namespace viscera::mechanics
