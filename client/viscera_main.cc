@@ -29,6 +29,7 @@
 #include "client/haptic_command.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
+#include "assessment/status_report.h"
 #include "client/status_format.h"
 #include "client/keep_alive.h"
 #include "client/token_store.h"
@@ -319,6 +320,41 @@ int RunStatus(const std::string& url, const Common& c, const StatusOptions& o) {
   return 0;
 }
 
+// The session's assessment (docs/assessment.md) from its status: now, or with --final the one
+// its last status carries when it ends (the same as the JSON the server writes by its record).
+int RunReport(const std::string& url, const Common& c, int64_t id, bool final_only) {
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  viscera_proto::session_status_t status;
+  if (const int rc = FetchStatus(client, url, c, id, &status); rc != 0) return rc;
+  if (final_only) {
+    bool ended = false;
+    auto last = std::chrono::steady_clock::now();
+    client.bus().Subscribe<viscera_proto::session_status_t>(
+        viscera::bus::SessionChannel(viscera::bus::kStatusPrefix, id),
+        [&](const viscera_proto::session_status_t& s, int64_t) {
+          last = std::chrono::steady_clock::now();
+          if (ended) return;
+          status = s;
+          ended = s.state == viscera_proto::session_status_t::kStopped ||
+                  s.state == viscera_proto::session_status_t::kFaulted;
+        });
+    while (!ended) {
+      client.bus().Pump(100);
+      if (std::chrono::steady_clock::now() - last > std::chrono::duration<double>(std::max(c.timeout_s, 2.0))) {
+        std::fprintf(stderr, "viscera: session %lld went silent before it ended\n", static_cast<long long>(id));
+        return kNoServer;
+      }
+    }
+  }
+  const viscera::assessment::Report report = viscera::assessment::ReportFromStatus(status);
+  if (c.json) {
+    std::cout << viscera::assessment::ToJson(report).dump(2) << "\n";
+  } else {
+    std::cout << viscera::assessment::FormatReport(report);
+  }
+  return 0;
+}
+
 // destroy, reset, pause, resume, camera: one request with the session's token
 int RunCommand(const std::string& url, const Common& c, int8_t command, int64_t id,
                const std::function<void(session_request_t*)>& fill = nullptr) {
@@ -514,6 +550,13 @@ int main(int argc, char** argv) {
   status->add_flag("--watch", status_options.watch, "Print every status until the session stops");
   status->add_option("--count", status_options.count, "With --watch: stop after N statuses");
 
+  int64_t report_id = 0;
+  bool report_final = false;
+  CLI::App* report = app.add_subcommand("report", "Assessment of a session: handling metrics and target exposure");
+  add_common(report);
+  report->add_option("id", report_id, "Session id")->required();
+  report->add_flag("--final", report_final, "Wait for the session to end and print its final assessment");
+
   DriveCli drive_options;
   CLI::App* drive = app.add_subcommand("drive", "Drive a session's tool along a path");
   add_common(drive);
@@ -603,6 +646,7 @@ int main(int argc, char** argv) {
     if (create->parsed()) return RunCreate(url, common, create_options);
     if (list->parsed()) return RunList(url, common);
     if (status->parsed()) return RunStatus(url, common, status_options);
+    if (report->parsed()) return RunReport(url, common, report_id, report_final);
     if (drive->parsed()) return RunDrive(url, common, drive_options);
     if (haptic->parsed()) return RunHapticCli(url, common, haptic_options);
     if (camera->parsed()) {

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import viscera_proto
 from viscera_proto import session_reply_t, session_request_t
 
+from .assessment import report_from_status
 from .auth import MessageAuth
 from .bus import Bus, make_header
 from .directory import observe, pick_server
@@ -213,6 +214,10 @@ class Client:
         reply = self._answer(self.make_request(session_request_t.kStatus, session_id), timeout_s,
                              f"the status of session {session_id}")
         return reply.sessions[0]
+
+    def report(self, session_id, timeout_s=2.0):
+        """The session's assessment so far (docs/assessment.md), as `viscera report --json`."""
+        return report_from_status(self.status(session_id, timeout_s))
 
     def list(self, timeout_s=2.0):
         """The status of every session of every server that answers."""

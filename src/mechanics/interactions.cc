@@ -333,12 +333,15 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   GatherVelocities(qd);
   EnsureGeometry();
   tip_contacts_.clear();
+  ts->tissue_force.setZero();
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (p.active) tip_contacts_.push_back({-p.lever * p.force, p.lever * p.normal});
+    if (!p.active) continue;
+    tip_contacts_.push_back({-p.lever * p.force, p.lever * p.normal});
+    ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
   }
   Vec3 grasp_force = Vec3::Zero();
   double grasp_k = 0.0;
@@ -348,6 +351,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     // tip): with the point as it was, the spring lagged the tube by one sub-step, v h, and the
     // hand felt k v h more while lifting at larger steps (15 % at 100 Hz).
     grasp_force = -grasp_k * (GraspStretch(index, q) - h * Model::Evaluate(grasp_at_[index], qd));
+    ts->tissue_force -= grasp_force;  // the spring pulls the tube as it pulls the jaws
   }
   // Virtual coupling to the target, which moves from where it was at the start of the sub-step
   // to where it is at its end; the tool's own weight is not simulated (not felt). The tip runs

@@ -7,6 +7,7 @@
 
 #include "collision/obstacle.h"
 #include "common/types.h"
+#include "mechanics/task_params.h"
 #include "mechanics/tool.h"
 
 namespace viscera::mechanics {
@@ -96,6 +97,9 @@ struct ModelParams {
 
   /// [[tool]]: laparoscopic tools, in this order in StepInputs::tools and State::tools.
   std::vector<ToolParams> tools;
+
+  /// [[target]] and [assessment]: the training task (not read by the mechanics).
+  TaskParams task;
 
   /// Starting control points (#N by 3, N >= 4).
   Points initial_q;

@@ -1,6 +1,7 @@
 #include "render/scene_renderer.h"
 
 #include "common/check.h"
+#include "render/target_patch.h"
 #include "render/tessellation.h"
 #include "spline/catmull_rom.h"
 
@@ -30,6 +31,18 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
       s.material = palette_.Organ(o.name, &unnamed);
       s.faces = Faces::kFront;
     }
+    static_triangles_ += cpu.num_triangles();
+    obstacles_.push_back(std::move(s));
+  }
+  // the task's targets: patches that never move, drawn like the organs
+  for (const mechanics::TargetParams& t : params.task.targets) {
+    cpu.Clear();
+    AppendTargetPatch(t, &cpu);
+    StaticMesh s;
+    s.mesh = std::make_unique<GpuMesh>();
+    s.mesh->Upload(cpu);
+    s.material = palette_.target;
+    s.faces = Faces::kBoth;
     static_triangles_ += cpu.num_triangles();
     obstacles_.push_back(std::move(s));
   }

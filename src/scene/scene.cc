@@ -8,6 +8,7 @@
 #include "mechanics/step.h"
 #include "scene/mesentery_table.h"
 #include "scene/shapes.h"
+#include "scene/task_reader.h"
 #include "scene/toml_reader.h"
 
 #include <algorithm>
@@ -308,7 +309,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
     if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
-        k == "tool" || k == "mesentery") {
+        k == "tool" || k == "mesentery" || k == "target" || k == "assessment") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
@@ -323,6 +324,8 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
                 &scene.model);
   ReadContacts(root, &scene.model);
   ReadTools(root, &scene.model);
+  ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
+           &scene.model);
   if (limits.vet) limits.vet(scene.model);
   if (settle > 0.0) Settle(settle, &scene.model);
   return scene;
