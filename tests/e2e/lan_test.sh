@@ -96,7 +96,7 @@ on_host 3 "$python" - <<'PY' || fail "a ttl=0 client on host 3 reached a server 
 import sys
 from viscera_client import Client, VisceraError
 try:
-    Client("udpm://239.255.76.67:7667?ttl=0").create(scene="hanging", server="lan-a", timeout_s=2)
+    Client("udpm://239.255.76.67:7667?ttl=0").create(scene="hanging", server="lan-a", timeout_s=2, build_timeout_s=2)
 except VisceraError as e:
     sys.exit(0 if e.result is None else 1)
 sys.exit(1)

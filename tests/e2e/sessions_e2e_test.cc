@@ -314,7 +314,7 @@ TEST(SessionsE2E, WithAPreSharedKeyOnlyKeyHoldersCreateOrDrive) {
   ASSERT_EQ(Viscera(dir, "keygen " + dir + "/psk").rc, 0);
   Daemon daemon("e2e-e", {"--key-file", dir + "/psk"}, dir);
   // without the key: the server drops the request unanswered
-  EXPECT_EQ(Viscera(dir, "create fall --timeout 1.5").rc, 2);
+  EXPECT_EQ(Viscera(dir, "create fall --timeout 1.5 --build-timeout 1.5").rc, 2);
   const json created = Create(dir, "fall --key-file " + dir + "/psk");
   const int64_t id = created["session"].get<int64_t>();
   const std::vector<uint8_t> token = client::FromHex(created["token"].get<std::string>());
