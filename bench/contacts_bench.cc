@@ -32,7 +32,7 @@
 #include "mechanics/implicit_euler.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
-#include "script/tool_script.h"
+#include "script/scripted_tools.h"
 #include "fall_scene.h"
 
 namespace viscera::mechanics {
@@ -145,35 +145,24 @@ void BM_FallSettled(benchmark::State& bench) {
 void BM_CavityClearing(benchmark::State& bench) {
   scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   scene::ChangeRate(&scene.model, static_cast<double>(bench.range(0)));
-  const script::ToolScript script = script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv");
   const Model model(scene.model);
   Workspace workspace(model);
   const State start = InitialState(model);
-  const int64_t steps = static_cast<int64_t>(script.duration() * model.params().rate_hz + 0.5);
-  std::vector<ToolTarget> targets(model.params().tools.size());
-  script::Tube tube;
-  tube.radius = model.params().radius;
   std::vector<double> costs_us;
-  costs_us.reserve(static_cast<size_t>(steps) * 4);
   Tally tally;
   double deepest = 0.0, peak = 0.0;
   int64_t resets = 0;
   for (auto _ : bench) {
+    bench.PauseTiming();
+    script::ScriptedTools scripted(model, script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv"));
+    const int64_t steps = static_cast<int64_t>(scripted.duration() * model.params().rate_hz + 0.5);
+    costs_us.reserve(costs_us.size() + static_cast<size_t>(steps));
     State state = start;
+    bench.ResumeTiming();
     for (int64_t i = 0; i < steps; ++i) {
       // The script's targets (aimed rows against the tube as it is): the device's work, not timed.
       bench.PauseTiming();
-      tube.centre_line.clear();
-      for (const collision::Sphere& s : workspace.interactions()->chain().spheres()) tube.centre_line.push_back(s.centre);
-      for (size_t t = 0; t < targets.size(); ++t) {
-        const std::string& name = model.params().tools[t].name;
-        targets[t].active = script.Has(name);
-        if (!targets[t].active) continue;
-        const script::ToolKeyframe key = script.At(name, state.t + model.step_size(), tube);
-        targets[t].tip = key.tip;
-        targets[t].orientation = key.orientation;
-        targets[t].jaw = key.jaw;
-      }
+      const std::span<const ToolTarget> targets = scripted.At(state.t + model.step_size(), workspace.interactions());
       bench.ResumeTiming();
       const int64_t begin = ThreadCpuNanos();
       Step(model, {{}, targets}, &state, &workspace);

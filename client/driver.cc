@@ -16,6 +16,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "script/script_player.h"
 
 namespace viscera::client {
 
@@ -64,7 +65,7 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
         }
       });
 
-  // Rows aimed at the tube follow its centre line through the newest skeleton's spheres.
+  // Rows aimed at the tube aim at its centre line through the newest skeleton's spheres.
   script::Tube tube;
   bus::SubscriptionId skeleton_sub{};
   if (script.aims_at_tube()) {
@@ -87,11 +88,12 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
   const int64_t start = MonotonicNanos();
   int64_t seq = 0;
   const int64_t sender = bus::NewSenderId();  // this drive's own sequence (replay protection)
+  script::ScriptPlayer player(script);
   for (int64_t k = 0; k < n; ++k) {
     SleepUntil(start + k * period_ns);
     const double t = static_cast<double>(k) / options.pose_rate_hz;
     for (const auto& [name, index] : tools) {
-      const script::ToolKeyframe key = script.At(name, t, tube);
+      const script::ToolKeyframe key = player.At(name, t, tube);
       bus::FillToolPose(options.session_id, seq, options.token, index, key.tip, key.orientation, key.jaw, &pose);
       pose.header.sender = sender;
       if (targets.size() < 1'000'000) targets[seq] = key.tip;

@@ -144,7 +144,7 @@ void ImplicitEulerIntegrator::MultiplyExact(double h, const Eigen::Ref<const Vec
   // BlockBand::Multiply and the common modes take #N by 3 points: the same numbers, reshaped.
   cg_x_ = Eigen::Map<const Points>(x.data(), n_, 3);
   system_.Multiply(cg_x_, &cg_y_);
-  interactions_->AddCommonModeTerms(-h * h, -h, cg_x_, &cg_y_);
+  interactions_->AddCommonModeTerms(cg_x_, &cg_y_);
   *y = Eigen::Map<const VecX>(cg_y_.data(), 3 * n_);
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
@@ -199,7 +199,10 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
   jac_.stiffness.Multiply(v, &kv_);
   const double c = jac_.rank1_coeff;
   if (c > 0.0) kv_ += (c * (jac_.rank1_u.array() * v.array()).sum()) * jac_.rank1_u;
-  if (coupled) interactions_->AddCommonModeTerms(-1.0, 0.0, v, &kv_);
+  if (coupled) {
+    interactions_->WeighCommonModes(-1.0, 0.0);
+    interactions_->AddCommonModeTerms(v, &kv_);
+  }
   Eigen::Map<const VecX> force_flat(force_.data(), 3 * n_);
   Eigen::Map<const VecX> kv_flat(kv_.data(), 3 * n_);
   b_ = h * (force_flat - h * kv_flat);
@@ -233,6 +236,7 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
   ApplyBandInverse(dv.data());
   last_cg_iterations_ = 0;
   if (coupled) {
+    interactions_->WeighCommonModes(-h * h, -h);
     RefineExactly(h, b_, dv);
   } else {
     cg_correction_.setZero();

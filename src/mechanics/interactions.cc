@@ -64,6 +64,7 @@ Interactions::Interactions(const Model& model)
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  tip_contacts_.reserve(chain_.size());
   Configure(model.params().initial_q, true);
 }
 
@@ -268,14 +269,18 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   return energy;
 }
 
-void Interactions::AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const {
+void Interactions::WeighCommonModes(double ck, double cd) {
+  for (PairCoupling& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
+}
+
+void Interactions::AddCommonModeTerms(const Points& x, Points* y) const {
   const auto& spheres = chain_.spheres();
   for (const PairCoupling& pair : pairs_) {
     const collision::Sphere& sa = spheres[pair.a];
     const collision::Sphere& sb = spheres[pair.b];
     Vec3 common = Vec3::Zero();  // (J_a + J_b) x
     for (int i = 0; i < 4; ++i) common += sa.w[i] * x.row(sa.first + i).transpose() + sb.w[i] * x.row(sb.first + i).transpose();
-    const Vec3 f = ck * (pair.k * common) + cd * (pair.d * common);
+    const Vec3 f = pair.weighed * common;
     AddToWindow(pair.a, f, y);
     AddToWindow(pair.b, f, y);
   }
@@ -301,57 +306,67 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   if (active) ts->orientation = target.orientation.normalized();
 
   // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
-  // (the shaft pivots at the port), and their stiffness.
+  // (the shaft pivots at the port): each contact's force at the start and its stiffness.
   Configure(q, false);
   GatherVelocities(qd);
   EnsureGeometry();
-  Vec3 force = Vec3::Zero();
-  Mat3 stiffness = Mat3::Zero();
+  tip_contacts_.clear();
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (!p.active) continue;
-    force -= p.lever * p.force;
-    stiffness += p.lever * p.lever * cp.stiffness * p.normal * p.normal.transpose();
+    if (p.active) tip_contacts_.push_back({-p.lever * p.force, p.lever * p.normal});
   }
+  Vec3 grasp_force = Vec3::Zero();
+  double grasp_k = 0.0;
   if (grasping_[index]) {
-    const double k = grasp_scale_[index] * tp.grasp_stiffness;
+    grasp_k = grasp_scale_[index] * tp.grasp_stiffness;
     // The tube's grasped point where it will be at the end of the sub-step (it moves after the
     // tip): with the point as it was, the spring lagged the tube by one sub-step, v h, and the
     // hand felt k v h more while lifting at larger steps (15 % at 100 Hz).
-    force -= k * (GraspStretch(index, q) - h * Model::Evaluate(grasp_at_[index], qd));
-    stiffness += k * Mat3::Identity();
+    grasp_force = -grasp_k * (GraspStretch(index, q) - h * Model::Evaluate(grasp_at_[index], qd));
   }
   // Virtual coupling to the target, which moves from where it was at the start of the sub-step
-  // to where it is at its end; the tool's own weight is not simulated (not felt). The tissue's
-  // reaction is held linearized about the start while the tip runs through short cycles of
-  // linearly implicit Euler: (m + dt c + dt^2 K) dv = dt (F - dt K v). The coupling pulls the
-  // tip with the force the hand feels, so it is limited like it by the device's maximum: a
-  // target that jumps 8 cm no longer throws the tip through the tube at 3 m/s.
+  // to where it is at its end; the tool's own weight is not simulated (not felt). The tip runs
+  // through short cycles of linearly implicit Euler, (m + dt c + dt^2 K) dv = dt (F - dt K v),
+  // against the tissue's reactions linearized about the start, each one-sided: a contact acts
+  // while it pushes. (A pair closing fast acts before it touches, so that an impact is not found
+  // late and deep; held linear, it pulled a tip that stopped short toward the tube, 0.05 N.) The
+  // coupling pulls the tip with the force the hand feels, so it is limited like it by the
+  // device's maximum: a target that jumps 8 cm no longer throws the tip through the tube at 3 m/s.
   const double kc = ts->coupling_scale * tp.coupling_stiffness;
+  const double kn = cp.stiffness;
   const bool coupled = target.tip.allFinite() && ts->target_from.allFinite();
   const double f0 = static_cast<double>(substep_) / substeps_, f1 = static_cast<double>(substep_ + 1) / substeps_;
   const Vec3 from = ts->target_from + f0 * (target.tip - ts->target_from);
   const Vec3 to = ts->target_from + f1 * (target.tip - ts->target_from);
   const int cycles = std::max(1, static_cast<int>(std::ceil(h / kTipCycle - 1e-9)));
   const double dt = h / cycles;
-  const Mat3 k_total = stiffness + kc * Mat3::Identity();
-  const Mat3 a_inv = ((tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * dt * k_total).inverse();
-  const Mat3 a_inv_saturated = (tp.mass * Mat3::Identity() + dt * dt * stiffness).inverse();
   const Vec3 tip0 = ts->tip;
   for (int i = 1; i <= cycles; ++i) {
+    const Vec3 moved = ts->tip - tip0;
+    Vec3 tissue = grasp_force - grasp_k * moved;
+    Mat3 stiffness = grasp_k * Mat3::Identity();
+    for (const TipContact& tc : tip_contacts_) {
+      // tc.axis = lever n: the tip moving along it presses the contact deeper.
+      const Vec3 f = tc.force - kn * tc.axis * tc.axis.dot(moved);
+      if (f.dot(tc.axis) >= 0.0) continue;  // it would pull: the tube does not hold the tool
+      tissue += f;
+      stiffness += kn * tc.axis * tc.axis.transpose();
+    }
     Vec3 coupling = -tp.coupling_damping * ts->tip_velocity;
     if (coupled) coupling += kc * (from + (static_cast<double>(i) / cycles) * (to - from) - ts->tip);
-    const Vec3 tissue = force - stiffness * (ts->tip - tip0);
     const double size = coupling.norm();
     if (size > tp.max_force) {
       // Saturated: the coupling's pull is a constant force this cycle (0.1 ms: explicit is fine).
       coupling *= tp.max_force / size;
-      ts->tip_velocity += a_inv_saturated * (dt * (tissue + coupling - dt * stiffness * ts->tip_velocity));
+      const Mat3 a = tp.mass * Mat3::Identity() + dt * dt * stiffness;
+      ts->tip_velocity += a.inverse() * (dt * (tissue + coupling - dt * stiffness * ts->tip_velocity));
     } else {
-      ts->tip_velocity += a_inv * (dt * (tissue + coupling - dt * k_total * ts->tip_velocity));
+      const Mat3 k_total = stiffness + kc * Mat3::Identity();
+      const Mat3 a = (tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * dt * k_total;
+      ts->tip_velocity += a.inverse() * (dt * (tissue + coupling - dt * k_total * ts->tip_velocity));
     }
     ts->tip += dt * ts->tip_velocity;
   }

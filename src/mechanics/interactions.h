@@ -41,11 +41,13 @@ class Interactions {
   /// (J_a + J_b)^T H (J_a + J_b) (see AddCommonModeTerms; docs/contacts.md).
   double AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D);
 
-  /// y += sum over the self pairs of the last AddForces with K of
-  /// (J_a + J_b)^T (ck K_p + cd D_p) (J_a + J_b) x (x, y #N by 3): what the band overstates.
-  /// The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact implicit matrix
-  /// is the band's M + h D + h^2 K minus this with (h^2, h).
-  void AddCommonModeTerms(double ck, double cd, const Points& x, Points* y) const;
+  /// Weighs the self pairs of the last AddForces with K for AddCommonModeTerms: C_p = ck K_p +
+  /// cd D_p, once rather than at each of CG's products.
+  void WeighCommonModes(double ck, double cd);
+  /// y += sum over those pairs of (J_a + J_b)^T C_p (J_a + J_b) x (x, y #N by 3): what the band
+  /// overstates. The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact
+  /// implicit matrix is the band's M + h D + h^2 K minus this with (h^2, h).
+  void AddCommonModeTerms(const Points& x, Points* y) const;
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
@@ -140,8 +142,16 @@ class Interactions {
   struct PairCoupling {
     int a = 0, b = 0;
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
+    Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };
   std::vector<PairCoupling> pairs_;
+  // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
+  // sub-step and the contact normal times the lever (the tip moving along it presses deeper).
+  struct TipContact {
+    Vec3 force = Vec3::Zero();
+    Vec3 axis = Vec3::Zero();
+  };
+  std::vector<TipContact> tip_contacts_;
 };
 
 }  // namespace viscera::mechanics

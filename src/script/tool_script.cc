@@ -112,17 +112,12 @@ Vec3 NearestOnTube(const Tube& tube, const Vec3& p) {
   return best + (tube.radius / distance) * (p - best);
 }
 
-ToolKeyframe ToolScript::At(const std::string& tool, double t, const Tube& tube) const {
-  const std::vector<ToolKeyframe>& f = frames_.at(tool);
-  auto aimed = [&tube](ToolKeyframe k) {
-    if (k.at_tube) k.tip = NearestOnTube(tube, k.tip);
-    return k;
-  };
-  if (t <= f.front().t) return aimed(f.front());
-  if (t >= f.back().t) return aimed(f.back());
+ToolKeyframe Interpolate(const std::vector<ToolKeyframe>& f, double t) {
+  if (t <= f.front().t) return f.front();
+  if (t >= f.back().t) return f.back();
   const auto next = std::upper_bound(f.begin(), f.end(), t, [](double x, const ToolKeyframe& k) { return x < k.t; });
-  const ToolKeyframe b = aimed(*next);
-  const ToolKeyframe a = aimed(*(next - 1));
+  const ToolKeyframe& b = *next;
+  const ToolKeyframe& a = *(next - 1);
   const double span = b.t - a.t;
   const double u = span > 0.0 ? (t - a.t) / span : 1.0;
   ToolKeyframe k;

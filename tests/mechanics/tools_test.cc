@@ -86,6 +86,36 @@ TEST_F(Tools, TipStartsAtTheFirstTargetAndFeelsNothingInFreeSpace) {
   EXPECT_EQ(state_.contacts.tool, 0);
 }
 
+TEST_F(Tools, ATipThatStopsShortOfTheTubeFeelsWhatItFeelsInFreeSpace) {
+  // The same approach twice: down at 0.5 m/s to 2.5 mm above the tube's top, then held; and 10 cm
+  // higher, where nothing is near. A pair closing fast acts before it touches (speculative), but
+  // the tissue only ever pushes: the hand must feel nothing of a tube the tip never reaches.
+  // (Held linear, the speculative contact pulled the hand 0.23 N toward the tube.)
+  double lowest_tip = 1.0;
+  auto approach = [&](double lift) {
+    ModelParams params = scene::ParseScene(kScene).model;
+    params.rate_hz = 100.0;  // 10 ms steps: a pair closing at 0.5 m/s acts from 5 mm away
+    Reset(params);
+    std::vector<Vec3> forces;
+    const double stop = kTouch + 0.0025 + lift;
+    const double start = stop + 0.05;
+    const int steps = static_cast<int>(std::lround(0.4 * model_->params().rate_hz));
+    for (int k = 0; k <= steps; ++k) {
+      const double t = k / model_->params().rate_hz;
+      const ToolState& tool = Hold(Vec3(0.3, 0.0, std::max(stop, start - 0.5 * t)), 1.0, 1.0 / model_->params().rate_hz);
+      forces.push_back(tool.force);
+      lowest_tip = std::min(lowest_tip, tool.tip.z() - lift);
+    }
+    return forces;
+  };
+  const std::vector<Vec3> near = approach(0.0), free = approach(0.1);
+  ASSERT_EQ(near.size(), free.size());
+  double worst = 0.0;
+  for (size_t k = 0; k < near.size(); ++k) worst = std::max(worst, (near[k] - free[k]).norm());
+  EXPECT_LT(worst, 1e-3) << "N: the tube pulled the tool before it touched";
+  EXPECT_GT(lowest_tip, kTouch) << "the tip touched the tube: the test lost its point";
+}
+
 TEST_F(Tools, PushingGivesAnOpposingForceThatGrowsWithDepth) {
   std::vector<double> forces;
   for (double depth : {0.003, 0.006, 0.012}) {

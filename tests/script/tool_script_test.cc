@@ -1,3 +1,4 @@
+#include "script/script_player.h"
 #include "script/tool_script.h"
 
 #include <gtest/gtest.h>
@@ -49,26 +50,36 @@ TEST(ToolScript, MalformedScriptsNameLineAndColumn) {
   EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1\n").find("expected 11 columns"), std::string::npos);
 }
 
-TEST(ToolScript, RowsAimedAtTheTubeFollowItsSurface) {
+TEST(ScriptPlayer, AnAimedRowIsResolvedOnTheTubeWhenItsSegmentBeginsAndThenHeld) {
   const ToolScript s = ToolScript::Parse(
       "t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n"
       "0,left,0,0,0.3,1,0,0,0,1,point\n"
-      "1,left,0.02,0,0.1,1,0,0,0,0,tube\n");
+      "1,left,0.02,0,0.1,1,0,0,0,1,tube\n"
+      "2,left,0.02,0,0.1,1,0,0,0,0,tube\n");
   EXPECT_TRUE(s.aims_at_tube());
-  // A tube of radius 1 cm along x at height 5 cm, 2 cm to the side of the aimed row's point.
+  ScriptPlayer player(s);
+  // A tube of radius 1 cm along x at height 5 cm, 2 cm to the side of the aimed rows' point.
   Tube tube{{Vec3(-0.1, 0.02, 0.05), Vec3(0.0, 0.02, 0.05), Vec3(0.1, 0.02, 0.05)}, 0.01};
-  const Vec3 aimed = s.At("left", 1.0, tube).tip;
+  // No tube seen yet: the written points stand in, and nothing is resolved.
+  EXPECT_EQ(player.At("left", 0.0, Tube{}).tip, Vec3(0, 0, 0.3));
+  // The second row's segment began at 0: aimed at the tube as it is at the first call that sees it.
+  const Vec3 aimed = player.At("left", 0.5, tube).tip * 2.0 - Vec3(0, 0, 0.3);
   const Vec3 axis(0.02, 0.02, 0.05);  // the nearest point of the centre line
-  EXPECT_NEAR((aimed - axis).norm(), 0.01, 1e-12);                          // on the surface
+  EXPECT_NEAR((aimed - axis).norm(), 0.01, 1e-12);                                                       // on the surface
   EXPECT_NEAR((aimed - axis).normalized().dot((Vec3(0.02, 0, 0.1) - axis).normalized()), 1.0, 1e-12);  // facing the point
-  // Half way there from the unaimed first row; the tube moved: the target follows it.
-  EXPECT_TRUE(s.At("left", 0.5, tube).tip.isApprox(0.5 * (Vec3(0, 0, 0.3) + aimed)));
+  // The tube moves 3 cm down before t = 1: the second row holds, the third (its segment begins
+  // at 1) is aimed at the tube where it then is, and holds after it moves again.
   for (Vec3& c : tube.centre_line) c.z() -= 0.03;
-  EXPECT_NEAR(s.At("left", 1.0, tube).tip.z(), aimed.z() - 0.03, 0.005);
-  // Without the tube (no skeleton yet), the written point.
+  EXPECT_TRUE(player.At("left", 0.9, tube).tip.isApprox(0.1 * Vec3(0, 0, 0.3) + 0.9 * aimed));
+  EXPECT_TRUE(player.At("left", 1.0, tube).tip.isApprox(aimed));
+  const Vec3 third = player.At("left", 2.0, tube).tip;
+  EXPECT_NEAR(third.z(), aimed.z() - 0.03, 0.005);
+  for (Vec3& c : tube.centre_line) c.z() += 0.05;
+  EXPECT_EQ(player.At("left", 2.5, tube).tip, third);
+  // The script itself keeps the written points.
   EXPECT_EQ(s.At("left", 1.0).tip, Vec3(0.02, 0, 0.1));
   // A point inside the tube is its own target.
-  EXPECT_EQ(NearestOnTube(tube, Vec3(0.0, 0.02, 0.022)), Vec3(0.0, 0.02, 0.022));
+  EXPECT_EQ(NearestOnTube(tube, Vec3(0.0, 0.02, 0.072)), Vec3(0.0, 0.02, 0.072));
 }
 
 }  // namespace

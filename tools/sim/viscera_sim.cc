@@ -20,7 +20,7 @@
 #include "render/frame_renderer.h"
 #include "render/jpeg_sequence.h"
 #include "scene/scene.h"
-#include "script/tool_script.h"
+#include "script/scripted_tools.h"
 #include "skin/skin.h"
 #include "session/replay.h"
 #include "sim/progress_bar.h"
@@ -105,47 +105,6 @@ void ExportMesh(const Options& opt, const mechanics::Model& model, const Points&
   std::cerr << "mesh: " << opt.skin << " skin, " << s->stats().triangles << " triangles -> " << opt.export_mesh << std::endl;
 }
 
-// Targets of the scene's tools from a script: tools the script does not name stay idle.
-class ScriptedTools {
- public:
-  ScriptedTools(const mechanics::Model& model, const std::string& path) : model_(model) {
-    if (path.empty()) return;
-    script_ = script::ToolScript::Load(path);
-    for (const std::string& name : script_.tools()) {
-      bool known = false;
-      for (const mechanics::ToolParams& t : model.params().tools) known = known || t.name == name;
-      ThrowUnless(known, path, ": tool \"", name, "\" is not in the scene (its [[tool]] names it)");
-    }
-    targets_.resize(model.params().tools.size());
-  }
-  /// Targets at time t, or an empty span without a script. Rows aimed at the tube aim at the
-  /// centre line through the sphere chain's centres (`interactions` as the last step left it).
-  std::span<const mechanics::ToolTarget> At(double t, const mechanics::Interactions* interactions) {
-    tube_.centre_line.clear();
-    if (script_.aims_at_tube() && interactions) {
-      for (const collision::Sphere& s : interactions->chain().spheres()) tube_.centre_line.push_back(s.centre);
-      tube_.radius = interactions->chain().radius();
-    }
-    for (size_t i = 0; i < targets_.size(); ++i) {
-      const std::string& name = model_.params().tools[i].name;
-      mechanics::ToolTarget& target = targets_[i];
-      target.active = script_.Has(name);
-      if (!target.active) continue;
-      const script::ToolKeyframe k = script_.At(name, t, tube_);
-      target.tip = k.tip;
-      target.orientation = k.orientation;
-      target.jaw = k.jaw;
-    }
-    return targets_;
-  }
-
- private:
-  const mechanics::Model& model_;
-  script::ToolScript script_;
-  std::vector<mechanics::ToolTarget> targets_;
-  script::Tube tube_;
-};
-
 Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
   // Control points weighted by their share of the mass, m integral b_i ds (the rows of M).
   const VecX weights = mechanics::MassRowSums(model.mass_band());
@@ -223,9 +182,14 @@ int Run(const Options& opt) {
   auto record = [&](double step_us) {
     if (trace) trace->Write(model, state, interactions, curve.Length(state.q), energies(), step_us);
   };
-  ScriptedTools tools(model, opt.tool_script);
+  // Tools the script does not name stay idle; without a script, all do.
+  std::optional<script::ScriptedTools> scripted;
+  if (!opt.tool_script.empty()) scripted.emplace(model, script::ToolScript::Load(opt.tool_script), opt.tool_script);
+  auto targets_at = [&](double t) {
+    return scripted ? scripted->At(t, interactions) : std::span<const mechanics::ToolTarget>{};
+  };
   // The sphere chain of the start, for the first frame.
-  if (interactions) interactions->BeginSubstep(tools.At(0.0, interactions), 0.0, &state);
+  if (interactions) interactions->BeginSubstep(targets_at(0.0), 0.0, &state);
 
   const Energies e0 = energies();
   const Vec3 com0 = CentreOfMass(model, state.q);
@@ -245,7 +209,7 @@ int Run(const Options& opt) {
   double min_clearance = std::numeric_limits<double>::infinity();
   std::vector<double> max_tool_force(model.params().tools.size(), 0.0);
   for (int64_t k = 1; k <= steps; ++k) {
-    const std::span<const mechanics::ToolTarget> targets = tools.At(state.t + model.step_size(), interactions);
+    const std::span<const mechanics::ToolTarget> targets = targets_at(state.t + model.step_size());
     const int64_t begin = ThreadCpuNanos();
     mechanics::Step(model, {{}, targets}, &state, &workspace);
     const double us = (ThreadCpuNanos() - begin) * 1e-3;

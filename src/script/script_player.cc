@@ -1,0 +1,31 @@
+#include "script/script_player.h"
+
+#include <utility>
+
+namespace viscera::script {
+
+ScriptPlayer::ScriptPlayer(ToolScript script) : script_(std::move(script)) {
+  for (const std::string& tool : script_.tools()) {
+    const std::vector<ToolKeyframe>& f = script_.frames(tool);
+    frames_[tool] = f;
+    std::vector<bool>& pending = pending_[tool];
+    for (const ToolKeyframe& k : f) pending.push_back(k.at_tube);
+  }
+}
+
+ToolKeyframe ScriptPlayer::At(const std::string& tool, double t, const Tube& tube) {
+  std::vector<ToolKeyframe>& f = frames_.at(tool);
+  std::vector<bool>& pending = pending_.at(tool);
+  if (!tube.centre_line.empty()) {
+    for (size_t i = 0; i < f.size(); ++i) {
+      const bool begun = i == 0 || t >= f[i - 1].t;
+      if (!begun) break;
+      if (!pending[i]) continue;
+      f[i].tip = NearestOnTube(tube, script_.frames(tool)[i].tip);
+      pending[i] = false;
+    }
+  }
+  return Interpolate(f, t);
+}
+
+}  // namespace viscera::script
