@@ -1,16 +1,17 @@
-// The client's receive paths on any datagram: the bus decode, then what the client checks and
-// shows. Heartbeats (ServerDirectory and its table and JSON) are fuzzed; frames and replies
-// (FrameReceiver; statuses printed as JSON and tables) are wired but off until their array
-// counts are checked before decoding: LCM 1.3.1's generated decode sizes an array (frame bytes,
-// a reply's statuses, a status's tool names) before it checks the bytes are there, so one
-// datagram can make a client allocate gigabytes (docs/reliability.md, open issue).
-// VISCERA_FUZZ_ALL_CHANNELS=1 turns them on to reproduce it.
+// The client's receive paths on any datagram: the bus decode (every array count checked
+// first, bus/wire_counts.h), then what the client checks and shows: heartbeats (ServerDirectory,
+// its table and JSON), frames (FrameReceiver), replies and statuses (printed as JSON and
+// tables) and skeletons (the centre line `viscera drive` aims at). The first byte picks the
+// channel.
 #include <cstdint>
 #include <cstdlib>
+#include <iterator>
 #include <string>
 
 #include <viscera_proto/heartbeat_t.hpp>
 #include <viscera_proto/session_reply_t.hpp>
+#include <viscera_proto/session_status_t.hpp>
+#include <viscera_proto/skeleton_state_t.hpp>
 
 #include "bus/channels.h"
 #include "bus/header.h"
@@ -34,11 +35,25 @@ struct Client {
     bus.Subscribe<viscera_proto::session_reply_t>(
         viscera::bus::kReplyChannel, [](const viscera_proto::session_reply_t& reply, int64_t) {
           if (!viscera::bus::HeaderProblem(reply.header).empty()) return;
-          for (const auto& s : reply.sessions) {
-            (void)viscera::client::StatusToJson(s).dump();
-            (void)viscera::client::StatusTable({s});
-          }
+          for (const auto& s : reply.sessions) Show(s);
         });
+    bus.Subscribe<viscera_proto::session_status_t>(
+        "VISCERA_STATUS_1", [](const viscera_proto::session_status_t& s, int64_t) { Show(s); });
+    bus.Subscribe<viscera_proto::skeleton_state_t>(
+        "VISCERA_SKELETON_1", [](const viscera_proto::skeleton_state_t& s, int64_t) {
+          if (s.num_points != static_cast<int32_t>(s.points.size()) ||
+              s.num_spheres != static_cast<int32_t>(s.spheres.size())) {
+            std::abort();  // the decode kept the counts and the arrays together
+          }
+          double sum = s.sphere_radius;
+          for (const auto& c : s.spheres) sum += c[0] + c[1] + c[2];
+          (void)sum;
+        });
+  }
+  static void Show(const viscera_proto::session_status_t& s) {
+    if (s.num_tools != static_cast<int32_t>(s.tool_names.size())) std::abort();
+    (void)viscera::client::StatusToJson(s).dump();
+    (void)viscera::client::StatusTable({s});
   }
   viscera::bus::LcmBus bus;
   viscera::client::FrameReceiver frames;
@@ -51,9 +66,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static Client client;
   if (size < 1) return 0;
   static const std::string channels[] = {viscera::bus::kHeartbeatChannel, "VISCERA_FRAME_1",
-                                         viscera::bus::kReplyChannel};
-  static const int open_channels = std::getenv("VISCERA_FUZZ_ALL_CHANNELS") != nullptr ? 3 : 1;
-  client.bus.PublishRaw(channels[data[0] % open_channels], data + 1, static_cast<int>(size - 1));
+                                         viscera::bus::kReplyChannel, "VISCERA_STATUS_1",
+                                         "VISCERA_SKELETON_1"};
+  client.bus.PublishRaw(channels[data[0] % std::size(channels)], data + 1, static_cast<int>(size - 1));
   client.bus.Drain();
   return 0;
 }

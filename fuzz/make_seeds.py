@@ -6,7 +6,7 @@ import os
 import time
 
 from viscera_proto import (header_t, heartbeat_t, jpeg_frame_t, session_reply_t,
-                           session_request_t, session_status_t, tool_pose_t)
+                           session_request_t, session_status_t, skeleton_state_t, tool_pose_t)
 
 root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "corpus")
 
@@ -104,3 +104,18 @@ reply.server_id = "fuzz"
 reply.sessions = [status()]
 reply.num_sessions = 1
 write("fuzz_client_messages", "reply_status", 2, reply)
+write("fuzz_client_messages", "status", 3, status())
+k = skeleton_state_t()
+k.header = header(1, 0)
+k.step, k.sim_time = 10, 0.01
+k.points = [[0.01 * i, 0.0, 0.0] for i in range(4)]
+k.num_points = len(k.points)
+k.spheres = [[0.005 + 0.01 * i, 0.0, 0.0] for i in range(3)]
+k.num_spheres = len(k.spheres)
+k.sphere_radius = 0.01
+write("fuzz_client_messages", "skeleton", 4, k)
+# regressions: a frame claiming 2^31 - 1 bytes (LCM 1.3.1 sized the array before checking it)
+huge = bytearray(f.encode())
+huge[-4 - len(f.data):-len(f.data)] = (0x7FFFFFFF).to_bytes(4, "big")
+with open(os.path.join(root, "fuzz_client_messages", "regression_frame_huge_size"), "wb") as out:
+    out.write(bytes([1]) + bytes(huge))

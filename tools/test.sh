@@ -2,15 +2,18 @@
 # Configures, builds and runs every viscera test with ctest. Installs what it needs first.
 # Usage: ./tools/test.sh [extra ctest arguments for the main suite]
 #
-# Three parts, each timed (docs/reliability.md has the figures):
+# Three parts, each timed (docs/reliability.md, "Sanitizers in CI", has the figures and why
+# each part covers what it does):
 #   1. Release build (gcc), every test (unit, integration, end to end, the short soak).
-#   2. clang with AddressSanitizer + UndefinedBehaviorSanitizer and libFuzzer instrumentation:
-#      the unit, integration and end-to-end tests again, then every fuzz target on its seed
-#      corpus and for VISCERA_FUZZ_SECONDS (default 5) seconds.
-#   3. gcc with ThreadSanitizer: the tests whose code runs several threads.
-# Parts 2 and 3 run with VISCERA_SANITIZERS=1. They are off by default until one full run has
-# been measured green within CI's time budget (docs/reliability.md, "Sanitizers in CI": the
-# builds have not yet completed on the shared machine).
+#   2. clang with AddressSanitizer + UndefinedBehaviorSanitizer and libFuzzer instrumentation,
+#      one build for both: the unit tests of the code that reads outside bytes (bus, protocol
+#      checks, client, scene and OBJ loaders, server limits and security), then every fuzz
+#      target on its seed corpus and for VISCERA_FUZZ_SECONDS (default 5) seconds.
+#   3. gcc with ThreadSanitizer: the tests whose code runs several threads (sessions, the
+#      session manager with its render threads, the bus, the MJPEG server).
+# Parts 2 and 3 run with VISCERA_SANITIZERS=1. They are off by default until one full run of
+# them has been measured green within CI's time budget on this machine (docs/reliability.md,
+# "Sanitizers in CI": the cold builds have not yet completed on the shared machine).
 # ccache is used when installed (CCACHE_DIR as usual).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -43,29 +46,37 @@ if [[ "${VISCERA_SANITIZERS:-0}" != 0 ]]; then
   export LSAN_OPTIONS="suppressions=$root/tools/lsan.supp:print_suppressions=0"
   export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
   export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$root/tools/tsan.supp"
+  run_each() {  # DIR TEST...: runs each test binary of DIR/tests, stops at the first failure
+    local dir="$1" t
+    shift
+    for t in "$@"; do
+      (cd "$dir/tests" && "./$t" --gtest_brief=1) || { echo "test.sh: $t failed under a sanitizer" >&2; return 1; }
+    done
+  }
 
   # 2. ASan + UBSan (clang), fuzz targets included
   asan="${build}-asan"
+  fuzz_targets=(fuzz_server_messages fuzz_client_messages fuzz_scene_toml fuzz_obj_loader
+                fuzz_record_reader fuzz_http_request)
+  asan_tests=(test_common_rate_window_test test_common_pacer_test test_bus_lcm_bus_test
+              test_bus_message_auth_test test_bus_replay_guard_test test_bus_wire_counts_test
+              test_scene_scene_test test_collision_obstacle_test test_session_inbox_test
+              test_server_security_test test_server_heartbeat_source_test test_server_frame_schedule_test
+              test_client_frame_receiver_test test_client_http_request_test test_client_token_store_test
+              test_client_server_directory_test)
   timed "asan+ubsan build" bash -c "CC=clang CXX=clang++ cmake -S '$root' -B '$asan' -G Ninja -DCMAKE_BUILD_TYPE=None \
       '-DCMAKE_C_FLAGS=$flags' '-DCMAKE_CXX_FLAGS=$flags' -DVISCERA_SANITIZE=ON -DVISCERA_FUZZ=ON ${launcher[*]} >/dev/null &&
-    cmake --build '$asan' --parallel $jobs"
-  # the soak's memory bound is for a release server (ASan keeps freed memory in quarantine)
-  timed "asan+ubsan tests" bash -c "cd '$asan' && ctest --output-on-failure --timeout 900 -j$jobs -LE 'soak|fuzz'"
+    cmake --build '$asan' --parallel $jobs --target ${fuzz_targets[*]} ${asan_tests[*]}"
+  timed "asan+ubsan tests" run_each "$asan" "${asan_tests[@]}"
   timed "fuzz (corpus + bounded runs)" bash -c "cd '$asan' && ctest --output-on-failure --timeout 900 -L fuzz"
 
-  # 3. TSan (gcc): the threaded tests only (sessions, the server, the bus, the viewer server)
+  # 3. TSan (gcc): the threaded tests only
   tsan="${build}-tsan"
   tsan_tests=(test_session_session_test test_session_snapshot_test test_server_session_manager_test
               test_server_security_test test_bus_lcm_bus_test test_client_mjpeg_server_test)
   timed "tsan build" bash -c "cmake -S '$root' -B '$tsan' -G Ninja -DCMAKE_BUILD_TYPE=None \
       '-DCMAKE_C_FLAGS=-O1 -g1' '-DCMAKE_CXX_FLAGS=-O1 -g1' -DVISCERA_TSAN=ON ${launcher[*]} >/dev/null &&
     cmake --build '$tsan' --parallel $jobs --target ${tsan_tests[*]}"
-  tsan_run() {
-    local t
-    for t in "${tsan_tests[@]}"; do
-      (cd "$tsan/tests" && "./$t" --gtest_brief=1) || return 1
-    done
-  }
-  timed "tsan tests" tsan_run
+  timed "tsan tests" run_each "$tsan" "${tsan_tests[@]}"
 fi
 printf 'test.sh: %s\n' "${timings[@]}" >&2

@@ -14,6 +14,8 @@ struct Palette {
   Material intestine;
   /// The abdominal wall (`inside = true` obstacles) and planes: darker, redder, less shiny.
   Material cavity_wall;
+  /// The mesentery ([mesentery] scenes): a thin translucent film, pale (fat) pink.
+  Material mesentery;
   /// Laparoscopic instruments: metallic grey, highlights tinted by the metal.
   Material tool;
   /// Organs by obstacle name (case-insensitive substring: "liver", "spine", ...).

@@ -13,7 +13,7 @@
 #include <viscera_proto/step_record_t.hpp>
 
 #include "bus/channels.h"
-#include "bus/message_auth.h"
+#include "bus/wire_counts.h"
 #include "common/check.h"
 #include "session/force_feedback.h"
 #include "session/session_scene.h"
@@ -28,8 +28,8 @@ bool StartsWith(const std::string& s, const char* prefix) { return s.rfind(prefi
 template <typename Msg>
 Msg DecodeOrThrow(const lcm::LogEvent& e, const std::string& path) {
   Msg msg;
-  // the header's counts first: LCM's decode would size its arrays before checking them
-  ThrowUnless(bus::HeaderCountsFit(static_cast<const uint8_t*>(e.data), e.datalen) &&
+  // every array count first: LCM's decode would size its arrays before checking them
+  ThrowUnless(bus::ArrayCountsFit<Msg>(static_cast<const uint8_t*>(e.data), e.datalen) &&
                   msg.decode(e.data, 0, e.datalen) == e.datalen,
               path, ": malformed ",
               Msg::getTypeName(), " on ", e.channel, " (event ", e.eventnum, ")");

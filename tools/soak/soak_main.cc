@@ -24,6 +24,7 @@
 
 #include "bus/channels.h"
 #include "bus/header.h"
+#include "bus/wire_counts.h"
 #include "client/keep_alive.h"
 #include "client/session_client.h"
 #include "session/replay.h"
@@ -88,7 +89,10 @@ int8_t LastRecordedState(const std::string& path) {
   for (const lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
     if (std::string(e->channel).rfind(viscera::bus::kStatusPrefix, 0) != 0) continue;
     session_status_t s;
-    if (s.decode(e->data, 0, e->datalen) == e->datalen) state = s.state;
+    if (viscera::bus::ArrayCountsFit<session_status_t>(static_cast<const uint8_t*>(e->data), e->datalen) &&
+        s.decode(e->data, 0, e->datalen) == e->datalen) {
+      state = s.state;
+    }
   }
   return state;
 }

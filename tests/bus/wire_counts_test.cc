@@ -1,0 +1,160 @@
+#include "bus/wire_counts.h"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <viscera_proto/heartbeat_t.hpp>
+#include <viscera_proto/jpeg_frame_t.hpp>
+#include <viscera_proto/session_reply_t.hpp>
+#include <viscera_proto/session_status_t.hpp>
+#include <viscera_proto/skeleton_state_t.hpp>
+#include <viscera_proto/step_record_t.hpp>
+
+#include "bus/header.h"
+#include "bus/lcm_bus.h"
+
+namespace viscera::bus {
+namespace {
+
+// The process's peak resident memory so far, in MB.
+int64_t PeakRssMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss / 1024;
+}
+
+template <typename Msg>
+std::vector<uint8_t> Encode(const Msg& msg) {
+  std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
+  EXPECT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  return bytes;
+}
+
+std::vector<uint8_t> BigEndian(int32_t v) {
+  const auto u = static_cast<uint32_t>(v);
+  return {static_cast<uint8_t>(u >> 24), static_cast<uint8_t>(u >> 16), static_cast<uint8_t>(u >> 8),
+          static_cast<uint8_t>(u)};
+}
+
+// `bytes` with the one occurrence of `from` (the encoding of a count the test chose to be
+// unique in the message) replaced by `to`.
+std::vector<uint8_t> Patched(std::vector<uint8_t> bytes, const std::vector<uint8_t>& from,
+                             const std::vector<uint8_t>& to) {
+  std::vector<size_t> at;
+  for (size_t i = 0; i + from.size() <= bytes.size(); ++i) {
+    if (std::equal(from.begin(), from.end(), bytes.begin() + static_cast<std::ptrdiff_t>(i))) at.push_back(i);
+  }
+  EXPECT_EQ(at.size(), 1u) << "the count to patch is not unique in the encoding";
+  if (at.size() == 1) std::copy(to.begin(), to.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at[0]));
+  return bytes;
+}
+
+template <typename Msg>
+bool Fits(const std::vector<uint8_t>& bytes) {
+  return ArrayCountsFit<Msg>(bytes.data(), static_cast<int>(bytes.size()));
+}
+
+// Every honest message fits; the same message claiming 2^31 - 1 or -1 elements does not.
+template <typename Msg>
+void ExpectRefusesHostileCounts(const Msg& msg, int32_t count) {
+  const auto bytes = Encode(msg);
+  EXPECT_TRUE(Fits<Msg>(bytes)) << Msg::getTypeName();
+  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(0x7fffffff)))) << Msg::getTypeName();
+  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(-1)))) << Msg::getTypeName();
+  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(count + 1)))) << Msg::getTypeName();
+  // every truncation of an honest message is refused too (the walk never reads past the end)
+  for (size_t cut = 0; cut < bytes.size(); ++cut) {
+    const std::vector<uint8_t> part(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cut));
+    if (Fits<Msg>(part)) {
+      // only a cut inside the trailing fixed fields may pass the count walk; decode refuses it
+      Msg decoded;
+      EXPECT_LT(decoded.decode(part.data(), 0, static_cast<int>(part.size())), 0) << Msg::getTypeName() << " cut " << cut;
+    }
+  }
+}
+
+viscera_proto::session_status_t Status(int tools) {
+  viscera_proto::session_status_t s{};
+  s.header = MakeHeader(0, 0);
+  s.num_tools = tools;
+  s.tool_names.assign(static_cast<size_t>(tools), "t");
+  return s;
+}
+
+TEST(ArrayCountsFit, RefusesEveryArrayCountBeyondTheDatagram) {
+  viscera_proto::jpeg_frame_t frame{};
+  frame.header = MakeHeader(0, 0);
+  frame.size = 37;
+  frame.data.assign(37, 0x11);
+  ExpectRefusesHostileCounts(frame, 37);
+
+  viscera_proto::skeleton_state_t skeleton{};
+  skeleton.header = MakeHeader(0, 0);
+  skeleton.num_points = 77;
+  skeleton.points.assign(77, {0.0, 0.0, 0.0});
+  ExpectRefusesHostileCounts(skeleton, 77);
+  skeleton.num_spheres = 66;
+  skeleton.spheres.assign(66, {0.0, 0.0, 0.0});
+  ExpectRefusesHostileCounts(skeleton, 66);
+
+  ExpectRefusesHostileCounts(Status(29), 29);
+
+  viscera_proto::session_reply_t reply{};
+  reply.header = MakeHeader(0, 0);
+  reply.num_sessions = 5;
+  reply.sessions.assign(5, Status(0));
+  ExpectRefusesHostileCounts(reply, 5);
+  reply.sessions[3] = Status(23);  // a status's tool names inside a reply
+  ExpectRefusesHostileCounts(reply, 23);
+
+  viscera_proto::step_record_t record{};
+  record.header = MakeHeader(0, 0);
+  record.num_tools = 9;
+  record.tools.assign(9, viscera_proto::tool_target_t{});
+  ExpectRefusesHostileCounts(record, 9);
+}
+
+// LCM's string decode assigns length - 1 bytes: a zero length would ask for SIZE_MAX.
+TEST(ArrayCountsFit, RefusesAStringWithoutItsTerminator) {
+  viscera_proto::heartbeat_t hb{};
+  hb.header = MakeHeader(0, 0);
+  hb.server_id = "x";
+  const auto bytes = Encode(hb);
+  EXPECT_TRUE(Fits<viscera_proto::heartbeat_t>(bytes));
+  EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0, 0, 0, 0, 'x', 0})));
+  EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0xff, 0xff, 0xff, 0xfe, 'x', 0})));
+}
+
+// Through a client's bus: a 60-odd-byte frame datagram claiming 2 GB of JPEG is dropped as
+// malformed, and the process's peak memory does not move (without the check, LCM's decode
+// allocates and zeroes the 2 GB: the peak jumps by that much).
+TEST(ArrayCountsFit, AHostileFrameIsDroppedWithoutALargeAllocation) {
+  viscera_proto::jpeg_frame_t frame{};
+  frame.header = MakeHeader(0, 0);
+  frame.size = 37;
+  frame.data.assign(37, 0x11);
+  const auto hostile = Patched(Encode(frame), BigEndian(37), BigEndian(0x7fffffff));
+  const auto honest = Encode(frame);
+
+  LcmBus bus("memq://");
+  int handled = 0;
+  bus.Subscribe<viscera_proto::jpeg_frame_t>("VISCERA_FRAME_1",
+                                             [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++handled; });
+  const int64_t peak_before = PeakRssMb();
+  bus.PublishRaw("VISCERA_FRAME_1", hostile.data(), static_cast<int>(hostile.size()));
+  bus.Drain();
+  EXPECT_EQ(handled, 0);
+  EXPECT_EQ(bus.stats().decode_failures, 1);
+  EXPECT_LT(PeakRssMb() - peak_before, 64) << "a hostile count reached the decoder";
+
+  bus.PublishRaw("VISCERA_FRAME_1", honest.data(), static_cast<int>(honest.size()));
+  bus.Drain();
+  EXPECT_EQ(handled, 1);  // the bus lives on
+}
+
+}  // namespace
+}  // namespace viscera::bus
