@@ -153,6 +153,9 @@ struct CreateOptions {
   double frame_rate_hz = 0.0;
   int jpeg_quality = 0;
   double listen_s = 1.2;  ///< heartbeats heard before placing (s)
+  /// Seconds to wait for the create's answer once a server was heard: the server answers
+  /// when the scene is built, at low priority, which takes seconds on a busy machine.
+  double build_timeout_s = 60.0;
 };
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
@@ -197,8 +200,15 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   request.frame_height = o.height;
   request.frame_rate_hz = o.frame_rate_hz;
   request.jpeg_quality = o.jpeg_quality;
-  const auto replies = client.Request(request, c.timeout_s);
-  if (replies.empty()) return NoServer(c, url, "the create request");
+  const double wait_s = std::max(c.timeout_s, o.build_timeout_s);
+  const auto replies = client.Request(request, wait_s);
+  if (replies.empty()) {
+    std::fprintf(stderr,
+                 "viscera: server '%s' did not answer the create request within %g s (it was heard: "
+                 "has it stopped, or is its scene build still running? --build-timeout)\n",
+                 server_id.c_str(), wait_s);
+    return kNoServer;
+  }
   const session_reply_t& reply = replies.front();
   if (reply.result != session_reply_t::kOk) return ReplyError(reply, 0);
   const int64_t id = reply.header.session_id;
@@ -527,6 +537,10 @@ int main(int argc, char** argv) {
   create->add_option("--listen", create_options.listen_s,
                      "Seconds to hear heartbeats before choosing a server")
       ->check(CLI::Range(0.05, 60.0))
+      ->capture_default_str();
+  create->add_option("--build-timeout", create_options.build_timeout_s,
+                     "Seconds to wait for the heard server to build the scene and answer")
+      ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
   create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
       ->check(CLI::Range(1.0, 10000.0));

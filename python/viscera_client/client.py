@@ -153,8 +153,12 @@ class Client:
 
     def create(self, scene=None, scene_toml=None, server=None, rate_hz=0.0,
                frame_rate_hz=-1.0, skeleton_rate_hz=-1.0, frame_width=0, frame_height=0,
-               skin="", jpeg_quality=0, timeout_s=5.0, servers=None):
+               skin="", jpeg_quality=0, timeout_s=5.0, servers=None, build_timeout_s=60.0):
         """Starts a session and returns its SessionHandle.
+
+        `timeout_s` bounds hearing servers; the answer is awaited up to the longer of it and
+        `build_timeout_s`: the server answers once the scene is built, at low priority, which
+        takes seconds on a busy machine.
 
         `server` names the server; otherwise the least loaded server with room among
         `servers` (a list of ServerInfo; heard now when None) is asked. Frames and skeleton
@@ -181,7 +185,7 @@ class Client:
         r.frame_width, r.frame_height = int(frame_width), int(frame_height)
         r.skin = skin
         r.jpeg_quality = int(jpeg_quality)
-        reply = self._answer(r, timeout_s, f"the create on {server}")
+        reply = self._answer(r, max(timeout_s, build_timeout_s), f"the create on {server}")
         status = reply.sessions[0] if reply.num_sessions > 0 else None
         return SessionHandle(
             session_id=reply.header.session_id, token=bytes(reply.header.token),
