@@ -77,6 +77,19 @@ TEST_P(FiftyCentimetreDrop, SinksLessThanAFifthOfTheRadiusAndNeverGainsEnergy) {
 
 INSTANTIATE_TEST_SUITE_P(Rates, FiftyCentimetreDrop, testing::Values(100.0, 250.0, 500.0, 1000.0));
 
+// The goal, which fails until impulses act inside the implicit solve (the coil's free end
+// whips into the turn below after the limiter stopped it; docs/contacts.md): at most a tenth of
+// the radius at every rate, and no energy gained at 1 kHz either.
+TEST(FiftyCentimetreDropKnownFailure, SinksLessThanATenthOfTheRadiusAtEveryRateAndNeverGainsEnergy) {
+  for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
+    Drop d;
+    d.rate_hz = rate;
+    const DropRun run = RunDrop(d);
+    EXPECT_LE(run.deepest, 0.10) << rate << " Hz";
+    EXPECT_LE(run.growth, 1e-6 * run.start) << rate << " Hz";
+  }
+}
+
 // The negative control: the same drop with the limiter off sinks far beyond 10 % (the penalty
 // alone cannot stop a 3 m/s landing within 1.25 mm), so the test above measures the limiter.
 TEST(Impacts, WithoutTheLimiterTheDropSinksDeep) {

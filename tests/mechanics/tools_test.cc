@@ -114,6 +114,26 @@ TEST_F(Tools, AGraspLiftsTheTubeAndReleasingLetsItFallBack) {
 // at once, never comes back up, and is gone within a few of the coupling's 0.05 s time
 // constants (the felt force lags the coupling's scale a little: as the coupling weakens,
 // the tube pushes the tip further from the target).
+TEST_F(Tools, AHandPullingAGraspedLoopFartherThanTheDeviceCanHoldDoesNotShakeIt) {
+  // Grasp the middle, then the hand jumps 30 cm up and stays: the ends' attachments hold the
+  // tube, so the coupling saturates at the device's 5 N. The tip must come to rest where the
+  // 5 N balance the tissue, not bounce around it.
+  Hold(Vec3(0.3, 0.0, 0.06), 1.0, 0.2);
+  Hold(Vec3(0.3, 0.0, kTouch), 1.0, 0.5);
+  ASSERT_TRUE(Hold(Vec3(0.3, 0.0, kTouch), 0.0, 0.2).grasping);
+  Hold(Vec3(0.3, 0.0, kTouch + 0.3), 0.0, 1.5);
+  double fastest = 0.0, lowest = 1.0, highest = 0.0;
+  for (int k = 0; k < 100; ++k) {  // the next 0.5 s
+    const ToolState& t = Hold(Vec3(0.3, 0.0, kTouch + 0.3), 0.0, 0.005);
+    fastest = std::max(fastest, t.tip_velocity.norm());
+    lowest = std::min(lowest, t.tip.z());
+    highest = std::max(highest, t.tip.z());
+  }
+  EXPECT_LT(fastest, 0.05) << "m/s";
+  EXPECT_LT(highest - lowest, 0.005) << "m: the tip still bounces";
+  EXPECT_TRUE(state_.tools[0].clamped);  // it was the saturated case
+}
+
 TEST_F(Tools, AnIdleDeviceFadesTheForceToZeroStepByStep) {
   Hold(Vec3(0.3, 0.0, 0.08), 1.0, 0.2);
   const double pushing = Hold(Vec3(0.3, 0.0, kTouch - 0.01), 1.0, 0.5).force.norm();
