@@ -82,6 +82,8 @@ struct Tally {
 //   substeps         average integrator sub-steps per step (more at impacts); max_substeps
 //   self, env        average self and environment contacts (pairs in contact) per step
 //   resets           non-finite steps (must be 0, or the figures are meaningless)
+//   searches_per_step  broad-phase searches (Verlet list rebuilds) per step
+//   cg_per_substep   the exact coupling's CG iterations per integrator sub-step
 void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets,
             Workspace& workspace) {
   const double steps = static_cast<double>(tally.steps);
