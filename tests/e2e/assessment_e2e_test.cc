@@ -35,7 +35,7 @@ assessment::Report ReadReport(const std::string& path) {
 TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-assess", {"--log-dir", dir}, dir);
-  const int64_t id = Create(dir, "cavity --timeout 30")["session"].get<int64_t>();
+  const int64_t id = Create(dir, "cavity")["session"].get<int64_t>();
   const std::string sid = std::to_string(id);
   const CliResult drive = Viscera(dir, "drive " + sid + " --gesture clearing --json");
   ASSERT_EQ(drive.rc, 0) << drive.out;
@@ -92,7 +92,7 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
 TEST(AssessmentE2E, AServerThatStopsWritesTheReport) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-assess-stop", {"--log-dir", dir}, dir);
-  const int64_t id = Create(dir, "cavity --timeout 30")["session"].get<int64_t>();
+  const int64_t id = Create(dir, "cavity")["session"].get<int64_t>();
   ASSERT_TRUE(Eventually([&] { return Status(dir, id)["sim_time"].get<double>() > 0.5; }, 30.0, [] { Sleep(0.05); }));
   EXPECT_EQ(daemon.Stop(SIGTERM), 0);
   const assessment::Report r = ReadReport(dir + "/session-" + std::to_string(id) + ".assessment.json");
