@@ -146,7 +146,7 @@ class Session {
   // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
   // a thread that low, preempted while holding a lock, could hold it for a long time.
   mutable std::mutex status_mutex_;  // guards status_, last_error_, frames_seen_
-  viscera_proto::session_status_t status_;
+  viscera_proto::session_status_t status_{};  // zeroed: Status() may run before the first publish
   mutable std::string last_error_;  // Status() folds the render thread's new problems in
   mutable FrameStreamReport frames_seen_;  // the last report Status() could read
   mutable std::mutex camera_mutex_;        // I/O and render threads only
