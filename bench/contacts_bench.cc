@@ -21,6 +21,11 @@
 //                              sub-step length; one iteration = the whole 5.5 s gesture. Counters
 //                              add p99_us (per step, thread CPU time), deepest_pct_r (deepest
 //                              pair at any step, % of the radius) and peak_force (N, on the hand).
+//   BM_CavityMesentery/term:T  scenes/cavity_mesentery.toml settled, then one iteration = one
+//                              step (T = 0) or only the mesentery's force term with its
+//                              stiffness and damping blocks (T = 1, every tether taut: the
+//                              term's worst case), 2 sub-steps each as the scene runs it:
+//                              their ratio is the term's share of a step.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -30,6 +35,7 @@
 #include "common/clock.h"
 #include "common/quantile.h"
 #include "mechanics/implicit_euler.h"
+#include "mechanics/mesentery_forces.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
 #include "script/scripted_tools.h"
@@ -93,6 +99,8 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   bench.counters["self"] = static_cast<double>(tally.self_contacts) / steps;
   bench.counters["env"] = static_cast<double>(tally.environment_contacts) / steps;
   bench.counters["resets"] = static_cast<double>(resets);
+  // Broad-phase searches per step (the Verlet list's rebuilds; since the workspace was made).
+  if (workspace.interactions()) bench.counters["searches_per_step"] = static_cast<double>(workspace.interactions()->searches()) / steps;
   if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
     // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
     bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
@@ -179,6 +187,28 @@ void BM_CavityClearing(benchmark::State& bench) {
   bench.counters["peak_force"] = peak;
 }
 
+void BM_CavityMesentery(benchmark::State& bench) {
+  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
+  const Model model(scene.model);
+  Workspace workspace(model);
+  State state = InitialState(model);
+  if (bench.range(0) == 0) {
+    for (auto _ : bench) Step(model, {}, &state, &workspace);
+    return;
+  }
+  // every tether taut: slack lengths shortened below the settled distances
+  std::vector<Tether> tethers = model.tethers();
+  for (Tether& t : tethers) t.length = 0.5 * (Model::Evaluate(t.at, state.q) - t.root).norm();
+  Points f = Points::Zero(model.num_points(), 3);
+  BlockBand k(model.num_points()), d(model.num_points());
+  for (auto _ : bench) {
+    for (int sub = 0; sub < model.params().substeps; ++sub) {
+      benchmark::DoNotOptimize(AddMesenteryForces(tethers, state.q, state.qd, &f, &k, &d));
+    }
+    benchmark::ClobberMemory();
+  }
+}
+
 void Sizes(benchmark::internal::Benchmark* b) {
   for (int self : {1, 0}) {
     for (int n : {50, 125, 250, 500, 1000}) b->Args({n, self});
@@ -187,6 +217,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_FallWhole)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FallSettled)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CavityMesentery)->Arg(0)->Arg(1)->ArgNames({"term"})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CavityClearing)->Arg(100)->Arg(1000)->ArgNames({"rate"})->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace

@@ -18,6 +18,11 @@ std::string StateName(int8_t state) {
 }
 
 nlohmann::ordered_json StatusToJson(const session_status_t& s) {
+  // the targets' exposure (the full assessment: viscera report)
+  nlohmann::ordered_json targets = nlohmann::ordered_json::object();
+  for (size_t i = 0; i < static_cast<size_t>(s.num_targets) && i < s.target_exposed.size(); ++i) {
+    targets[s.target_names[i]] = s.target_exposed[i];
+  }
   return {{"session", s.header.session_id},
           {"server_id", s.server_id},
           {"scene", s.scene},
@@ -41,6 +46,7 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"lease_left_s", s.lease_left_s},
           {"recoveries", s.recoveries},
           {"idle_events", s.idle_events},
+          {"target_exposed", targets},
           {"frames", {{"skin", s.skin},
                       {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},
                       {"rate_hz", s.achieved_frame_rate_hz},

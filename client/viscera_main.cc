@@ -29,6 +29,7 @@
 #include "client/haptic_command.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
+#include "assessment/status_report.h"
 #include "client/status_format.h"
 #include "client/keep_alive.h"
 #include "client/token_store.h"
@@ -152,6 +153,9 @@ struct CreateOptions {
   double frame_rate_hz = 0.0;
   int jpeg_quality = 0;
   double listen_s = 1.2;  ///< heartbeats heard before placing (s)
+  /// Seconds to wait for the create's answer once a server was heard: the server answers
+  /// when the scene is built, at low priority, which takes seconds on a busy machine.
+  double build_timeout_s = 60.0;
 };
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
@@ -196,8 +200,15 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   request.frame_height = o.height;
   request.frame_rate_hz = o.frame_rate_hz;
   request.jpeg_quality = o.jpeg_quality;
-  const auto replies = client.Request(request, c.timeout_s);
-  if (replies.empty()) return NoServer(c, url, "the create request");
+  const double wait_s = std::max(c.timeout_s, o.build_timeout_s);
+  const auto replies = client.Request(request, wait_s);
+  if (replies.empty()) {
+    std::fprintf(stderr,
+                 "viscera: server '%s' did not answer the create request within %g s (it was heard: "
+                 "has it stopped, or is its scene build still running? --build-timeout)\n",
+                 server_id.c_str(), wait_s);
+    return kNoServer;
+  }
   const session_reply_t& reply = replies.front();
   if (reply.result != session_reply_t::kOk) return ReplyError(reply, 0);
   const int64_t id = reply.header.session_id;
@@ -315,6 +326,41 @@ int RunStatus(const std::string& url, const Common& c, const StatusOptions& o) {
       std::fprintf(stderr, "viscera: session %lld went silent\n", static_cast<long long>(o.id));
       return kNoServer;
     }
+  }
+  return 0;
+}
+
+// The session's assessment (docs/assessment.md) from its status: now, or with --final the one
+// its last status carries when it ends (the same as the JSON the server writes by its record).
+int RunReport(const std::string& url, const Common& c, int64_t id, bool final_only) {
+  viscera::client::SessionClient client(url, LoadAuth(c));
+  viscera_proto::session_status_t status;
+  if (const int rc = FetchStatus(client, url, c, id, &status); rc != 0) return rc;
+  if (final_only) {
+    bool ended = false;
+    auto last = std::chrono::steady_clock::now();
+    client.bus().Subscribe<viscera_proto::session_status_t>(
+        viscera::bus::SessionChannel(viscera::bus::kStatusPrefix, id),
+        [&](const viscera_proto::session_status_t& s, int64_t) {
+          last = std::chrono::steady_clock::now();
+          if (ended) return;
+          status = s;
+          ended = s.state == viscera_proto::session_status_t::kStopped ||
+                  s.state == viscera_proto::session_status_t::kFaulted;
+        });
+    while (!ended) {
+      client.bus().Pump(100);
+      if (std::chrono::steady_clock::now() - last > std::chrono::duration<double>(std::max(c.timeout_s, 2.0))) {
+        std::fprintf(stderr, "viscera: session %lld went silent before it ended\n", static_cast<long long>(id));
+        return kNoServer;
+      }
+    }
+  }
+  const viscera::assessment::Report report = viscera::assessment::ReportFromStatus(status);
+  if (c.json) {
+    std::cout << viscera::assessment::ToJson(report).dump(2) << "\n";
+  } else {
+    std::cout << viscera::assessment::FormatReport(report);
   }
   return 0;
 }
@@ -492,6 +538,10 @@ int main(int argc, char** argv) {
                      "Seconds to hear heartbeats before choosing a server")
       ->check(CLI::Range(0.05, 60.0))
       ->capture_default_str();
+  create->add_option("--build-timeout", create_options.build_timeout_s,
+                     "Seconds to wait for the heard server to build the scene and answer")
+      ->check(CLI::Range(0.1, 3600.0))
+      ->capture_default_str();
   create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
       ->check(CLI::Range(1.0, 10000.0));
   create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");
@@ -513,6 +563,13 @@ int main(int argc, char** argv) {
   status->add_option("id", status_options.id, "Session id")->required();
   status->add_flag("--watch", status_options.watch, "Print every status until the session stops");
   status->add_option("--count", status_options.count, "With --watch: stop after N statuses");
+
+  int64_t report_id = 0;
+  bool report_final = false;
+  CLI::App* report = app.add_subcommand("report", "Assessment of a session: handling metrics and target exposure");
+  add_common(report);
+  report->add_option("id", report_id, "Session id")->required();
+  report->add_flag("--final", report_final, "Wait for the session to end and print its final assessment");
 
   DriveCli drive_options;
   CLI::App* drive = app.add_subcommand("drive", "Drive a session's tool along a path");
@@ -603,6 +660,7 @@ int main(int argc, char** argv) {
     if (create->parsed()) return RunCreate(url, common, create_options);
     if (list->parsed()) return RunList(url, common);
     if (status->parsed()) return RunStatus(url, common, status_options);
+    if (report->parsed()) return RunReport(url, common, report_id, report_final);
     if (drive->parsed()) return RunDrive(url, common, drive_options);
     if (haptic->parsed()) return RunHapticCli(url, common, haptic_options);
     if (camera->parsed()) {

@@ -16,6 +16,7 @@
 #include "common/clock.h"
 #include "common/quantile.h"
 #include "common/rate_window.h"
+#include "server/session_view.h"
 #include "render/laparoscope.h"
 #include "server/frame_schedule.h"
 #include "server/idle_priority.h"
@@ -150,9 +151,7 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
     const session::CameraPose pose = session_->camera();
     if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot()) {
       if (!have_framing) {
-        framing = render::FramingLaparoscope(snapshot->q.colwise().minCoeff().transpose(),
-                                             snapshot->q.colwise().maxCoeff().transpose(),
-                                             renderer.width(), renderer.height());
+        framing = FirstFraming(snapshot->q, renderer.width(), renderer.height());
         have_framing = true;
       }
       // nothing moved and the camera stayed: send the same picture again, it costs nothing
@@ -161,9 +160,7 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
       bool ok = true;
       if (!unchanged) {
         try {
-          renderer.Render(snapshot->q, snapshot->tools,
-                          pose.set_by_client ? render::LookAtLaparoscope(pose.eye, pose.target, pose.up, pose.fov_deg)
-                                             : framing);
+          renderer.Render(snapshot->q, snapshot->tools, SessionScope(pose, framing));
           const std::vector<uint8_t>& jpeg = renderer.Encode();
           frame.data.assign(jpeg.begin(), jpeg.end());
           frame.size = static_cast<int32_t>(frame.data.size());

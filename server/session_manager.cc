@@ -141,6 +141,7 @@ void SessionManager::StopAll() {
   pending_.clear();
   for (auto& [id, running] : sessions_) {
     if (running.frames != nullptr) running.frames->RequestStop();  // all at once, then wait
+    if (running.exposure != nullptr) running.exposure->RequestStop();
   }
   for (auto& [id, running] : sessions_) running.session->Stop();
   sessions_.clear();  // each render thread ends before its session is destroyed
@@ -198,6 +199,7 @@ double SessionManager::FrameLoadMpix() const {
 viscera_proto::session_status_t SessionManager::Retire(int64_t id) {
   const auto it = sessions_.find(id);
   if (it->second.frames != nullptr) it->second.frames->RequestStop();
+  if (it->second.exposure != nullptr) it->second.exposure->RequestStop();
   it->second.session->Stop();
   viscera_proto::session_status_t status = it->second.session->Status();
   retiring_.push_back(std::move(it->second));  // its render thread may be mid-frame
@@ -451,7 +453,9 @@ void SessionManager::Create(const session_request_t& request) {
 
 void SessionManager::Poll() {
   ExpireLeases();
-  std::erase_if(retiring_, [](const Running& r) { return r.frames == nullptr || r.frames->finished(); });
+  std::erase_if(retiring_, [](const Running& r) {
+    return (r.frames == nullptr || r.frames->finished()) && (r.exposure == nullptr || r.exposure->finished());
+  });
   for (size_t i = 0; i < pending_.size();) {
     PendingCreate& p = pending_[i];
     if (p.scene.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
@@ -537,6 +541,12 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   if (frames.rate_hz > 0.0) {
     running.frames = std::make_unique<FrameStreamer>(session, frame_bus_, frames);
     running.frames->Start();
+  }
+  if (!scene.model->params().task.targets.empty()) {
+    // the exposure counts what the frames show: the same camera, framed for the same size
+    running.exposure = std::make_unique<ExposureWatcher>(
+        session, ExposureWatchConfig{frames.options.width, frames.options.height});
+    running.exposure->Start();
   }
   num_sessions_ = static_cast<int>(sessions_.size());
   std::string message;

@@ -17,6 +17,7 @@
 
 #include "bus/lcm_bus.h"
 #include "bus/replay_guard.h"
+#include "server/exposure_watcher.h"
 #include "server/frame_streamer.h"
 #include "server/peer_directory.h"
 #include "server/server_config.h"
@@ -114,6 +115,7 @@ class SessionManager {
   struct Running {
     std::unique_ptr<session::Session> session;
     std::unique_ptr<FrameStreamer> frames;
+    std::unique_ptr<ExposureWatcher> exposure;  // scenes with [[target]]; ends before the session
     double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
   };
 

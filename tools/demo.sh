@@ -59,6 +59,8 @@ cat "$demo/record.txt"
 echo "== a few frames of the scene after the gesture"
 viscera frames "$id" --out "$demo/frames" --count 5
 viscera status "$id"
+echo "== the assessment so far: handling metrics and the lesion's exposure (docs/assessment.md)"
+viscera report "$id"
 
 echo "== the haptic device bridge: a simulated hand follows the gesture's start at 1 kHz and feels the force"
 viscera haptic "$id" --tool left --device sim --script "$root/scenes/clearing.csv" --seconds 4 --quiet \
@@ -72,4 +74,5 @@ wait $server
 trap - EXIT
 tail -n 2 "$root/out/viscerad.log"
 echo "== record: $(ls -1 "$records"/session-"$id".lcmlog) (lcm-logplayer reads it)"
+echo "== assessment: $(ls -1 "$records"/session-"$id".assessment.json) (written when the session ended)"
 echo "== video: $demo/clearing.mp4, frames: $demo/frames/"

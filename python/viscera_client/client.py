@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import viscera_proto
 from viscera_proto import session_reply_t, session_request_t
 
+from .assessment import report_from_status
 from .auth import MessageAuth
 from .bus import Bus, make_header
 from .directory import observe, pick_server
@@ -152,8 +153,12 @@ class Client:
 
     def create(self, scene=None, scene_toml=None, server=None, rate_hz=0.0,
                frame_rate_hz=-1.0, skeleton_rate_hz=-1.0, frame_width=0, frame_height=0,
-               skin="", jpeg_quality=0, timeout_s=5.0, servers=None):
+               skin="", jpeg_quality=0, timeout_s=5.0, servers=None, build_timeout_s=60.0):
         """Starts a session and returns its SessionHandle.
+
+        `timeout_s` bounds hearing servers; the answer is awaited up to the longer of it and
+        `build_timeout_s`: the server answers once the scene is built, at low priority, which
+        takes seconds on a busy machine.
 
         `server` names the server; otherwise the least loaded server with room among
         `servers` (a list of ServerInfo; heard now when None) is asked. Frames and skeleton
@@ -180,7 +185,7 @@ class Client:
         r.frame_width, r.frame_height = int(frame_width), int(frame_height)
         r.skin = skin
         r.jpeg_quality = int(jpeg_quality)
-        reply = self._answer(r, timeout_s, f"the create on {server}")
+        reply = self._answer(r, max(timeout_s, build_timeout_s), f"the create on {server}")
         status = reply.sessions[0] if reply.num_sessions > 0 else None
         return SessionHandle(
             session_id=reply.header.session_id, token=bytes(reply.header.token),
@@ -213,6 +218,10 @@ class Client:
         reply = self._answer(self.make_request(session_request_t.kStatus, session_id), timeout_s,
                              f"the status of session {session_id}")
         return reply.sessions[0]
+
+    def report(self, session_id, timeout_s=2.0):
+        """The session's assessment so far (docs/assessment.md), as `viscera report --json`."""
+        return report_from_status(self.status(session_id, timeout_s))
 
     def list(self, timeout_s=2.0):
         """The status of every session of every server that answers."""

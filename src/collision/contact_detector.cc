@@ -33,8 +33,7 @@ void ContactDetector::Detect(const std::vector<Sphere>& spheres, const std::vect
   }
   for (int i = 0; i < n; ++i) {
     for (size_t o = 0; o < obstacles.size(); ++o) {
-      Vec3 normal;
-      if (SignedDistance(obstacles[o], spheres[i].centre, &normal) < radius_ + extra) {
+      if (SignedDistance(obstacles[o], spheres[i].centre) < radius_ + extra) {
         out->push_back({ContactKind::kEnvironment, i, static_cast<int>(o)});
       }
     }

@@ -146,6 +146,12 @@ double MeshSdf::Interpolate(const Vec3& p) const {
   return lerp(lerp(c00, c10, fy), lerp(c01, c11, fy), fz);
 }
 
+double MeshSdf::Distance(const Vec3& p) const {
+  const Vec3 hi = origin_ + cell_ * Vec3(nx_ - 1, ny_ - 1, nz_ - 1);
+  const Vec3 clamped = p.cwiseMax(origin_).cwiseMin(hi);
+  return Interpolate(clamped) + (p - clamped).norm();
+}
+
 double MeshSdf::Distance(const Vec3& p, Vec3* normal) const {
   // Outside the grid box, add the distance to the box (the field is valid on the box surface).
   const Vec3 hi = origin_ + cell_ * Vec3(nx_ - 1, ny_ - 1, nz_ - 1);

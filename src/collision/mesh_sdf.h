@@ -23,6 +23,8 @@ class MeshSdf {
   /// Signed distance (positive outside the solid) and outward normal (the field's gradient).
   /// Far outside the grid, the distance to the grid box is added.
   double Distance(const Vec3& p, Vec3* normal) const;
+  /// The distance alone: one interpolation rather than seven (the broad phase's query).
+  double Distance(const Vec3& p) const;
 
   int triangles() const { return static_cast<int>(faces_.rows()); }
   /// The mesh the field was built from, scaled and placed (#V by 3, m), for rendering.

@@ -75,4 +75,10 @@ double SignedDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
   return -d;
 }
 
+double SignedDistance(const Obstacle& o, const Vec3& p) {
+  if (o.kind == ObstacleKind::kMesh) return o.inside ? -o.sdf->Distance(p) : o.sdf->Distance(p);
+  Vec3 normal;
+  return SignedDistance(o, p, &normal);
+}
+
 }  // namespace viscera::collision

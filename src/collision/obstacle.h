@@ -33,5 +33,7 @@ struct Obstacle {
 /// points toward free space. For the ellipsoid the distance is a first-order estimate, exact on
 /// the surface and at the centre.
 double SignedDistance(const Obstacle& o, const Vec3& p, Vec3* normal);
+/// The same distance without the normal, cheaper for a mesh (the broad phase's query).
+double SignedDistance(const Obstacle& o, const Vec3& p);
 
 }  // namespace viscera::collision

@@ -3,10 +3,8 @@
 #include <algorithm>
 
 namespace viscera::mechanics {
-namespace {
 
-// Adds w_a w_b h to the window's blocks (the Hessian of a function of P(s) = sum_a w_a q_a).
-void AddWindowOuter(const CurvePoint& at, const Mat3& h, BlockBand* m) {
+void AddCurvePointOuter(const CurvePoint& at, const Mat3& h, BlockBand* m) {
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
       const double wab = at.w(a) * at.w(b);
@@ -14,8 +12,6 @@ void AddWindowOuter(const CurvePoint& at, const Mat3& h, BlockBand* m) {
     }
   }
 }
-
-}  // namespace
 
 double AddAttachmentForces(std::span<const Attachment> attachments, const Points& q, const Points& qd,
                            Points* F, BlockBand* K, BlockBand* D) {
@@ -39,8 +35,8 @@ double AddAttachmentForces(std::span<const Attachment> attachments, const Points
       h = att.stiffness * (ttT + std::max(0.0, 1.0 - att.rest_length / l) * (Mat3::Identity() - ttT));
     }
     for (int a = 0; a < 4; ++a) F->row(att.at.first + a) += att.at.w(a) * f.transpose();
-    if (K) AddWindowOuter(att.at, h, K);
-    if (D && att.damping > 0.0) AddWindowOuter(att.at, att.damping * Mat3::Identity(), D);
+    if (K) AddCurvePointOuter(att.at, h, K);
+    if (D && att.damping > 0.0) AddCurvePointOuter(att.at, att.damping * Mat3::Identity(), D);
   }
   return energy;
 }

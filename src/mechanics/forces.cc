@@ -2,6 +2,7 @@
 
 #include "mechanics/attachment_forces.h"
 #include "mechanics/interactions.h"
+#include "mechanics/mesentery_forces.h"
 #include "mechanics/spring_forces.h"
 
 namespace viscera::mechanics {
@@ -49,6 +50,7 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
   const double e_continuous = AddStretchingForces(model, q, scratch, F, K, jac ? &jac->rank1_u : nullptr,
                                                   jac ? &jac->rank1_coeff : nullptr);
   const double e_attachment = AddAttachmentForces(model.attachments(), q, qd, F, K, D);
+  const double e_mesentery = AddMesenteryForces(model.tethers(), q, qd, F, K, D);
   for (const PointLoad& load : loads) model.curve().AddForce(load.s, load.force, F);
   const double e_contact = interactions ? interactions->AddForces(q, qd, F, K, D) : 0.0;
 
@@ -57,6 +59,7 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
     energies->bend = e_bend;
     energies->continuous = e_continuous;
     energies->attachment = e_attachment;
+    energies->mesentery = e_mesentery;
     energies->contact = e_contact;
   }
 }

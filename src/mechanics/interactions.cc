@@ -33,10 +33,30 @@ int SelfSkip(const collision::SphereChain& chain) {
   return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
 }
 
+// The contact law's stiffening: linear (k) up to impact_depth (fraction of R), then
+// f = k d + s (d - d1)^2 with s such that the slope reaches kStiffening k at 10 % of R. Its energy
+// k d^2 / 2 + s (d - d1)^3 / 3 is the force's integral, so it stores what it takes and returns it.
+constexpr double kStiffening = 100.0;
+constexpr double kDepthGoal = 0.10;  // fraction of R
+
 // Series stiffness of the coupling and a contact: what the hand feels through the tool.
 double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
 
 }  // namespace
+
+Interactions::Law Interactions::ContactLaw(ContactKind kind, double depth) const {
+  const ContactParams& cp = model_.params().contacts;
+  Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
+  const double d1 = cp.impact_depth * radius_;
+  // A tool's depth is the force the hand renders (docs/contacts.md, "Local stiffness"): linear.
+  if (kind == ContactKind::kTool || !(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
+  const double s = (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
+  const double e = depth - d1;
+  law.force += s * e * e;
+  law.slope += 2.0 * s * e;
+  law.energy += s * e * e * e / 3.0;
+  return law;
+}
 
 bool Interactions::Needed(const Model& model) {
   const ModelParams& p = model.params();
@@ -49,7 +69,8 @@ Interactions::Interactions(const Model& model)
       margin_(Margin(model)),
       chain_(model.curve(), model.params().length, model.params().radius),
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)),
-                  kVerletSkin * radius_) {
+                  kVerletSkin * radius_),
+      impacts_(model, chain_.size()) {
   const size_t tools = model.params().tools.size();
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
@@ -64,6 +85,7 @@ Interactions::Interactions(const Model& model)
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
   Configure(model.params().initial_q, true);
 }
@@ -190,7 +212,7 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
   if (p.depth <= 0.0 && !speculative) return p;
   // Penalty spring and damping along the normal, regularized Coulomb friction.
-  const double fn = cp.stiffness * p.depth - cp.damping * vn;
+  const double fn = (p.depth > 0.0 ? ContactLaw(c.kind, p.depth).force : cp.stiffness * p.depth) - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
   const Vec3 vt = relative - vn * p.normal;
   const double friction = cp.friction * std::max(fn, 0.0);
@@ -218,7 +240,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (p.depth > 0.0) energy += 0.5 * cp.stiffness * p.depth * p.depth;
+    if (p.depth > 0.0) energy += ContactLaw(c.kind, p.depth).energy;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
@@ -226,7 +248,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
-    const Mat3 kn = cp.stiffness * nn;
+    const Mat3 kn = (p.depth > 0.0 ? ContactLaw(c.kind, p.depth).slope : cp.stiffness) * nn;
     const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
@@ -311,12 +333,15 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   GatherVelocities(qd);
   EnsureGeometry();
   tip_contacts_.clear();
+  ts->tissue_force.setZero();
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (p.active) tip_contacts_.push_back({-p.lever * p.force, p.lever * p.normal});
+    if (!p.active) continue;
+    tip_contacts_.push_back({-p.lever * p.force, p.lever * p.normal});
+    ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
   }
   Vec3 grasp_force = Vec3::Zero();
   double grasp_k = 0.0;
@@ -326,6 +351,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     // tip): with the point as it was, the spring lagged the tube by one sub-step, v h, and the
     // hand felt k v h more while lifting at larger steps (15 % at 100 Hz).
     grasp_force = -grasp_k * (GraspStretch(index, q) - h * Model::Evaluate(grasp_at_[index], qd));
+    ts->tissue_force -= grasp_force;  // the spring pulls the tube as it pulls the jaws
   }
   // Virtual coupling to the target, which moves from where it was at the start of the sub-step
   // to where it is at its end; the tool's own weight is not simulated (not felt). The tip runs
@@ -422,7 +448,74 @@ double Interactions::CandidateMargin(const State& state, double h) const {
   return margin_ + 2.0 * h * (std::sqrt(speed) + tool_speed);
 }
 
-int Interactions::RequiredSubsteps(const State& state) {
+void Interactions::LimitImpacts(double h, Points* u, Points* v) {
+  const double allowed = model_.params().contacts.impact_depth * radius_;
+  if (!(allowed > 0.0)) return;
+  // Impacts are closing faster than the linear law stops within 2 x `allowed` (a sphere's own
+  // mass against k; 0.5 m/s with the defaults). Slower pairs (a tool pressing loops together,
+  // a pile settling) are the penalty's: with half that, the clearing gesture's 1 kHz reference
+  // carried its loop with 1 % less force, so impulses were absorbing what the hand should feel.
+  if (impact_speed_ < 0.0) {
+    const double sphere_mass = model_.params().mass * chain_.spacing() / model_.params().length;
+    impact_speed_ = 2.0 * allowed * std::sqrt(model_.params().contacts.stiffness / sphere_mass);
+  }
+  EnsureGeometry();
+  const auto& list = candidates();
+  // The set of contacts grows until the impulses on it leave no other contact too fast: an
+  // impulse can drive a sphere into a contact that was not closing before. Each round solves
+  // the whole set again from the velocities before any impulse, so the result is the set's
+  // exact (dissipative) solution.
+  constexpr int kMaxRounds = 8;
+  impact_set_.clear();
+  in_impact_set_.assign(list.size(), 0);  // grows with the list's high-water mark only
+  impacts_.Reset();
+  for (int round = 0; round < kMaxRounds; ++round) {
+    GatherVelocities(*u);
+    bool grew = false;
+    for (size_t i = 0; i < list.size(); ++i) {
+      // Tools are left to their coupling: their depth is what the hand feels, and the tip is
+      // integrated against its contacts so it cannot tunnel (docs/contacts.md, "Tools").
+      if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
+      const Penalty& p = geometry_[i];
+      const double un = (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
+      // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
+      // Slower pairs are the penalty's (the law stops them within `allowed`): a tool pressing
+      // loops together is felt through the contacts' springs, not absorbed by impulses.
+      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9 || -un < impact_speed_) continue;
+      in_impact_set_[i] = 1;
+      impact_set_.push_back(static_cast<int>(i));
+      grew = true;
+    }
+    if (!grew) return;
+    if (round == 0) {
+      impact_u0_ = *u;  // same size after the first: no allocation
+      if (v) impact_v0_ = *v;
+    } else {
+      *u = impact_u0_;
+      if (v) *v = impact_v0_;
+      GatherVelocities(*u);
+    }
+    impact_contacts_.clear();
+    for (int i : impact_set_) {
+      const ContactCandidate& c = list[i];
+      const Penalty& p = geometry_[i];
+      const Vec3 other = OtherVelocity(c, p.lever);
+      const double un = (sphere_velocity_[c.a] - other).dot(p.normal);
+      // The velocity whose kinetic energy counts (the step's end), when it is not u itself.
+      double vn = un;
+      if (v) {
+        const Vec3 vb = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, *v) : other;
+        vn = (SphereVelocity(c.a, *v) - vb).dot(p.normal);
+      }
+      impact_contacts_.push_back({c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un,
+                                  std::min(0.0, (p.depth - allowed) / h), vn});
+    }
+    impacts_.Apply(impact_contacts_, chain_, u, v);
+  }
+}
+
+int Interactions::RequiredSubsteps(State* state_in) {
+  const State& state = *state_in;
   const int base = model_.params().substeps;
   const double h = model_.step_size();
   Configure(state.q, true);  // usually as EndStep left it: nothing to redo
@@ -430,6 +523,8 @@ int Interactions::RequiredSubsteps(const State& state) {
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin);
   EnsureGeometry();
+  LimitImpacts(h, &state_in->qd, nullptr);
+  GatherVelocities(state.qd);
   substep_ = 0;
   double closing = 0.0;
   const auto& list = candidates();
@@ -465,12 +560,14 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   const double margin = CandidateMargin(*state, h);
   if (!candidates_fresh_) UpdateCandidates(margin);
   candidates_fresh_ = false;
-  if (state->tools.empty()) return;
-  // Tools move against the candidates of their current pose; then find those of the new one.
-  for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
-  substep_ = std::min(substep_ + 1, substeps_ - 1);
-  UpdateCandidates(margin);
-  RefreshToolGeometry();
+  if (!state->tools.empty()) {
+    // Tools move against the candidates of their current pose; then find those of the new one.
+    for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
+    substep_ = std::min(substep_ + 1, substeps_ - 1);
+    UpdateCandidates(margin);
+    RefreshToolGeometry();
+  }
+  LimitImpacts(h, &state->qd, nullptr);
 }
 
 void Interactions::ReleaseHeldSpheres() {

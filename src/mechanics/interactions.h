@@ -11,6 +11,7 @@
 #include "collision/sphere_chain.h"
 #include "collision/verlet_list.h"
 #include "mechanics/block_band.h"
+#include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
 
@@ -25,8 +26,9 @@ class Interactions {
 
   /// Sub-steps this step needs so that no pair closes in by more than a fifth of the radius per
   /// sub-step (an impact found a sub-step late would start its penalty spring compressed,
-  /// creating energy): at least the model's, at most kMaxSubsteps.
-  int RequiredSubsteps(const State& state);
+  /// creating energy): at least the model's, at most kMaxSubsteps. First limits the impacts over
+  /// the whole step (LimitImpacts), so that a landing needs few sub-steps.
+  int RequiredSubsteps(State* state);
   static constexpr int kMaxSubsteps = 32;
 
   /// At the start of a sub-step: takes new targets (empty: keep the last), advances the tools
@@ -69,6 +71,11 @@ class Interactions {
     double clearance = 0.0;     // signed distance beyond contact (m)
     double lever = 1.0;         // tool contacts: fraction along the shaft from the port
   };
+  // The penalty law at a penetration depth > 0: force (N), slope (N/m), stored energy (J).
+  struct Law {
+    double force, slope, energy;
+  };
+  Law ContactLaw(collision::ContactKind kind, double depth) const;
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
   Penalty Geometry(const collision::ContactCandidate& c) const;
@@ -94,6 +101,10 @@ class Interactions {
   // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
   void EnsureGeometry();
   void RefreshToolGeometry();
+  // Inelastic impulses on the pairs that would end the next h deeper than
+  // contacts.impact_depth moving at u (docs/contacts.md, "Impacts"): u changes, and so does v
+  // (if given: the velocity whose kinetic energy counts) by the same impulses.
+  void LimitImpacts(double h, Points* u, Points* v);
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
@@ -145,6 +156,12 @@ class Interactions {
     Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };
   std::vector<PairCoupling> pairs_;
+  ImpactLimiter impacts_;
+  std::vector<ImpactLimiter::Contact> impact_contacts_;
+  std::vector<int> impact_set_;     // candidates in the impulse solve
+  std::vector<char> in_impact_set_;
+  Points impact_u0_, impact_v0_;    // velocities before the impulses
+  double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
   // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
   // sub-step and the contact normal times the lever (the tip moving along it presses deeper).
   struct TipContact {

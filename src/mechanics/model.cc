@@ -17,6 +17,24 @@ void RequireNonNegative(const char* name, double value) {
   ThrowUnless(std::isfinite(value) && value >= 0.0, name, " = ", value, ": must be a finite number >= 0");
 }
 
+void ValidateMesentery(const MesenteryParams& m) {
+  ThrowUnless(m.root_start.allFinite() && m.root_end.allFinite(), "mesentery.root_start, root_end must be finite");
+  RequirePositive("mesentery.stiffness", m.stiffness);
+  RequireNonNegative("mesentery.damping", m.damping);
+  RequireNonNegative("mesentery.onset", m.onset);
+  RequireNonNegative("mesentery extra slack", m.extra_slack);
+  ThrowUnless(m.tethers == 0 || m.tethers >= 2, "mesentery.tethers = ", m.tethers, ": must be 0 (one per control point) or >= 2");
+  ThrowUnless(m.lengths.size() >= 2, "mesentery.lengths: need at least two [s, length] pairs, from s = 0 to s = 1");
+  ThrowUnless(m.lengths.front().first == 0.0 && m.lengths.back().first == 1.0, "mesentery.lengths: s must run from 0 to 1, got ",
+              m.lengths.front().first, " to ", m.lengths.back().first);
+  for (size_t i = 0; i < m.lengths.size(); ++i) {
+    const auto [s, l] = m.lengths[i];
+    ThrowUnless(std::isfinite(l) && l > 0.0, "mesentery.lengths: length ", l, " at s = ", s, ": must be a finite number > 0");
+    ThrowUnless(i == 0 || s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s, " after s = ", m.lengths[i - 1].first,
+                ": s must increase");
+  }
+}
+
 void Validate(const ModelParams& p) {
   RequirePositive("simulation.rate_hz", p.rate_hz);
   ThrowUnless(p.substeps >= 1, "simulation.substeps = ", p.substeps, ": must be >= 1");
@@ -45,6 +63,12 @@ void Validate(const ModelParams& p) {
     RequireNonNegative("attachment.stiffness", a.stiffness);
     RequireNonNegative("attachment.damping", a.damping);
     RequireNonNegative("attachment.rest_length", a.rest_length);
+  }
+  if (p.mesentery) {
+    ValidateMesentery(*p.mesentery);
+    // more tethers than that add nothing (each one acts through a window of 4 control points)
+    ThrowUnless(p.mesentery->tethers <= 4 * p.initial_q.rows(), "mesentery.tethers = ", p.mesentery->tethers,
+                ": at most 4 per control point (", 4 * p.initial_q.rows(), ")");
   }
 }
 
@@ -82,6 +106,30 @@ Model::Model(ModelParams params)
     attachments_.push_back(att);
   }
   BuildPins();
+  BuildTethers();
+}
+
+void Model::BuildTethers() {
+  if (!params_.mesentery) return;
+  const MesenteryParams& m = *params_.mesentery;
+  const int count = m.tethers > 0 ? m.tethers : num_points();
+  for (int k = 0; k < count; ++k) {
+    const double s = static_cast<double>(k) / (count - 1);
+    // each tether holds its share of the tube (trapezoid rule: half at the ends)
+    const double share = params_.length / (count - 1) * (k == 0 || k == count - 1 ? 0.5 : 1.0);
+    size_t j = 1;
+    while (j + 1 < m.lengths.size() && m.lengths[j].first < s) ++j;
+    const auto [s0, l0] = m.lengths[j - 1];
+    const auto [s1, l1] = m.lengths[j];
+    Tether t;
+    t.at = MakeCurvePoint(s);
+    t.root = m.root_start + s * (m.root_end - m.root_start);
+    t.length = l0 + (s - s0) / (s1 - s0) * (l1 - l0) + m.extra_slack;
+    t.stiffness = m.stiffness * share;
+    t.damping = m.damping * share;
+    t.onset = m.onset;
+    tethers_.push_back(t);
+  }
 }
 
 void Model::BuildSprings() {

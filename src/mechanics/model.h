@@ -35,6 +35,16 @@ struct Attachment {
   double rest_length = 0.0;
 };
 
+/// One tether of the mesentery: from `root` to the curve point, slack up to `length`.
+struct Tether {
+  CurvePoint at;
+  Vec3 root = Vec3::Zero();  ///< m, world
+  double length = 0.0;       ///< slack length (m)
+  double stiffness = 0.0;    ///< N/m beyond the onset
+  double damping = 0.0;      ///< N s/m along the tether, when taut
+  double onset = 0.0;        ///< m of stretch over which the pull grows from 0 to stiffness
+};
+
 struct Pin {
   CurvePoint at;
   Vec3 position = Vec3::Zero();
@@ -64,6 +74,8 @@ class Model {
   const std::vector<Spring>& bend_springs() const { return bend_springs_; }
   const std::vector<Attachment>& attachments() const { return attachments_; }
   const std::vector<Pin>& pins() const { return pins_; }
+  /// The mesentery's tethers (empty without [mesentery]), in increasing s.
+  const std::vector<Tether>& tethers() const { return tethers_; }
 
   /// d b_{first+a} / du at the 4 Gauss-Legendre nodes of segment j: row = node, column = a.
   const Eigen::Matrix4d& NodeDerivatives(int segment) const;
@@ -84,6 +96,7 @@ class Model {
  private:
   void BuildSprings();
   void BuildPins();
+  void BuildTethers();
 
   ModelParams params_;
   spline::CatmullRom curve_;
@@ -93,6 +106,7 @@ class Model {
   std::vector<Spring> stretch_springs_, bend_springs_;
   std::vector<Attachment> attachments_;
   std::vector<Pin> pins_;
+  std::vector<Tether> tethers_;
   Eigen::Matrix4d node_dw_first_, node_dw_interior_, node_dw_last_;
   MatX pin_y_, pin_schur_inverse_;
   std::vector<std::string> warnings_;

@@ -2,10 +2,12 @@
 /// Plain, unvalidated description of an intestine model, in SI units. Model's constructor
 /// validates it. Scenes (src/scene) fill it from TOML.
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "collision/obstacle.h"
 #include "common/types.h"
+#include "mechanics/task_params.h"
 #include "mechanics/tool.h"
 
 namespace viscera::mechanics {
@@ -27,6 +29,25 @@ struct AttachmentParams {
   double rest_length = 0.0;       ///< m; 0 = zero-length spring
 };
 
+/// The mesentery ([mesentery]): a fan of one-sided tethers from a root line on the posterior wall
+/// to the whole intestine. The tether of curve parameter s runs from the root point
+/// root_start + s (root_end - root_start) to P(s); it is slack up to its length L(s) and pulls
+/// beyond (docs/mechanics.md, "Mesentery").
+struct MesenteryParams {
+  Vec3 root_start = Vec3::Zero();  ///< root's end at the duodenojejunal flexure (s = 0), m
+  Vec3 root_end = Vec3::Zero();    ///< root's end at the ileocecal junction (s = 1), m
+  /// Slack length profile: (s, L) pairs, s strictly increasing from 0 to 1, L > 0 (m);
+  /// L(s) is interpolated linearly between them.
+  std::vector<std::pair<double, double>> lengths;
+  double stiffness = 0.0;   ///< N/m per metre of tube (a tether gets it times its share of tube)
+  double damping = 0.0;     ///< N s/m per metre of tube, along a taut tether
+  double onset = 0.01;      ///< m: stretch d where the J-shaped pull k e^3 / (3 d^2) reaches stiffness k
+  int tethers = 0;          ///< tethers at equal steps of s; 0: one per control point
+  /// m added to every tether's length: a scene's settling starts with the tethers loose enough
+  /// for its starting pose and tightens them gradually (scene::Settle). 0 in a running scene.
+  double extra_slack = 0.0;
+};
+
 /// Penalty contacts of the sphere chain ([contacts]; France et al. 2005, section 3.5).
 struct ContactParams {
   bool self = false;        ///< self-contacts (scenes default to true)
@@ -37,6 +58,9 @@ struct ContactParams {
   /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own
   /// window (false: cheaper, but a pair moving together is dragged; docs/contacts.md).
   bool exact_pairs = true;
+  /// Fraction of the radius: a contact that would end a sub-step deeper than this at its current
+  /// speed is stopped there by an inelastic impulse (ImpactLimiter); 0 turns that off.
+  double impact_depth = 0.05;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.
@@ -66,12 +90,16 @@ struct ModelParams {
   double spring_damping = 0.0;    ///< along each spring (1/s), times the segment mass
   std::vector<double> pinned;     ///< curve parameters held where they start
   std::vector<AttachmentParams> attachments;
+  std::optional<MesenteryParams> mesentery;
 
   ContactParams contacts;
   std::vector<collision::Obstacle> obstacles;
 
   /// [[tool]]: laparoscopic tools, in this order in StepInputs::tools and State::tools.
   std::vector<ToolParams> tools;
+
+  /// [[target]] and [assessment]: the training task (not read by the mechanics).
+  TaskParams task;
 
   /// Starting control points (#N by 3, N >= 4).
   Points initial_q;

@@ -5,7 +5,7 @@ namespace viscera::mechanics {
 void Step(const Model& model, const StepInputs& inputs, State* state, Workspace* workspace) {
   Interactions* interactions = workspace->interactions();
   // Impacts get more sub-steps (never fewer than the scene asks for).
-  const int substeps = interactions ? interactions->RequiredSubsteps(*state) : model.params().substeps;
+  const int substeps = interactions ? interactions->RequiredSubsteps(state) : model.params().substeps;
   const double h = model.step_size() / substeps;
   for (int k = 0; k < substeps; ++k) {
     if (interactions) interactions->BeginSubstep(k == 0 ? inputs.tools : std::span<const ToolTarget>{}, h, state);

@@ -55,6 +55,9 @@ struct ToolState {
   Vec3 torque = Vec3::Zero();        ///< about the port (N m)
   Mat3 stiffness = Mat3::Zero();     ///< local dF/dx (N/m) for haptic interpolation between steps
   bool clamped = false;              ///< force was limited to max_force this step
+  /// Force the tool puts on the intestine (N): its contacts with the tube and its grasp spring,
+  /// as the last sub-step applied them (the assessment's tissue force; zero while idle).
+  Vec3 tissue_force = Vec3::Zero();
 };
 
 }  // namespace viscera::mechanics

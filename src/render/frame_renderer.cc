@@ -53,7 +53,7 @@ cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolSt
   // draw, and wait for llvmpipe to finish the frame
   begin = MonotonicNanos();
   context_.MakeCurrent();
-  scene_->Draw(mesh_, tools, matrices);
+  scene_->Draw(mesh_, tools, matrices, &q);
   cv::Mat frame = context_.Frame();
   timings_.render_ms = MillisSince(begin);
   return frame;

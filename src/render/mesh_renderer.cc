@@ -36,6 +36,7 @@ uniform float u_sheen;
 uniform float u_sheen_shininess;
 uniform float u_metallic;
 uniform float u_light_range;
+uniform float u_opacity;
 in vec3 v_position;
 in vec3 v_normal;
 out vec4 frag_colour;
@@ -53,7 +54,7 @@ void main() {
   vec3 highlight_colour = mix(vec3(1.0), u_albedo, u_metallic);
   vec3 colour = u_albedo * (u_ambient + (1.0 - u_ambient) * diffuse * light) +
                 highlight_colour * (highlight * light);
-  frag_colour = vec4(min(colour, vec3(1.0)), 1.0);
+  frag_colour = vec4(min(colour, vec3(1.0)), u_opacity);
 }
 )";
 
@@ -78,6 +79,7 @@ MeshRenderer::MeshRenderer() {
   u_sheen_shininess_ = program_->Uniform("u_sheen_shininess");
   u_metallic_ = program_->Uniform("u_metallic");
   u_light_range_ = program_->Uniform("u_light_range");
+  u_opacity_ = program_->Uniform("u_opacity");
   stream_ = std::make_unique<GpuMesh>();
 }
 
@@ -115,7 +117,14 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
   glUniform1f(u_sheen_shininess_, material.sheen_shininess);
   glUniform1f(u_metallic_, material.metallic);
   glUniform1f(u_light_range_, camera.light_range);
+  glUniform1f(u_opacity_, material.opacity);
   glEnable(GL_DEPTH_TEST);
+  const bool translucent = material.opacity < 1.0f;
+  if (translucent) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+  }
   if (faces == Faces::kBoth) {
     glDisable(GL_CULL_FACE);
   } else {
@@ -123,6 +132,10 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
     glCullFace(faces == Faces::kFront ? GL_BACK : GL_FRONT);
   }
   mesh.Draw();
+  if (translucent) {
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+  }
 
   const GLenum error = glGetError();
   if (error != GL_NO_ERROR) throw std::runtime_error(Cat("GL error 0x", std::hex, error, " in Draw"));

@@ -28,6 +28,9 @@ struct Material {
   float sheen_shininess = 6.0f;
   /// 0: white highlights (dielectric: tissue); 1: highlights tinted by the albedo (metal).
   float metallic = 0.0f;
+  /// < 1: a translucent film (the mesentery), blended over what was drawn before it and
+  /// not hiding what is drawn after (no depth write): draw it after the opaque meshes.
+  float opacity = 1.0f;
 };
 
 /// Which faces a draw keeps. Closed surfaces seen from outside keep front faces; the
@@ -78,7 +81,7 @@ class MeshRenderer {
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
   int u_view_ = -1, u_projection_ = -1, u_albedo_ = -1, u_ambient_ = -1, u_specular_ = -1,
       u_shininess_ = -1, u_sheen_ = -1, u_sheen_shininess_ = -1, u_metallic_ = -1,
-      u_light_range_ = -1;
+      u_light_range_ = -1, u_opacity_ = -1;
 };
 
 }  // namespace viscera::render

@@ -41,7 +41,10 @@ Palette DefaultPalette() {
   // wet tissue: a strong narrow highlight (the moist film) over a broad faint sheen
   p.intestine = Make({0.92f, 0.52f, 0.52f}, 0.12f, 0.60f, 80.0f, 0.12f, 5.0f);
   p.cavity_wall = Make({0.55f, 0.17f, 0.13f}, 0.10f, 0.30f, 40.0f, 0.04f, 4.0f);
+  p.mesentery = Make({0.95f, 0.80f, 0.62f}, 0.25f, 0.35f, 40.0f, 0.05f, 4.0f);
+  p.mesentery.opacity = 0.35f;
   p.tool = Make({0.62f, 0.64f, 0.68f}, 0.12f, 0.90f, 40.0f, 0.15f, 3.0f, 0.8f);
+  p.target = Make({0.10f, 0.95f, 0.25f}, 0.60f, 0.0f, 1.0f);
   p.named_organs = {
       {"liver", Make({0.40f, 0.13f, 0.18f}, 0.10f, 0.50f, 60.0f, 0.06f, 5.0f)},
       {"spleen", Make({0.40f, 0.12f, 0.20f}, 0.10f, 0.40f, 60.0f, 0.05f, 5.0f)},

@@ -14,8 +14,13 @@ struct Palette {
   Material intestine;
   /// The abdominal wall (`inside = true` obstacles) and planes: darker, redder, less shiny.
   Material cavity_wall;
+  /// The mesentery ([mesentery] scenes): a thin translucent film, pale (fat) pink.
+  Material mesentery;
   /// Laparoscopic instruments: metallic grey, highlights tinted by the metal.
   Material tool;
+  /// The training task's targets ([[target]]): a saturated green nothing else in the abdomen
+  /// has, lit mostly by its ambient term, so a frame shows (and a test finds) every visible bit.
+  Material target;
   /// Organs by obstacle name (case-insensitive substring: "liver", "spine", ...).
   std::vector<std::pair<std::string, Material>> named_organs;
   /// Organs whose name matches none of the above, cycled in scene order.

@@ -1,7 +1,9 @@
 #include "render/scene_renderer.h"
 
 #include "common/check.h"
+#include "render/target_patch.h"
 #include "render/tessellation.h"
+#include "spline/catmull_rom.h"
 
 namespace viscera::render {
 
@@ -32,12 +34,36 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
     static_triangles_ += cpu.num_triangles();
     obstacles_.push_back(std::move(s));
   }
+  // the task's targets: patches that never move, drawn like the organs
+  for (const mechanics::TargetParams& t : params.task.targets) {
+    cpu.Clear();
+    AppendTargetPatch(t, &cpu);
+    StaticMesh s;
+    s.mesh = std::make_unique<GpuMesh>();
+    s.mesh->Upload(cpu);
+    s.material = palette_.target;
+    s.faces = Faces::kBoth;
+    static_triangles_ += cpu.num_triangles();
+    obstacles_.push_back(std::move(s));
+  }
+  // the mesentery film: one rung per tether (at most one per control point)
+  num_points_ = static_cast<int>(params.initial_q.rows());
+  if (params.mesentery && num_points_ >= 4) {
+    const mechanics::MesenteryParams& m = *params.mesentery;
+    const int rungs = std::min(m.tethers > 0 ? m.tethers : num_points_, num_points_);
+    for (int k = 0; k < rungs; ++k) {
+      const double s = static_cast<double>(k) / (rungs - 1);
+      membrane_s_.push_back(s);
+      membrane_root_.push_back(m.root_start + s * (m.root_end - m.root_start));
+    }
+    membrane_edge_.resize(membrane_s_.size());
+  }
 }
 
 SceneRenderer::~SceneRenderer() = default;
 
 void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
-                         const CameraMatrices& camera) {
+                         const CameraMatrices& camera, const Points* skeleton) {
   ThrowUnless(tools.empty() || tools.size() == tool_params_.size(), "SceneRenderer::Draw: ", tools.size(),
               " tool states for ", tool_params_.size(), " tools");
   renderer_.Clear(palette_.background);
@@ -58,7 +84,17 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   }
   tools_gpu_.Upload(tools_cpu_);
   renderer_.Draw(tools_gpu_, camera, palette_.tool, Faces::kFront);
-  triangles_ = static_triangles_ + intestine_cpu_.num_triangles() + tools_cpu_.num_triangles();
+  // translucent last: it blends over everything opaque behind it
+  membrane_cpu_.Clear();
+  if (skeleton != nullptr && !membrane_s_.empty() && skeleton->rows() == num_points_) {
+    const spline::CatmullRom curve(num_points_);
+    for (size_t k = 0; k < membrane_s_.size(); ++k) membrane_edge_[k] = curve.Position(*skeleton, membrane_s_[k]);
+    AppendRuledFilm(membrane_root_, membrane_edge_, &membrane_cpu_);
+    membrane_gpu_.Upload(membrane_cpu_);
+    renderer_.Draw(membrane_gpu_, camera, palette_.mesentery, Faces::kBoth);
+  }
+  triangles_ = static_triangles_ + intestine_cpu_.num_triangles() + tools_cpu_.num_triangles() +
+               membrane_cpu_.num_triangles();
 }
 
 }  // namespace viscera::render

@@ -36,12 +36,15 @@ class SceneRenderer {
   SceneRenderer(const SceneRenderer&) = delete;
   SceneRenderer& operator=(const SceneRenderer&) = delete;
 
-  /// Clears to the background and draws the obstacles, the intestine and the tools.
+  /// Clears to the background and draws the obstacles, the intestine, the tools and, last, the
+  /// mesentery (a translucent film from its root to the centre line, when the scene has one and
+  /// `skeleton` is given).
   /// @param intestine the skin of the snapshot shown (world frame, outward triangles).
   /// @param tools     one per `params.tools`, in scene order (State::tools); may be empty.
+  /// @param skeleton  the snapshot's control points (#N by 3), or null: no mesentery drawn.
   /// @throws InputError when tools has another size than the scene's tools.
   void Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
-            const CameraMatrices& camera);
+            const CameraMatrices& camera, const Points* skeleton = nullptr);
 
   const Palette& palette() const { return palette_; }
   /// Triangles drawn in the last frame (obstacles, intestine, tools).
@@ -63,6 +66,12 @@ class SceneRenderer {
   TriMesh tools_cpu_;
   GpuMesh intestine_gpu_;  // one buffer set per dynamic mesh: no upload waits for a draw
   GpuMesh tools_gpu_;
+  // the mesentery: its root points and curve parameters (empty without [mesentery])
+  std::vector<Vec3> membrane_root_, membrane_edge_;
+  std::vector<double> membrane_s_;
+  int num_points_ = 0;
+  TriMesh membrane_cpu_;
+  GpuMesh membrane_gpu_;
   long static_triangles_ = 0;
   long triangles_ = 0;
 };

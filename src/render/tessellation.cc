@@ -191,4 +191,24 @@ void AppendSkin(const skin::Mesh& mesh, TriMesh* out) {
   }
 }
 
+void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, TriMesh* out) {
+  const size_t k = std::min(a.size(), b.size());
+  if (k < 2) return;
+  const uint32_t base = static_cast<uint32_t>(out->positions.size());
+  for (size_t i = 0; i < k; ++i) {
+    // across the film: along the root times toward the bowel
+    const Vec3 along = a[std::min(i + 1, k - 1)] - a[i > 0 ? i - 1 : 0];
+    Vec3 n = along.cross(b[i] - a[i]);
+    n = n.norm() > 1e-12 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
+    for (const Vec3& p : {a[i], b[i]}) {
+      out->positions.push_back(p.cast<float>());
+      out->normals.push_back(n.cast<float>());
+    }
+  }
+  for (uint32_t i = 0; i + 1 < k; ++i) {
+    const uint32_t a0 = base + 2 * i, b0 = a0 + 1, a1 = a0 + 2, b1 = a0 + 3;
+    out->indices.insert(out->indices.end(), {a0, a1, b1, a0, b1, b0});
+  }
+}
+
 }  // namespace viscera::render

@@ -3,6 +3,8 @@
 /// sphere, capsule, box, ellipsoid), obstacle meshes, tools and the intestine's skin. All
 /// append to a TriMesh (so several shapes can share one upload), counter-clockwise seen
 /// from outside, with outward unit normals.
+#include <span>
+
 #include <Eigen/Geometry>
 
 #include "collision/obstacle.h"
@@ -31,6 +33,11 @@ void AppendBox(const Vec3& centre, const Vec3& half, const Eigen::Quaterniond& r
 /// Square piece of the plane through `point` with unit `normal` (facing the free side),
 /// `half_size` (m) each way from the projection of `around` onto the plane.
 void AppendPlane(const Vec3& point, const Vec3& normal, const Vec3& around, double half_size, TriMesh* out);
+
+/// A ruled film between two polylines of equal length k >= 2 (the mesentery: from its root to
+/// the bowel): quads (a_i, a_i+1, b_i+1, b_i) split in two, normals across the film (one side;
+/// draw both faces).
+void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, TriMesh* out);
 
 /// Indexed triangles (#V by 3 vertices, #F by 3 faces) with smooth, area-weighted normals.
 void AppendTriangles(const Points& vertices,

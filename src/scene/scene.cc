@@ -6,7 +6,9 @@
 
 #include "common/check.h"
 #include "mechanics/step.h"
+#include "scene/mesentery_table.h"
 #include "scene/shapes.h"
+#include "scene/task_reader.h"
 #include "scene/toml_reader.h"
 
 #include <algorithm>
@@ -240,6 +242,7 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   c.friction = NonNegative(r, "friction", c.friction);
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
   c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
+  c.impact_depth = NonNegative(r, "impact_depth", c.impact_depth);
   r.Finish();
 }
 
@@ -272,13 +275,30 @@ void ReadTools(const toml::table& root, ModelParams* p) {
 
 // Lets the intestine fall and settle for `seconds` (no tools) and makes the result the start.
 // Anchors that default to the starting pose are fixed first, so they stay where the scene put them.
+// A mesentery whose tethers the starting pose overstretches is tightened gradually over the first
+// two thirds of the time (its slack starts long enough for every tether, and shrinks to the
+// scene's in kTighten stages): pulled taut at once, the far tethers would drag the tube through
+// itself.
 void Settle(double seconds, ModelParams* p) {
   const mechanics::Model before(*p);
   for (size_t i = 0; i < p->attachments.size(); ++i) p->attachments[i].point = before.attachments()[i].anchor;
+  double excess = 0.0;
+  for (const mechanics::Tether& t : before.tethers()) {
+    excess = std::max(excess, (mechanics::Model::Evaluate(t.at, p->initial_q) - t.root).norm() - t.length);
+  }
+  constexpr int kTighten = 10;
+  const int stages = excess > 0.0 ? kTighten + 1 : 1;
+  const int total_steps = static_cast<int>(std::lround(seconds * p->rate_hz));
   mechanics::State state = mechanics::InitialState(before);
-  mechanics::Workspace workspace(before);
-  const int steps = static_cast<int>(std::lround(seconds * p->rate_hz));
-  for (int k = 0; k < steps; ++k) mechanics::Step(before, {}, &state, &workspace);
+  for (int stage = 0; stage < stages; ++stage) {
+    if (p->mesentery) p->mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
+    const mechanics::Model model(*p);
+    mechanics::Workspace workspace(model);
+    // stage k < kTighten gets 1 / (1.5 kTighten) of the time, the last one the remaining third
+    const int begin = stage * total_steps * 2 / (3 * kTighten);
+    const int end = stage + 1 < stages ? (stage + 1) * total_steps * 2 / (3 * kTighten) : total_steps;
+    for (int k = begin; k < end; ++k) mechanics::Step(model, {}, &state, &workspace);
+  }
   ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
   p->initial_q = state.q;
 }
@@ -289,7 +309,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
     if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
-        k == "tool") {
+        k == "tool" || k == "mesentery" || k == "target" || k == "assessment") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
@@ -298,11 +318,14 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), limits, &scene.model, &settle);
   ReadIntestine(SubTable(root, "intestine"), limits, &scene.model);
   ReadAttachments(root, &scene.model);
+  scene.model.mesentery = ReadMesentery(root);
   const size_t slash = source.find_last_of('/');
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), limits,
                 &scene.model);
   ReadContacts(root, &scene.model);
   ReadTools(root, &scene.model);
+  ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
+           &scene.model);
   if (limits.vet) limits.vet(scene.model);
   if (settle > 0.0) Settle(settle, &scene.model);
   return scene;

@@ -4,6 +4,7 @@
 #include <sched.h>
 #include <time.h>
 
+#include <cstdio>
 #include <cstring>
 
 #include <algorithm>
@@ -11,11 +12,13 @@
 #include <limits>
 #include <utility>
 #include <exception>
+#include <fstream>
 
 #include <viscera_proto/force_feedback_t.hpp>
 #include <viscera_proto/skeleton_state_t.hpp>
 #include <viscera_proto/step_record_t.hpp>
 
+#include "assessment/status_report.h"
 #include "bus/channels.h"
 #include "bus/header.h"
 #include "common/check.h"
@@ -43,7 +46,8 @@ int64_t PeriodNs(double rate_hz) { return static_cast<int64_t>(std::llround(1e9 
 /// Everything the mechanics thread owns: built on the thread, never touched by others.
 struct Session::LoopState {
   explicit LoopState(const mechanics::Model& model, int num_tools)
-      : stepper(model), targets(static_cast<size_t>(num_tools)), was_active(num_tools, false) {}
+      : stepper(model), targets(static_cast<size_t>(num_tools)), was_active(num_tools, false),
+        metrics(model.params()) {}
 
   Stepper stepper;
   LoopStats stats;
@@ -51,6 +55,8 @@ struct Session::LoopState {
   std::vector<Command> commands;
   std::vector<mechanics::ToolTarget> targets;
   std::vector<bool> was_active;
+  /// The assessment's per-step figures (fed after each step, never inside it).
+  assessment::SessionMetrics metrics;
   bool paused = false;
   int64_t idle_events = 0;
   int64_t force_seq = 0, skeleton_seq = 0, status_seq = 0, record_seq = 0;
@@ -73,7 +79,8 @@ Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> m
       bus_(bus),
       recorder_(std::move(recorder)),
       inbox_(static_cast<int>(model_->params().tools.size())),
-      last_touch_ns_(MonotonicNanos()) {
+      last_touch_ns_(MonotonicNanos()),
+      targets_(model_->params().task) {
   VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 &&
                  config_.snapshot_rate_hz > 0.0 && bus_ != nullptr);
   status_.header = bus::MakeHeader(config_.id, 0);
@@ -83,6 +90,11 @@ Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> m
   for (const mechanics::ToolParams& t : model_->params().tools) status_.tool_names.push_back(t.name);
   status_.state = session_status_t::kRunning;
   status_.rate_hz = model_->params().rate_hz;
+  // the assessment's arrays are sized by num_tools and num_targets from the first status on
+  assessment::Report empty;
+  assessment::SessionMetrics(model_->params()).Fill(&empty);
+  targets_.Fill(&empty);
+  assessment::FillStatus(empty, &status_);
 }
 
 Session::~Session() { Stop(); }
@@ -104,6 +116,58 @@ void Session::Stop() {
   }
   if (loop_ != nullptr) loop_->outbox.reset();  // sends what is queued, joins its thread
   if (recorder_ != nullptr) recorder_->Flush();
+  WriteAssessment();
+}
+
+void Session::ReportExposure(int index, double exposure, double sim_time) {
+  std::lock_guard<std::mutex> lock(exposure_mutex_);
+  targets_.Add(index, exposure, sim_time);
+}
+
+assessment::Report Session::Assessment() const {
+  return assessment::ReportFromStatus(Status());
+}
+
+std::string Session::AssessmentPath() const {
+  if (recorder_ == nullptr) return "";
+  std::string path = recorder_->path();
+  const std::string ext = ".lcmlog";
+  if (path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0) {
+    path.resize(path.size() - ext.size());
+  }
+  return path + ".assessment.json";
+}
+
+void Session::WriteAssessment() {
+  const std::string path = AssessmentPath();
+  if (path.empty()) return;
+  // write then rename: a reader never sees half a report
+  const std::string partial = path + ".partial";
+  {
+    std::ofstream out(partial);
+    out << assessment::ToJson(Assessment()).dump(2) << "\n";
+    if (!out) {
+      SetError(Cat("assessment not written to ", path));
+      return;
+    }
+  }
+  if (std::rename(partial.c_str(), path.c_str()) != 0) SetError(Cat("assessment not written to ", path));
+}
+
+void Session::FillAssessment(session_status_t* status) {
+  LoopState& L = *loop_;
+  assessment::Report report;
+  L.metrics.Fill(&report);
+  {
+    // never wait for the exposure watcher: if it holds the lock, the targets last read serve
+    std::unique_lock<std::mutex> lock(exposure_mutex_, std::try_to_lock);
+    if (lock.owns_lock() || state_.load() == session_status_t::kStopped) {
+      if (!lock.owns_lock()) lock.lock();  // the loop is over: waiting delays no step
+      targets_.Fill(&targets_seen_);
+    }
+  }
+  report.targets = targets_seen_.targets;
+  assessment::FillStatus(report, status);
 }
 
 void Session::CountRejected(const std::string& why) {
@@ -269,6 +333,7 @@ void Session::Loop(bool realtime) {
                      " s: restored the last good state"));
       }
       L.stats.RecordStep(ThreadCpuNanos() - cpu0, wake - next);
+      L.metrics.AddStep(L.stepper.state(), model_->step_size());
       PublishForces(wake);
     }
 
@@ -395,6 +460,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize) {
     s.contacts = st.contacts.self + st.contacts.environment + st.contacts.tool;
     s.recoveries = L->stepper.recoveries();
     s.idle_events = L->idle_events;
+    FillAssessment(&s);
   }
   {
     std::lock_guard<std::mutex> lock(status_mutex_);

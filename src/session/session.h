@@ -14,6 +14,8 @@
 
 #include <viscera_proto/session_status_t.hpp>
 
+#include "assessment/metrics.h"
+#include "assessment/report.h"
 #include "bus/lcm_bus.h"
 #include "common/clock.h"
 #include "mechanics/model.h"
@@ -100,6 +102,15 @@ class Session {
   /// Keeps the render thread's latest figures (and problems) for the status. Any thread;
   /// the mechanics thread never waits for the lock this takes (Status() says how).
   void ReportFrames(const FrameStreamReport& report);
+  /// Keeps an exposure of target `index` (0..1) evaluated on the pose at simulated time
+  /// `sim_time` (the exposure watcher's thread). The mechanics thread never waits for it.
+  void ReportExposure(int index, double exposure, double sim_time);
+  /// The assessment so far (any thread; the final one once Stop() returned). Also written as
+  /// JSON next to the session's record when the session stops (AssessmentPath()).
+  assessment::Report Assessment() const;
+  /// Where the final assessment is written: the record's path with `.assessment.json` for
+  /// `.lcmlog`; "" without a record.
+  std::string AssessmentPath() const;
   /// Counts an accepted pose (I/O thread).
   void CountPose() { ++poses_; }
   /// Keeps `why` as the last error (shown in status), counting nothing. Any thread.
@@ -129,6 +140,9 @@ class Session {
   void PublishForces(int64_t now_ns);
   void PublishSkeleton();
   void PublishStatus(int64_t now_ns, bool summarize);
+  // The assessment of the mechanics thread's metrics and the latest exposures, into status_.
+  void FillAssessment(viscera_proto::session_status_t* status);
+  void WriteAssessment();
 
   SessionConfig config_;
   std::shared_ptr<const mechanics::Model> model_;
@@ -146,7 +160,7 @@ class Session {
   // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
   // a thread that low, preempted while holding a lock, could hold it for a long time.
   mutable std::mutex status_mutex_;  // guards status_, last_error_, frames_seen_
-  viscera_proto::session_status_t status_{};  // zeroed: Status() may run before the first publish
+  viscera_proto::session_status_t status_{};  // zeroed: lcm-gen types leave counters uninitialized
   mutable std::string last_error_;  // Status() folds the render thread's new problems in
   mutable FrameStreamReport frames_seen_;  // the last report Status() could read
   mutable std::mutex camera_mutex_;        // I/O and render threads only
@@ -154,6 +168,9 @@ class Session {
   mutable std::mutex frames_mutex_;        // render thread; others only try_lock it
   FrameStreamReport frames_;
   SnapshotExchange snapshots_;
+  mutable std::mutex exposure_mutex_;      // the exposure watcher; the mechanics thread try_locks
+  assessment::TargetTracker targets_;      // guarded by exposure_mutex_
+  assessment::Report targets_seen_;        // mechanics thread: the last targets it could read
 
   // Mechanics thread only (the loop and what it calls).
   struct LoopState;

@@ -121,9 +121,11 @@ inline CliResult Viscera(const std::string& dir, const std::string& args) {
   return r;
 }
 
-/// Creates a session with `args` and returns its create JSON (asserting success).
+/// Creates a session with `args` and returns its create JSON (asserting success). Waits up
+/// to 30 s to hear a server: a Daemon just spawned may beat for the first time seconds
+/// later on a busy machine (the client stops listening once one is heard).
 inline nlohmann::json Create(const std::string& dir, const std::string& args) {
-  const CliResult r = Viscera(dir, "create " + args + " --json");
+  const CliResult r = Viscera(dir, "create " + args + " --timeout 30 --json");
   EXPECT_EQ(r.rc, 0) << r.out;
   return r.rc == 0 ? r.json() : nlohmann::json();
 }

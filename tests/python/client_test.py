@@ -97,7 +97,7 @@ class RoundTripTest(unittest.TestCase):
         # negative control of the MAC: the same request unsigned gets no answer
         unsigned = new_client()
         with self.assertRaises(VisceraError) as e:
-            unsigned.create(scene="hanging", server="py-rt", timeout_s=1.0)
+            unsigned.create(scene="hanging", server="py-rt", timeout_s=1.0, build_timeout_s=1.0)
         self.assertIsNone(e.exception.result)
         # the server dropped it and counts it (a keyless client can still read heartbeats:
         # a MAC authenticates, it does not hide)

@@ -8,7 +8,7 @@ import struct
 import unittest
 
 import viscera_proto
-from viscera_client import MessageAuth, ServerInfo, make_header, pick_server
+from viscera_client import MessageAuth, ServerInfo, make_header, pick_server, report_from_status
 from viscera_client.auth import mac_len_offset
 from viscera_client.fast import force_echo, frame_times
 from viscera_client.load.stats import SeqCounter, latency_summary, percentile
@@ -147,6 +147,32 @@ class StatsTest(unittest.TestCase):
         # 10..17 is 8 messages; 15 and 16 never came; 12 came late, 14 twice
         self.assertEqual(c.lost, 2)
         self.assertEqual(SeqCounter().lost, 0)
+
+
+class AssessmentTest(unittest.TestCase):
+    def test_report_from_a_status_through_the_wire(self):
+        s = viscera_proto.session_status_t()
+        s.header = make_header(7, 0)
+        s.scene, s.sim_time, s.state = "cavity", 4.5, s.kStopped
+        s.num_tools, s.tool_names = 1, ["left"]
+        s.tool_path_length, s.tool_active_time = [0.3], [4.5]
+        s.tool_force_p50, s.tool_force_p95, s.tool_force_max = [0.58], [0.99], [1.09]
+        s.tool_contact_time, s.tool_traction_events, s.tool_traction_time = [3.4], [2], [1.25]
+        s.tool_grasps, s.tool_regrasps = [3], [1]
+        s.tool_organ_contacts, s.tool_organ_contact_time = [4], [0.07]
+        s.num_targets, s.target_names = 2, ["lesion", "other"]
+        s.target_exposed, s.target_max_exposed, s.target_time_to_expose = [1.0, 0.1], [1.0, 0.2], [2.0, -1.0]
+        s.traction_force, s.traction_hold, s.regrasp_window, s.exposed_fraction = 3.0, 0.5, 1.0, 0.9
+        r = report_from_status(viscera_proto.session_status_t.decode(s.encode()))
+        self.assertEqual(r["session"], 7)
+        self.assertTrue(r["finished"])
+        self.assertEqual(r["thresholds"], {"traction_force_n": 3.0, "traction_hold_s": 0.5,
+                                           "regrasp_window_s": 1.0, "exposed_fraction": 0.9})
+        self.assertEqual(r["tools"][0]["tissue_force_n"], {"p50": 0.58, "p95": 0.99, "max": 1.09})
+        self.assertEqual((r["tools"][0]["traction_events"], r["tools"][0]["grasps"],
+                          r["tools"][0]["regrasps"]), (2, 3, 1))
+        self.assertEqual(r["targets"][0]["time_to_expose_s"], 2.0)
+        self.assertIsNone(r["targets"][1]["time_to_expose_s"])  # not exposed: null, as in C++
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@
 #include <viscera_proto/session_status_t.hpp>
 
 #include "bus/message_auth.h"
+#include "tests/common/eventually.h"
 #include "tests/server/manager_fixture.h"
 #include "server/scene_budget.h"
 
@@ -125,12 +126,46 @@ TEST_F(SecurityTest, ASessionWithoutClientTrafficEndsAfterItsLeaseWithItsRecordC
   config.max_sessions = 2;
   config.log_dir = TempDir("lease");
   Restart(config);
-  const R idle = CreateHanging();
-  const R kept = CreateHanging();
+  // Both creates at once: built one after the other, the first session would hear nothing
+  // while the second builds, which takes longer than the lease on a busy machine.
+  Q create = Request(Q::kCreate);
+  create.scene_name = "hanging";
+  create.frame_rate_hz = -1.0;
+  const Q create_idle = Stamp(create);
+  const Q create_kept = Stamp(create);
+  const std::string channel = bus::kRequestChannel;
+  const bus::MessageInfo info{&channel, 0, 0};
+  manager_->OnRequest(create_idle, info);
+  manager_->OnRequest(create_kept, info);
+  const auto reply_to = [&](const Q& q) {
+    for (const R& r : replies_) {
+      if (r.request_id == q.request_id) return r;
+    }
+    return R{};
+  };
+  // the kept one is kept alive from its creation on, while the other may still build
+  auto next_keep_alive = std::chrono::steady_clock::now();
+  const auto keep_alive = [&] {
+    const R kept = reply_to(create_kept);
+    if (kept.result != R::kOk || std::chrono::steady_clock::now() < next_keep_alive) return;
+    manager_->OnRequest(Stamp(WithToken(Request(Q::kKeepAlive, kept.header.session_id), kept)), info);
+    next_keep_alive = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
+  };
+  ASSERT_TRUE(viscera::testing::Eventually([&] { return !manager_->creating(); }, 60.0, [&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    manager_->Poll();
+    bus_.Drain();
+    keep_alive();
+  }));
+  bus_.Drain();
+  const R idle = reply_to(create_idle);
+  const R kept = reply_to(create_kept);
   ASSERT_EQ(idle.result, R::kOk) << idle.message;
   ASSERT_EQ(kept.result, R::kOk) << kept.message;
-  EXPECT_LE(StatusOf(idle.header.session_id).lease_left_s, 0.6);
-  EXPECT_DOUBLE_EQ(StatusOf(idle.header.session_id).lease_s, 0.6);
+  // the lease, as the create's reply reports it (a status asked later races the lease)
+  ASSERT_EQ(idle.num_sessions, 1);
+  EXPECT_LE(idle.sessions[0].lease_left_s, 0.6);
+  EXPECT_DOUBLE_EQ(idle.sessions[0].lease_s, 0.6);
   // keep-alives keep one alive; the other hears nothing and ends
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (manager_->num_sessions() == 2 && std::chrono::steady_clock::now() < give_up) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <limits>
 #include <span>
@@ -17,6 +18,7 @@
 #include "mechanics/mass_matrix.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
+#include "assessment/report.h"
 #include "render/frame_renderer.h"
 #include "render/jpeg_sequence.h"
 #include "scene/scene.h"
@@ -24,6 +26,7 @@
 #include "skin/skin.h"
 #include "session/replay.h"
 #include "sim/progress_bar.h"
+#include "sim/sim_assessment.h"
 #include "sim/trace_writer.h"
 
 namespace viscera::tools {
@@ -50,26 +53,64 @@ struct Options {
   std::vector<double> camera; // eye x y z, look-at x y z (m); default frames the skeleton
   std::string frame_size = "640x480";
   int jpeg_quality = 85;
+  std::string report;         // the assessment as JSON goes here
 };
+
+// The run's laparoscope: --camera, else the framing of the starting pose (as viscerad frames a
+// session whose client set no camera) for a frame of --frame-size.
+render::Laparoscope RunScope(const Options& opt, const Points& q0) {
+  int width = 0, height = 0;
+  render::ParseFrameSize(opt.frame_size, &width, &height);
+  ThrowUnless(opt.camera.empty() || opt.camera.size() == 6, "--camera takes ex ey ez cx cy cz");
+  if (opt.camera.size() == 6) {
+    return render::LookAtLaparoscope(Vec3(opt.camera[0], opt.camera[1], opt.camera[2]),
+                                     Vec3(opt.camera[3], opt.camera[4], opt.camera[5]));
+  }
+  return render::FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(), width,
+                                    height);
+}
+
+assessment::View ViewOf(const render::Laparoscope& scope, const Options& opt) {
+  int width = 0, height = 0;
+  render::ParseFrameSize(opt.frame_size, &width, &height);
+  return {scope.eye.cast<double>(), scope.target.cast<double>(), scope.up.cast<double>(), scope.fov_y_degrees,
+          static_cast<double>(width) / height};
+}
+
+// Prints the assessment (text) or adds it to the JSON summary, and writes --report.
+void EmitAssessment(const Options& opt, const SimAssessment& a, const assessment::Report& report,
+                    nlohmann::json* summary) {
+  if (!opt.report.empty()) {
+    std::ofstream out(opt.report);
+    out << assessment::ToJson(report).dump(2) << "\n";
+    ThrowUnless(out.good(), "--report ", opt.report, ": cannot write");
+  }
+  if (summary != nullptr) {
+    (*summary)["assessment"] = assessment::ToJson(report);
+    (*summary)["exposure_series"] = a.exposure_series();
+    (*summary)["exposure_cost_us"] = {{"mean", a.exposure_mean_us()}, {"max", a.exposure_max_us()},
+                                      {"capsules_tested_max", a.max_capsules_tested()}};
+    return;
+  }
+  std::printf("%s", assessment::FormatReport(report).c_str());
+  if (!report.targets.empty()) {
+    std::printf("exposure cost    mean %.1f us, max %.1f us per evaluation (all targets; at most %d capsules after the cull)\n",
+                a.exposure_mean_us(), a.exposure_max_us(), a.max_capsules_tested());
+  }
+}
 
 // Renders frames of the run into a directory (frame_000000.jpg, ...), from the scene's
 // framing camera or the one given.
 class FrameWriter {
  public:
-  FrameWriter(const Options& opt, const mechanics::Model& model, const Points& q0) : sequence_(opt.render_dir) {
+  FrameWriter(const Options& opt, const mechanics::Model& model, const render::Laparoscope& scope)
+      : sequence_(opt.render_dir), scope_(scope) {
     render::FrameOptions options;
     render::ParseFrameSize(opt.frame_size, &options.width, &options.height);
     options.jpeg_quality = opt.jpeg_quality;
     options.skin = opt.skin;
     options.skin_options.hybrid.focus_radius = opt.focus_radius;
     renderer_ = std::make_unique<render::FrameRenderer>(model.params(), options);
-    scope_ = render::FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
-                                        options.width, options.height);
-    ThrowUnless(opt.camera.empty() || opt.camera.size() == 6, "--camera takes ex ey ez cx cy cz");
-    if (opt.camera.size() == 6) {
-      scope_ = render::LookAtLaparoscope(Vec3(opt.camera[0], opt.camera[1], opt.camera[2]),
-                                         Vec3(opt.camera[3], opt.camera[4], opt.camera[5]));
-    }
   }
   void Write(const State& state) {
     renderer_->Render(state, scope_);
@@ -116,7 +157,10 @@ int Replay(const Options& opt) {
   std::unique_ptr<TraceWriter> trace;
   if (!opt.trace.empty()) trace = std::make_unique<TraceWriter>(opt.trace);
   int64_t step = 0;
+  std::unique_ptr<SimAssessment> assessed;  // made at the first step: the record holds the model
   const session::ReplayResult r = session::ReplayRecord(opt.replay, [&](const mechanics::Model& model, const mechanics::State& state) {
+    if (!assessed) assessed = std::make_unique<SimAssessment>(model, ViewOf(RunScope(opt, state.q), opt));
+    assessed->AddStep(state);
     if (trace && step++ % opt.trace_every == 0) {
       trace->Write(model, state, nullptr, model.curve().Length(state.q), mechanics::ComputeEnergies(model, state.q, state.qd), 0.0);
     }
@@ -129,6 +173,11 @@ int Replay(const Options& opt) {
                             {"force_mismatches", r.force_mismatches},
                             {"first_force_mismatch", r.first_force_mismatch},
                             {"frames", trace ? trace->frames() : 0}};
+  if (assessed) {
+    assessment::Report report = assessed->Report(r.session_id, r.scene);
+    report.sim_time = r.final_state.t;
+    EmitAssessment(opt, *assessed, report, opt.json ? &summary : nullptr);
+  }
   if (opt.json) {
     std::cout << summary.dump(2) << "\n";
   } else {
@@ -188,19 +237,22 @@ int Run(const Options& opt) {
   auto targets_at = [&](double t) {
     return scripted ? scripted->At(t, interactions) : std::span<const mechanics::ToolTarget>{};
   };
+  const render::Laparoscope scope = RunScope(opt, state.q);
+  SimAssessment assessed(model, ViewOf(scope, opt));
   // The sphere chain of the start, for the first frame.
   if (interactions) interactions->BeginSubstep(targets_at(0.0), 0.0, &state);
 
   const Energies e0 = energies();
   const Vec3 com0 = CentreOfMass(model, state.q);
   record(0.0);
+  assessed.AddStep(state);
   const int64_t steps = std::max<int64_t>(1, std::llround(opt.duration * model.params().rate_hz));
   std::unique_ptr<FrameWriter> frames;
   const int render_every = opt.render_every > 0 ? opt.render_every
                                                 : std::max(1, static_cast<int>(std::lround(model.params().rate_hz / 25.0)));
   if (!opt.render_dir.empty()) {
     ThrowUnless(opt.render_every >= 0, "--render-every ", opt.render_every, ": must be >= 1 (0: about 25 per second)");
-    frames = std::make_unique<FrameWriter>(opt, model, state.q);
+    frames = std::make_unique<FrameWriter>(opt, model, scope);
     frames->Write(state);
   }
   std::vector<double> cost_us;
@@ -216,6 +268,7 @@ int Run(const Options& opt) {
     cost_us.push_back(us);
     if (!std::isnan(state.contacts.min_clearance)) min_clearance = std::min(min_clearance, state.contacts.min_clearance);
     for (size_t t = 0; t < state.tools.size(); ++t) max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
+    assessed.AddStep(state);
     if (k % opt.trace_every == 0 || k == steps) record(us);
     if (frames && k % render_every == 0) frames->Write(state);
     progress.Update(k);
@@ -252,7 +305,10 @@ int Run(const Options& opt) {
   };
   if (frames) summary["rendered_frames"] = frames->frames();
   summary["final_energy"]["contact"] = e.contact;
+  assessment::Report report = assessed.Report(0, opt.scene);
+  report.sim_time = simulated;
   if (opt.json) {
+    EmitAssessment(opt, assessed, report, &summary);
     std::cout << summary.dump(2) << "\n";
     return 0;
   }
@@ -291,6 +347,7 @@ int Run(const Options& opt) {
     std::printf("frames           %d (%s skin, %s, every %d steps, %.1f ms each) -> %s\n", frames->frames(),
                 opt.skin.c_str(), opt.frame_size.c_str(), render_every, frames->mean_ms(), opt.render_dir.c_str());
   }
+  EmitAssessment(opt, assessed, report, nullptr);
   if (state.nonfinite_resets > 0) {
     std::printf("WARNING          %lld non-finite steps were reset\n", static_cast<long long>(state.nonfinite_resets));
   }
@@ -320,6 +377,7 @@ int main(int argc, char** argv) {
   app.add_option("--render-every", opt.render_every, "steps between frames (default: about 25 per simulated second)");
   app.add_option("--camera", opt.camera, "laparoscope eye x y z and look-at x y z (m)")->expected(6);
   app.add_option("--frame-size", opt.frame_size, "frame size WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--report", opt.report, "write the assessment (docs/assessment.md) as JSON to this file");
   app.add_option("--jpeg-quality", opt.jpeg_quality, "JPEG quality 1..100")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {

@@ -210,6 +210,7 @@ int Run(const Options& o) {
   int64_t records_total = 0, records_exact = 0, records_stopped = 0;
   std::string record_error;
   for (const auto& entry : fs::directory_iterator(records)) {
+    if (entry.path().extension() != ".lcmlog") continue;  // the assessments written beside them
     ++records_total;
     try {
       const auto r = viscera::session::ReplayRecord(entry.path().string());

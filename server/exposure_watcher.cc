@@ -1,0 +1,87 @@
+#include "server/exposure_watcher.h"
+
+#include <chrono>
+#include <exception>
+#include <vector>
+
+#include "assessment/exposure.h"
+#include "collision/sphere_chain.h"
+#include "common/check.h"
+#include "common/clock.h"
+#include "server/idle_priority.h"
+#include "server/session_view.h"
+
+namespace viscera::server {
+
+ExposureWatcher::ExposureWatcher(session::Session* session, ExposureWatchConfig config)
+    : session_(session), config_(config) {
+  VISCERA_DEMAND(session_ != nullptr);
+}
+
+ExposureWatcher::~ExposureWatcher() { Stop(); }
+
+void ExposureWatcher::Start() {
+  VISCERA_DEMAND(!thread_.joinable());
+  thread_ = std::thread([this] { Run(); });
+}
+
+void ExposureWatcher::RequestStop() {
+  std::lock_guard<std::mutex> lock(stop_mutex_);
+  stop_ = true;
+  stop_wake_.notify_all();
+}
+
+void ExposureWatcher::Stop() {
+  RequestStop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void ExposureWatcher::Run() {
+  NiceThisThread();
+  // An exception never crosses a thread: the session runs on without exposures and says why.
+  try {
+    const mechanics::Model& model = session_->model();
+    const mechanics::ModelParams& params = model.params();
+    const assessment::ExposureEvaluator evaluator(params.task.targets, params.radius);
+    collision::SphereChain chain(model.curve(), params.length, params.radius);
+    std::vector<Vec3> centres;
+    render::Laparoscope framing;
+    bool have_framing = false;
+    int64_t shown_step = -1;
+    const int64_t period = static_cast<int64_t>(1e9 / params.task.assessment.exposure_rate_hz);
+
+    int64_t next = MonotonicNanos();
+    std::unique_lock<std::mutex> lock(stop_mutex_);
+    while (!stop_wake_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(next)),
+                                  [this] { return stop_; })) {
+      lock.unlock();
+      if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot();
+          snapshot != nullptr && snapshot->step != shown_step) {
+        if (!have_framing) {
+          framing = FirstFraming(snapshot->q, config_.width, config_.height);
+          have_framing = true;
+        }
+        const render::Laparoscope scope = SessionScope(session_->camera(), framing);
+        const assessment::View view{scope.eye.cast<double>(), scope.target.cast<double>(), scope.up.cast<double>(),
+                                    scope.fov_y_degrees, static_cast<double>(config_.width) / config_.height};
+        chain.Place(snapshot->q);
+        centres.clear();
+        for (const collision::Sphere& s : chain.spheres()) centres.push_back(s.centre);
+        for (int i = 0; i < evaluator.num_targets(); ++i) {
+          session_->ReportExposure(i, evaluator.Evaluate(i, view, centres).fraction, snapshot->t);
+        }
+        shown_step = snapshot->step;
+        ++evaluations_;
+      }
+      next += period;
+      const int64_t now = MonotonicNanos();
+      if (next < now) next = now;  // late (a loaded machine): the next one from now, no burst
+      lock.lock();
+    }
+  } catch (const std::exception& e) {
+    session_->SetError(Cat("target exposure stopped: ", e.what()));
+  }
+  finished_ = true;
+}
+
+}  // namespace viscera::server

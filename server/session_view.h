@@ -1,0 +1,21 @@
+#pragma once
+/// The laparoscope a session is seen through, one definition for the frame stream and the
+/// exposure watcher (so the exposure counts what the frames show): the client's camera once it
+/// set one, else the framing of the scene as first seen.
+#include "render/laparoscope.h"
+#include "session/session.h"
+
+namespace viscera::server {
+
+/// The framing of the scene around the control points `q` (#N by 3) for a width x height frame.
+inline render::Laparoscope FirstFraming(const Points& q, int width, int height) {
+  return render::FramingLaparoscope(q.colwise().minCoeff().transpose(), q.colwise().maxCoeff().transpose(), width,
+                                    height);
+}
+
+/// The client's camera if it set one, else `framing`.
+inline render::Laparoscope SessionScope(const session::CameraPose& pose, const render::Laparoscope& framing) {
+  return pose.set_by_client ? render::LookAtLaparoscope(pose.eye, pose.target, pose.up, pose.fov_deg) : framing;
+}
+
+}  // namespace viscera::server
