@@ -1,5 +1,6 @@
 #include "client/status_format.h"
 
+#include <cmath>
 #include <cstdio>
 
 namespace viscera::client {
@@ -59,6 +60,14 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"last_error", s.last_error}};
 }
 
+// A rate or time from the wire rounded for the table; a hostile value (NaN, inf, 1e252) is printed
+// as it is: converting it to int would be undefined behaviour.
+static std::string Whole(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), std::isfinite(v) && std::fabs(v) < 1e9 ? "%.0f" : "%.3g", v);
+  return text;
+}
+
 std::string StatusTable(const std::vector<session_status_t>& sessions) {
   std::string out;
   char line[768];
@@ -67,12 +76,9 @@ std::string StatusTable(const std::vector<session_status_t>& sessions) {
                 "REJECTED", "RECOVER", "LEASE", "LAST_ERROR");
   out += line;
   for (const session_status_t& s : sessions) {
-    const std::string rate = std::to_string(static_cast<int>(s.achieved_rate_hz + 0.5)) + "/" +
-                             std::to_string(static_cast<int>(s.rate_hz + 0.5));
-    const std::string fps = s.frame_rate_hz > 0 ? std::to_string(static_cast<int>(s.achieved_frame_rate_hz + 0.5)) + "/" +
-                                                      std::to_string(static_cast<int>(s.frame_rate_hz + 0.5))
-                                                : "-";
-    const std::string lease = s.lease_s > 0 ? std::to_string(static_cast<int>(s.lease_left_s + 0.5)) + "s" : "-";
+    const std::string rate = Whole(s.achieved_rate_hz) + "/" + Whole(s.rate_hz);
+    const std::string fps = s.frame_rate_hz > 0 ? Whole(s.achieved_frame_rate_hz) + "/" + Whole(s.frame_rate_hz) : "-";
+    const std::string lease = s.lease_s > 0 ? Whole(s.lease_left_s) + "s" : "-";
     std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7s  %s\n",
                   static_cast<long long>(s.header.session_id), s.scene.c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),

@@ -138,9 +138,9 @@ class SessionManager {
   bus::ReplayGuard replay_;
   std::unordered_map<int64_t, std::deque<int64_t>> creates_;  // sender -> create times (ns)
   int64_t reply_seq_ = 0;
-  viscera_proto::session_reply_t reply_;
-  viscera_proto::tool_pose_t record_pose_;           // a pose as recorded: without its token
-  viscera_proto::session_request_t record_request_;  // a request as recorded: likewise
+  viscera_proto::session_reply_t reply_{};  // zeroed: Reply() sends num_sessions before any list set it
+  viscera_proto::tool_pose_t record_pose_{};         // a pose as recorded: without its token
+  viscera_proto::session_request_t record_request_{};  // a request as recorded: likewise
 };
 
 }  // namespace viscera::server

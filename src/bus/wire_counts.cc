@@ -96,6 +96,12 @@ void Status(WireCursor& c) {
   // skin_ms, render_ms, encode_ms; frame_bytes
   c.Skip(2 * 4 + 4 * 8 + 3 * 4 + 4);
   c.String();  // last_error
+  // the assessment, per tool: eight double arrays and four int32 arrays of num_tools each
+  c.Skip(static_cast<int64_t>(tools) * (8 * 8 + 4 * 4));
+  const int32_t targets = c.Count(kStringMinBytes);
+  for (int32_t i = 0; i < targets && c.ok(); ++i) c.String();
+  c.Skip(static_cast<int64_t>(targets) * 3 * 8);  // exposed, max exposed, time to expose
+  c.Skip(4 * 8);  // traction_force, traction_hold, regrasp_window, exposed_fraction
 }
 
 // Messages whose only arrays are the header's (and no strings).

@@ -48,7 +48,7 @@ std::vector<uint8_t> Patched(std::vector<uint8_t> bytes, const std::vector<uint8
   for (size_t i = 0; i + from.size() <= bytes.size(); ++i) {
     if (std::equal(from.begin(), from.end(), bytes.begin() + static_cast<std::ptrdiff_t>(i))) at.push_back(i);
   }
-  EXPECT_EQ(at.size(), 1u) << "the count to patch is not unique in the encoding";
+  EXPECT_EQ(at.size(), 1u) << "the count to patch is not unique in the encoding: " << int{from[3]};
   if (at.size() == 1) std::copy(to.begin(), to.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at[0]));
   return bytes;
 }
@@ -82,6 +82,15 @@ viscera_proto::session_status_t Status(int tools) {
   s.header = MakeHeader(0, 0);
   s.num_tools = tools;
   s.tool_names.assign(static_cast<size_t>(tools), "t");
+  const size_t n = static_cast<size_t>(tools);
+  for (std::vector<double>* v : {&s.tool_path_length, &s.tool_active_time, &s.tool_force_p50, &s.tool_force_p95,
+                                 &s.tool_force_max, &s.tool_contact_time, &s.tool_traction_time,
+                                 &s.tool_organ_contact_time}) {
+    v->assign(n, 0.5);
+  }
+  for (std::vector<int32_t>* v : {&s.tool_traction_events, &s.tool_grasps, &s.tool_regrasps, &s.tool_organ_contacts}) {
+    v->assign(n, 12345);
+  }
   return s;
 }
 
@@ -105,9 +114,9 @@ TEST(ArrayCountsFit, RefusesEveryArrayCountBeyondTheDatagram) {
 
   viscera_proto::session_reply_t reply{};
   reply.header = MakeHeader(0, 0);
-  reply.num_sessions = 5;
-  reply.sessions.assign(5, Status(0));
-  ExpectRefusesHostileCounts(reply, 5);
+  reply.num_sessions = 7;  // not 5 or 6: protocol version 5 and utime's top bytes 00 06 follow zeros
+  reply.sessions.assign(7, Status(0));
+  ExpectRefusesHostileCounts(reply, 7);
   reply.sessions[3] = Status(23);  // a status's tool names inside a reply
   ExpectRefusesHostileCounts(reply, 23);
 

@@ -24,6 +24,9 @@ class SessionManagerTest : public ::testing::Test {
     config_.server_id = "srv";
     config_.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/scenes";
     config_.max_sessions = 1;
+    // The load limit times real steps, which sanitizer builds run 5-15x slower (hanging.toml came
+    // out at 1.4 cores under TSan). These tests are not about it; its own test sets 1e-6.
+    config_.max_session_load = 0.0;
     manager_ = std::make_unique<SessionManager>(config_, &bus_, &bus_);  // memq: one bus
     bus_.Subscribe<viscera_proto::session_reply_t>(
         bus::kReplyChannel,
