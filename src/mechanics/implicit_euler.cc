@@ -140,7 +140,7 @@ void ImplicitEulerIntegrator::ApplyBandInverse(double* x) {
   dv.noalias() -= rhs_.rightCols(3 * num_pins_).lazyProduct(pin_lambda_);
 }
 
-void ImplicitEulerIntegrator::MultiplyExact(double h, const Eigen::Ref<const VecX>& x, VecX* y) {
+void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) {
   // BlockBand::Multiply and the common modes take #N by 3 points: the same numbers, reshaped.
   cg_x_ = Eigen::Map<const Points>(x.data(), n_, 3);
   system_.Multiply(cg_x_, &cg_y_);
@@ -152,14 +152,14 @@ void ImplicitEulerIntegrator::MultiplyExact(double h, const Eigen::Ref<const Vec
   }
 }
 
-void ImplicitEulerIntegrator::RefineExactly(double h, const VecX& b, Eigen::Ref<VecX> dv) {
+void ImplicitEulerIntegrator::RefineExactly(const VecX& b, Eigen::Ref<VecX> dv) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // last sub-step's correction: between 1 kHz steps the contacts barely change, so that start is
   // most of the way. It stops when the preconditioned residual is a small fraction of b's.
   const double reference = b.dot(dv);  // b^T P^-1 b, with dv the band's answer
   dv += cg_correction_;
-  MultiplyExact(h, dv, &cg_q_);
+  MultiplyExact(dv, &cg_q_);
   cg_r_ = b - cg_q_;
   cg_z_ = cg_r_;
   ApplyBandInverse(cg_z_.data());
@@ -169,7 +169,7 @@ void ImplicitEulerIntegrator::RefineExactly(double h, const VecX& b, Eigen::Ref<
   int it = 0;
   while (it < kMaxCgIterations && rz > stop) {
     ++it;
-    MultiplyExact(h, cg_p_, &cg_q_);
+    MultiplyExact(cg_p_, &cg_q_);
     const double pq = cg_p_.dot(cg_q_);
     if (!(pq > 0.0)) break;  // A is positive definite; guard against round-off at convergence
     const double alpha = rz / pq;
@@ -237,7 +237,7 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
   last_cg_iterations_ = 0;
   if (coupled) {
     interactions_->WeighCommonModes(-h * h, -h);
-    RefineExactly(h, b_, dv);
+    RefineExactly(b_, dv);
   } else {
     cg_correction_.setZero();
   }

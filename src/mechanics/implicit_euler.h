@@ -49,9 +49,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
   // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
-  void MultiplyExact(double h, const Eigen::Ref<const VecX>& x, VecX* y);
+  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
-  void RefineExactly(double h, const VecX& b, Eigen::Ref<VecX> dv);
+  void RefineExactly(const VecX& b, Eigen::Ref<VecX> dv);
 
   const Model& model_;
   Interactions* interactions_;
