@@ -100,19 +100,15 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     Vec3 spring = Vec3::Zero();
     if (coupled) spring = kc * (from + (static_cast<double>(i) / cycles) * (to - from) - ts->tip);
     const Vec3 damping = -tp.coupling_damping * ts->tip_velocity;
+    // Saturated, the spring's pull is a constant force this cycle (0.1 ms: explicit is fine) and
+    // adds no stiffness; its damping still acts. (Saturating both left an undamped tip bouncing
+    // 12-31 cm at up to 2.3 m/s around where the device's 5 N balanced the tissue.)
     const double size = spring.norm();
-    if (size > tp.max_force) {
-      // Saturated: the spring's pull is a constant force this cycle (0.1 ms: explicit is fine);
-      // its damping still acts. (Saturating both left an undamped tip bouncing 12-31 cm at up to
-      // 2.3 m/s around where the device's 5 N balanced the tissue.)
-      spring *= tp.max_force / size;
-      const Mat3 a = (tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * dt * stiffness;
-      ts->tip_velocity += a.inverse() * (dt * (tissue + spring + damping - dt * stiffness * ts->tip_velocity));
-    } else {
-      const Mat3 k_total = stiffness + kc * Mat3::Identity();
-      const Mat3 a = (tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * dt * k_total;
-      ts->tip_velocity += a.inverse() * (dt * (tissue + spring + damping - dt * k_total * ts->tip_velocity));
-    }
+    const bool saturated = size > tp.max_force;
+    if (saturated) spring *= tp.max_force / size;
+    const Mat3 k_total = saturated ? stiffness : Mat3(stiffness + kc * Mat3::Identity());
+    const Mat3 a = (tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * dt * k_total;
+    ts->tip_velocity += a.inverse() * (dt * (tissue + spring + damping - dt * k_total * ts->tip_velocity));
     ts->tip += dt * ts->tip_velocity;
   }
   tool_velocity_[index] = ts->tip_velocity;
