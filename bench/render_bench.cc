@@ -4,8 +4,10 @@
 //   scenes/cavity.toml (3 m, 190 control points, cavity wall, spine, liver, bladder) settles
 //   for 3 s at load; the benchmark then steps it 10 more steps and cycles through those
 //   poses, so the convolution skin's warm start follows real residual motion. The camera is
-//   viscera-sim's default (FramingLaparoscope of the pile). LP_NUM_THREADS=0 unless set:
-//   llvmpipe rasterizes in the benchmark's thread, so the figures are one core's.
+//   viscera-sim's default (the scene's [camera] laparoscope, else the framing of the pile).
+//   LP_NUM_THREADS=0 unless set: llvmpipe rasterizes in the benchmark's thread, so the figures
+//   are one core's; cpu_ms is that thread's CPU time per frame (skin, draw, JPEG). The last
+//   argument switches the procedural textures off (0) or on (1): their cost, in one run.
 //
 //   taskset -c 1 ./build/bench/bench_render --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
@@ -16,7 +18,9 @@
 
 #include "common/check.h"
 #include "mechanics/step.h"
+#include "common/clock.h"
 #include "render/frame_renderer.h"
+#include "render/port_scope.h"
 #include "scene/scene.h"
 
 namespace viscera::render {
@@ -49,7 +53,7 @@ const Cavity& Scene() {
 }
 
 // Args: skin index, width, height, sides (vertices per ring of the ring-based skins; 0: the
-// skin's default, 16 parametric, 32 convolution and hybrid).
+// skin's default, 16 parametric, 32 convolution and hybrid), textures (0 plain, 1 procedural).
 void BM_Frame(benchmark::State& state) {
   const Cavity& cavity = Scene();
   FrameOptions options;
@@ -60,12 +64,12 @@ void BM_Frame(benchmark::State& state) {
     options.skin_options.parametric.sides = static_cast<int>(state.range(3));
     options.skin_options.convolution.sides = static_cast<int>(state.range(3));
   }
+  options.scene.textures = state.range(4) != 0;
   FrameRenderer renderer(cavity.params, options);
-  const Points& q0 = cavity.poses.front();
-  const Laparoscope scope = FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
-                                               options.width, options.height);
+  const Laparoscope scope = SceneLaparoscope(cavity.params, cavity.poses.front(), options.width, options.height);
   double skin_ms = 0.0, render_ms = 0.0, encode_ms = 0.0, bytes = 0.0;
   size_t k = 0;
+  const int64_t cpu0 = ThreadCpuNanos();
   for (auto _ : state) {
     renderer.Render(cavity.poses[k++ % cavity.poses.size()], {}, scope);
     bytes += static_cast<double>(renderer.Encode().size());
@@ -73,8 +77,11 @@ void BM_Frame(benchmark::State& state) {
     render_ms += renderer.timings().render_ms;
     encode_ms += renderer.timings().encode_ms;
   }
+  const double cpu_ms = static_cast<double>(ThreadCpuNanos() - cpu0) * 1e-6;
   const double n = static_cast<double>(state.iterations());
-  state.SetLabel(options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : ""));
+  state.SetLabel(options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : "") +
+                 (options.scene.textures ? ", textured" : ", plain"));
+  state.counters["cpu_ms"] = cpu_ms / n;
   state.counters["skin_ms"] = skin_ms / n;
   state.counters["render_ms"] = render_ms / n;
   state.counters["encode_ms"] = encode_ms / n;
@@ -86,14 +93,16 @@ void BM_Frame(benchmark::State& state) {
 
 void Sizes(benchmark::internal::Benchmark* b) {
   for (int skin = 0; skin < 4; ++skin) {
-    b->Args({skin, 640, 480, 0});
-    b->Args({skin, 1280, 720, 0});
+    b->Args({skin, 640, 480, 0, 1});
+    b->Args({skin, 1280, 720, 0, 1});
   }
   // the convolution surface at the parametric skin's ring density
   for (int skin : {1, 3}) {
-    b->Args({skin, 640, 480, 16});
-    b->Args({skin, 1280, 720, 16});
+    b->Args({skin, 640, 480, 16, 1});
+    b->Args({skin, 1280, 720, 16, 1});
   }
+  // what the procedural textures cost: the same frames plain
+  for (int sides : {0, 16}) b->Args({1, 640, 480, sides, 0});
 }
 BENCHMARK(BM_Frame)->Apply(Sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -11,7 +11,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "render/frame_renderer.h"
-#include "render/laparoscope.h"
+#include "render/port_scope.h"
 #include "session/session_scene.h"
 #include "session/stepper.h"
 
@@ -39,9 +39,8 @@ double MeasureFrame(const mechanics::Model& model, const mechanics::State& state
   options.skin_options.parametric.sides = config.skin_sides;
   options.skin_options.convolution.sides = config.skin_sides;
   render::FrameRenderer renderer(model.params(), options);
-  const render::Laparoscope camera = render::FramingLaparoscope(
-      state.q.colwise().minCoeff().transpose(), state.q.colwise().maxCoeff().transpose(),
-      renderer.width(), renderer.height());
+  const render::Laparoscope camera =
+      render::SceneLaparoscope(model.params(), state.q, renderer.width(), renderer.height());
   std::vector<double> costs;
   for (int i = 0; i <= kFrames; ++i) {
     const int64_t cpu0 = ThreadCpuNanos();

@@ -58,7 +58,7 @@ void ExposureWatcher::Run() {
       if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot();
           snapshot != nullptr && snapshot->step != shown_step) {
         if (!have_framing) {
-          framing = FirstFraming(snapshot->q, config_.width, config_.height);
+          framing = FirstFraming(params, snapshot->q, config_.width, config_.height);
           have_framing = true;
         }
         const render::Laparoscope scope = SessionScope(session_->camera(), framing);

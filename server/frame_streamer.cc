@@ -151,7 +151,7 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
     const session::CameraPose pose = session_->camera();
     if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot()) {
       if (!have_framing) {
-        framing = FirstFraming(snapshot->q, renderer.width(), renderer.height());
+        framing = FirstFraming(session_->model().params(), snapshot->q, renderer.width(), renderer.height());
         have_framing = true;
       }
       // nothing moved and the camera stayed: send the same picture again, it costs nothing

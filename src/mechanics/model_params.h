@@ -7,6 +7,7 @@
 
 #include "collision/obstacle.h"
 #include "common/types.h"
+#include "mechanics/scope_params.h"
 #include "mechanics/task_params.h"
 #include "mechanics/tool.h"
 
@@ -100,6 +101,9 @@ struct ModelParams {
 
   /// [[target]] and [assessment]: the training task (not read by the mechanics).
   TaskParams task;
+
+  /// [camera]: the laparoscope through its port; none: a plain camera framing the intestine.
+  std::optional<ScopeParams> scope;
 
   /// Starting control points (#N by 3, N >= 4).
   Points initial_q;

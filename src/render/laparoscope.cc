@@ -14,6 +14,8 @@ CameraMatrices Laparoscope::Matrices(int width, int height) const {
   m.projection = Perspective(fov_y_degrees * std::numbers::pi_v<float> / 180.0f,
                              static_cast<float>(width) / static_cast<float>(height), near, far);
   m.light_range = light_range;
+  m.spot_inner_deg = spot_inner_deg;
+  m.spot_outer_deg = spot_outer_deg;
   return m;
 }
 

@@ -17,6 +17,10 @@ struct Laparoscope {
   float far = 3.0f;
   /// Distance (m) at which the scope's light falls to half (CameraMatrices::light_range).
   float light_range = 0.25f;
+  /// The light's spot cone about the line of sight (CameraMatrices): half angles (degrees) of
+  /// full strength and of none. 0: no cone (a plain camera).
+  float spot_inner_deg = 0.0f;
+  float spot_outer_deg = 0.0f;
 
   /// View and projection for a frame of width x height pixels.
   /// @throws InputError for a degenerate pose (eye == target, up along the view) or

@@ -1,64 +1,14 @@
 #include "render/mesh_renderer.h"
 
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "common/check.h"
 #include "render/gl.h"
+#include "render/tissue_shader.h"
 
 namespace viscera::render {
-namespace {
-
-constexpr char kVertexShader[] = R"(#version 330 core
-uniform mat4 u_view;
-uniform mat4 u_projection;
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
-out vec3 v_position;  // view space
-out vec3 v_normal;    // view space
-void main() {
-  vec4 p = u_view * vec4(a_position, 1.0);
-  v_position = p.xyz;
-  v_normal = mat3(u_view) * a_normal;  // u_view is rigid: no inverse transpose needed
-  gl_Position = u_projection * p;
-}
-)";
-
-// Blinn-Phong with the light at the eye: the light and view directions coincide, so
-// the half vector is the view direction and both lobes are powers of n.v. A sharp lobe
-// (u_shininess) and a broad one (u_sheen) together give the wet look of mucosa. The
-// light falls off as 1 / (1 + (d / range)^2) with the distance d from the scope.
-constexpr char kFragmentShader[] = R"(#version 330 core
-uniform vec3 u_albedo;
-uniform float u_ambient;
-uniform float u_specular;
-uniform float u_shininess;
-uniform float u_sheen;
-uniform float u_sheen_shininess;
-uniform float u_metallic;
-uniform float u_light_range;
-uniform float u_opacity;
-in vec3 v_position;
-in vec3 v_normal;
-out vec4 frag_colour;
-void main() {
-  vec3 to_eye = normalize(-v_position);
-  vec3 n = normalize(v_normal);
-  if (!gl_FrontFacing) n = -n;
-  float diffuse = max(dot(n, to_eye), 0.0);
-  float light = 1.0;
-  if (u_light_range > 0.0) {
-    float d = length(v_position) / u_light_range;
-    light = 1.0 / (1.0 + d * d);
-  }
-  float highlight = u_specular * pow(diffuse, u_shininess) + u_sheen * pow(diffuse, u_sheen_shininess);
-  vec3 highlight_colour = mix(vec3(1.0), u_albedo, u_metallic);
-  vec3 colour = u_albedo * (u_ambient + (1.0 - u_ambient) * diffuse * light) +
-                highlight_colour * (highlight * light);
-  frag_colour = vec4(min(colour, vec3(1.0)), u_opacity);
-}
-)";
-
-}  // namespace
 
 MeshRenderer::MeshRenderer() {
   GLint major = 0;
@@ -68,7 +18,7 @@ MeshRenderer::MeshRenderer() {
   if (major * 10 + minor < 33) {
     throw std::runtime_error(Cat("MeshRenderer needs GL 3.3, the context offers ", major, ".", minor));
   }
-  program_ = std::make_unique<ShaderProgram>(kVertexShader, kFragmentShader);
+  program_ = std::make_unique<ShaderProgram>(kTissueVertexShader, kTissueFragmentShader);
   u_view_ = program_->Uniform("u_view");
   u_projection_ = program_->Uniform("u_projection");
   u_albedo_ = program_->Uniform("u_albedo");
@@ -80,6 +30,9 @@ MeshRenderer::MeshRenderer() {
   u_metallic_ = program_->Uniform("u_metallic");
   u_light_range_ = program_->Uniform("u_light_range");
   u_opacity_ = program_->Uniform("u_opacity");
+  u_pattern_ = program_->Uniform("u_pattern");
+  u_vessel_ = program_->Uniform("u_vessel");
+  u_spot_ = program_->Uniform("u_spot");
   stream_ = std::make_unique<GpuMesh>();
 }
 
@@ -118,6 +71,12 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
   glUniform1f(u_metallic_, material.metallic);
   glUniform1f(u_light_range_, camera.light_range);
   glUniform1f(u_opacity_, material.opacity);
+  glUniform1i(u_pattern_, static_cast<int>(material.pattern));
+  glUniform3fv(u_vessel_, 1, material.vessel.data());
+  const float to_radians = std::numbers::pi_v<float> / 180.0f;
+  const bool cone = camera.spot_outer_deg > 0.0f && camera.spot_outer_deg > camera.spot_inner_deg;
+  glUniform2f(u_spot_, cone ? std::cos(camera.spot_inner_deg * to_radians) : 0.0f,
+              cone ? std::cos(camera.spot_outer_deg * to_radians) : 1.0f);
   glEnable(GL_DEPTH_TEST);
   const bool translucent = material.opacity < 1.0f;
   if (translucent) {

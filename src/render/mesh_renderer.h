@@ -16,6 +16,15 @@ using VerticesF = Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// #F by 3 vertex indices per triangle.
 using TrianglesU = Eigen::Matrix<uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+/// A procedural texture, computed per fragment from the mesh's texture-space points (no
+/// image assets; the same points and pattern always give the same pixels).
+enum class Pattern {
+  kPlain,       ///< the albedo alone
+  kPeritoneum,  ///< mottled pale wall with a network of fine vessels
+  kSerosa,      ///< the bowel's surface: vessels around the tube (vasa recta), a patchy wet film
+  kMesentery,   ///< fat with vessels running from the root to the bowel; vessels more opaque
+};
+
 /// Surface look. Colours are linear RGB in [0, 1].
 struct Material {
   Eigen::Vector3f albedo{0.8f, 0.45f, 0.4f};
@@ -31,6 +40,8 @@ struct Material {
   /// < 1: a translucent film (the mesentery), blended over what was drawn before it and
   /// not hiding what is drawn after (no depth write): draw it after the opaque meshes.
   float opacity = 1.0f;
+  Pattern pattern = Pattern::kPlain;
+  Eigen::Vector3f vessel{0.55f, 0.07f, 0.09f};  ///< colour of the pattern's vessels
 };
 
 /// Which faces a draw keeps. Closed surfaces seen from outside keep front faces; the
@@ -45,6 +56,10 @@ struct CameraMatrices {
   /// The laparoscope's light, at the eye, falls to half its intensity at this distance
   /// (m): near tissue is bright, far tissue dark, as through a real scope. 0: no falloff.
   float light_range = 0.0f;
+  /// The light's spot cone around the optical axis (view -z), half angles in degrees: full
+  /// strength within `spot_inner_deg`, fading smoothly to none at `spot_outer_deg`. 0: no cone.
+  float spot_inner_deg = 0.0f;
+  float spot_outer_deg = 0.0f;
 };
 
 class MeshRenderer {
@@ -61,7 +76,8 @@ class MeshRenderer {
   /// Clears colour (linear RGB in [0, 1]) and depth.
   void Clear(const Eigen::Vector3f& rgb);
 
-  /// Draws one mesh with depth test, both faces lit (the camera may enter the tube).
+  /// Draws one mesh with depth test, both faces lit (the camera may enter the tube); its
+  /// texture space is its world positions.
   /// @param positions #V by 3 vertex positions (m, world frame).
   /// @param normals   #V by 3 unit vertex normals (world frame).
   /// @param triangles #F by 3 indices into positions.
@@ -81,7 +97,7 @@ class MeshRenderer {
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
   int u_view_ = -1, u_projection_ = -1, u_albedo_ = -1, u_ambient_ = -1, u_specular_ = -1,
       u_shininess_ = -1, u_sheen_ = -1, u_sheen_shininess_ = -1, u_metallic_ = -1,
-      u_light_range_ = -1, u_opacity_ = -1;
+      u_light_range_ = -1, u_opacity_ = -1, u_pattern_ = -1, u_vessel_ = -1, u_spot_ = -1;
 };
 
 }  // namespace viscera::render

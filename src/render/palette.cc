@@ -40,9 +40,16 @@ Palette DefaultPalette() {
   Palette p;
   // wet tissue: a strong narrow highlight (the moist film) over a broad faint sheen
   p.intestine = Make({0.92f, 0.52f, 0.52f}, 0.12f, 0.60f, 80.0f, 0.12f, 5.0f);
-  p.cavity_wall = Make({0.55f, 0.17f, 0.13f}, 0.10f, 0.30f, 40.0f, 0.04f, 4.0f);
+  p.intestine.pattern = Pattern::kSerosa;
+  p.intestine.vessel = {0.70f, 0.20f, 0.22f};
+  // parietal peritoneum: pale, pinkish cream (paler and yellower than the bowel), thin vessels
+  p.cavity_wall = Make({0.84f, 0.62f, 0.54f}, 0.10f, 0.35f, 50.0f, 0.05f, 4.0f);
+  p.cavity_wall.pattern = Pattern::kPeritoneum;
+  p.cavity_wall.vessel = {0.68f, 0.20f, 0.18f};
   p.mesentery = Make({0.95f, 0.80f, 0.62f}, 0.25f, 0.35f, 40.0f, 0.05f, 4.0f);
   p.mesentery.opacity = 0.35f;
+  p.mesentery.pattern = Pattern::kMesentery;
+  p.mesentery.vessel = {0.62f, 0.12f, 0.14f};
   p.tool = Make({0.62f, 0.64f, 0.68f}, 0.12f, 0.90f, 40.0f, 0.15f, 3.0f, 0.8f);
   p.target = Make({0.10f, 0.95f, 0.25f}, 0.60f, 0.0f, 1.0f);
   p.named_organs = {
@@ -63,6 +70,15 @@ Palette DefaultPalette() {
       Make({0.45f, 0.13f, 0.09f}, 0.10f, 0.45f, 60.0f, 0.05f, 5.0f),  // dark red-brown
   };
   return p;
+}
+
+void DropTextures(Palette* palette) {
+  for (Material* m : {&palette->intestine, &palette->cavity_wall, &palette->mesentery, &palette->tool,
+                      &palette->target}) {
+    m->pattern = Pattern::kPlain;
+  }
+  for (auto& named : palette->named_organs) named.second.pattern = Pattern::kPlain;
+  for (Material& m : palette->organs) m.pattern = Pattern::kPlain;
 }
 
 }  // namespace viscera::render

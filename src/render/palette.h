@@ -10,11 +10,14 @@
 namespace viscera::render {
 
 struct Palette {
-  /// Pink mucosa-coloured serosa with a sharp wet highlight and a broad sheen.
+  /// Pink serosa with vessels around the tube (Pattern::kSerosa), a sharp wet highlight and a
+  /// broad sheen.
   Material intestine;
-  /// The abdominal wall (`inside = true` obstacles) and planes: darker, redder, less shiny.
+  /// The abdominal wall (`inside = true` obstacles) and planes: the parietal peritoneum, pale
+  /// with fine vessels (Pattern::kPeritoneum).
   Material cavity_wall;
-  /// The mesentery ([mesentery] scenes): a thin translucent film, pale (fat) pink.
+  /// The mesentery ([mesentery] scenes): a thin translucent film, pale (fat) pink, its vessels
+  /// darker and more opaque (Pattern::kMesentery).
   Material mesentery;
   /// Laparoscopic instruments: metallic grey, highlights tinted by the metal.
   Material tool;
@@ -34,5 +37,8 @@ struct Palette {
 
 /// The palette the renderer uses unless told otherwise.
 Palette DefaultPalette();
+
+/// Every material of `palette` plain (no procedural texture): the flat look, for comparisons.
+void DropTextures(Palette* palette);
 
 }  // namespace viscera::render

@@ -1,5 +1,7 @@
 #include "render/scene_renderer.h"
 
+#include <algorithm>
+
 #include "common/check.h"
 #include "render/target_patch.h"
 #include "render/tessellation.h"
@@ -8,7 +10,12 @@
 namespace viscera::render {
 
 SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palette, SceneOptions options)
-    : tool_params_(params.tools), palette_(std::move(palette)), options_(options) {
+    : tool_params_(params.tools),
+      palette_(std::move(palette)),
+      options_(options),
+      length_(params.length),
+      radius_(params.radius) {
+  if (!options_.textures) DropTextures(&palette_);
   const Vec3 around = params.initial_q.rows() > 0 ? Vec3(params.initial_q.colwise().mean().transpose())
                                                   : Vec3(Vec3::Zero());
   int unnamed = 0;
@@ -57,6 +64,7 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
       membrane_root_.push_back(m.root_start + s * (m.root_end - m.root_start));
     }
     membrane_edge_.resize(membrane_s_.size());
+    for (const auto& point : m.lengths) membrane_across_ = std::max(membrane_across_, point.second);
   }
 }
 
@@ -70,7 +78,7 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
 
   intestine_cpu_.Clear();
-  AppendSkin(intestine, &intestine_cpu_);
+  AppendSkin(intestine, length_, radius_, &intestine_cpu_);
   intestine_gpu_.Upload(intestine_cpu_);
   renderer_.Draw(intestine_gpu_, camera, palette_.intestine,
                  options_.intestine_back_faces ? Faces::kBoth : Faces::kFront);
@@ -89,7 +97,7 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   if (skeleton != nullptr && !membrane_s_.empty() && skeleton->rows() == num_points_) {
     const spline::CatmullRom curve(num_points_);
     for (size_t k = 0; k < membrane_s_.size(); ++k) membrane_edge_[k] = curve.Position(*skeleton, membrane_s_[k]);
-    AppendRuledFilm(membrane_root_, membrane_edge_, &membrane_cpu_);
+    AppendRuledFilm(membrane_root_, membrane_edge_, length_, membrane_across_, &membrane_cpu_);
     membrane_gpu_.Upload(membrane_cpu_);
     renderer_.Draw(membrane_gpu_, camera, palette_.mesentery, Faces::kBoth);
   }

@@ -23,6 +23,8 @@ struct SceneOptions {
   /// wall). Off by default: culling them halves the triangles llvmpipe rasterizes (30-40 %
   /// of the render time on the cavity scene) and a scope does not enter tissue.
   bool intestine_back_faces = false;
+  /// Procedural textures (Material::pattern). Off: every material plain (DropTextures).
+  bool textures = true;
 };
 
 class SceneRenderer {
@@ -69,6 +71,8 @@ class SceneRenderer {
   // the mesentery: its root points and curve parameters (empty without [mesentery])
   std::vector<Vec3> membrane_root_, membrane_edge_;
   std::vector<double> membrane_s_;
+  double membrane_across_ = 0.0;  // texture space: m from the root to the bowel
+  double length_ = 0.0, radius_ = 0.0;  // the tube's: the serosa's texture space
   int num_points_ = 0;
   TriMesh membrane_cpu_;
   GpuMesh membrane_gpu_;

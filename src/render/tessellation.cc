@@ -180,30 +180,45 @@ void AppendTool(const Vec3& port, const Vec3& tip, const Eigen::Quaterniond& ori
   }
 }
 
-void AppendSkin(const skin::Mesh& mesh, TriMesh* out) {
+void AppendSkin(const skin::Mesh& mesh, double length, double radius, TriMesh* out) {
   const uint32_t base = Base(*out);
+  // texture space: the tube unrolled straight, (along, around) on a cylinder of its radius, so
+  // the pattern rides on the tissue; a skin without surface coordinates: the world positions
+  const bool on_tissue = mesh.surface.size() == mesh.positions.size();
+  out->texture.resize(out->positions.size(), Eigen::Vector3f::Zero());
   for (size_t i = 0; i < mesh.positions.size(); ++i) {
     out->positions.push_back(mesh.positions[i].cast<float>());
     out->normals.push_back(mesh.normals[i].cast<float>());
+    if (on_tissue) {
+      const Eigen::Vector2d& sa = mesh.surface[i];
+      out->texture.emplace_back(static_cast<float>(sa.x() * length), static_cast<float>(radius * std::cos(sa.y())),
+                                static_cast<float>(radius * std::sin(sa.y())));
+    } else {
+      out->texture.push_back(out->positions.back());
+    }
   }
   for (const Eigen::Vector3i& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) out->indices.push_back(base + static_cast<uint32_t>(t[k]));
   }
 }
 
-void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, TriMesh* out) {
+void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, double along_length, double across_length,
+                     TriMesh* out) {
   const size_t k = std::min(a.size(), b.size());
   if (k < 2) return;
   const uint32_t base = static_cast<uint32_t>(out->positions.size());
+  out->texture.resize(out->positions.size(), Eigen::Vector3f::Zero());
   for (size_t i = 0; i < k; ++i) {
     // across the film: along the root times toward the bowel
     const Vec3 along = a[std::min(i + 1, k - 1)] - a[i > 0 ? i - 1 : 0];
     Vec3 n = along.cross(b[i] - a[i]);
     n = n.norm() > 1e-12 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
-    for (const Vec3& p : {a[i], b[i]}) {
-      out->positions.push_back(p.cast<float>());
-      out->normals.push_back(n.cast<float>());
-    }
+    const float x = static_cast<float>(along_length * static_cast<double>(i) / static_cast<double>(k - 1));
+    out->positions.push_back(a[i].cast<float>());
+    out->positions.push_back(b[i].cast<float>());
+    out->normals.insert(out->normals.end(), 2, n.cast<float>());
+    out->texture.emplace_back(x, 0.0f, 0.0f);
+    out->texture.emplace_back(x, static_cast<float>(across_length), 0.0f);
   }
   for (uint32_t i = 0; i + 1 < k; ++i) {
     const uint32_t a0 = base + 2 * i, b0 = a0 + 1, a1 = a0 + 2, b1 = a0 + 3;

@@ -36,8 +36,10 @@ void AppendPlane(const Vec3& point, const Vec3& normal, const Vec3& around, doub
 
 /// A ruled film between two polylines of equal length k >= 2 (the mesentery: from its root to
 /// the bowel): quads (a_i, a_i+1, b_i+1, b_i) split in two, normals across the film (one side;
-/// draw both faces).
-void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, TriMesh* out);
+/// draw both faces). Texture space: (along_length i / (k - 1), 0 on a and across_length on b, 0),
+/// in metres.
+void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, double along_length, double across_length,
+                     TriMesh* out);
 
 /// Indexed triangles (#V by 3 vertices, #F by 3 faces) with smooth, area-weighted normals.
 void AppendTriangles(const Points& vertices,
@@ -56,7 +58,9 @@ void AppendTool(const Vec3& port, const Vec3& tip, const Eigen::Quaterniond& ori
                 double radius, double shaft_length, TriMesh* out);
 
 /// The skin mesh converted to float (positions and normals; the skin's triangles are
-/// already counter-clockwise from outside).
-void AppendSkin(const skin::Mesh& mesh, TriMesh* out);
+/// already counter-clockwise from outside). Texture space: the tube of `length` and `radius`
+/// (m) unrolled straight, (s length, radius cos angle, radius sin angle) from the skin's surface
+/// coordinates, or the world positions for a skin without them (the implicit skin).
+void AppendSkin(const skin::Mesh& mesh, double length, double radius, TriMesh* out);
 
 }  // namespace viscera::render

@@ -6,6 +6,7 @@
 
 #include "common/check.h"
 #include "mechanics/step.h"
+#include "scene/camera_table.h"
 #include "scene/mesentery_table.h"
 #include "scene/shapes.h"
 #include "scene/task_reader.h"
@@ -309,7 +310,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
     if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
-        k == "tool" || k == "mesentery" || k == "target" || k == "assessment") {
+        k == "tool" || k == "mesentery" || k == "target" || k == "assessment" || k == "camera") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
@@ -326,6 +327,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   ReadTools(root, &scene.model);
   ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
            &scene.model);
+  scene.model.scope = ReadCamera(root);
   if (limits.vet) limits.vet(scene.model);
   if (settle > 0.0) Settle(settle, &scene.model);
   return scene;

@@ -15,6 +15,11 @@ struct Mesh {
   std::vector<Vec3> positions;              ///< #V, metres
   std::vector<Vec3> normals;                ///< #V unit vectors (or zero for isolated vertices)
   std::vector<Eigen::Vector3i> triangles;   ///< #F vertex indices
+  /// Per vertex, where it sits on the tissue: (s, angle), the curve parameter in [0, 1] and the
+  /// angle (rad) around the centre line from the ring frame's normal. Filled by the ring-based
+  /// skins (#V), empty for the others; the renderer anchors its procedural textures to it, so
+  /// the serosa's vessels move with the bowel.
+  std::vector<Eigen::Vector2d> surface;
 
   int num_vertices() const { return static_cast<int>(positions.size()); }
   int num_triangles() const { return static_cast<int>(triangles.size()); }
@@ -22,6 +27,7 @@ struct Mesh {
     positions.clear();
     normals.clear();
     triangles.clear();
+    surface.clear();
   }
 };
 

@@ -133,6 +133,14 @@ void TubeRays::Emit(const std::vector<double>& radii, Mesh* out) const {
   for (int v = 0; v < count; ++v) out->positions[v] = origins_[v] + radii[v] * directions_[v];
   out->triangles = triangles_;
   ComputeVertexNormals(out);
+  // where each vertex sits on the tissue: its ring's parameter (caps: their end's) and its side
+  out->surface.resize(count);
+  const int first = FirstTubeVertex();
+  for (int v = 0; v < count; ++v) {
+    const int side = v == 0 || v == count - 1 ? 0 : (v - 1) % sides_;
+    const double s = IsCap(v) ? (v < first ? 0.0 : 1.0) : ring_params_[static_cast<size_t>((v - first) / sides_)];
+    out->surface[static_cast<size_t>(v)] = {s, 2.0 * std::numbers::pi * side / sides_};
+  }
 }
 
 void UniformRingParams(int num_segments, int per_segment, std::vector<double>* params) {

@@ -12,6 +12,7 @@
 #include "mechanics/step.h"
 #include "render/frame_renderer.h"
 #include "render/laparoscope.h"
+#include "render/port_scope.h"
 #include "scene/scene.h"
 #include "script/scripted_tools.h"
 #include "script/tool_script.h"
@@ -35,9 +36,8 @@ class ClearingTask : public ::testing::Test {
     model_ = std::make_unique<mechanics::Model>(scene_.model);
     script_ = script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv");
     const Points& q0 = model_->params().initial_q;
-    // the view viscerad frames a session with when its client set no camera
-    scope_ = render::FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
-                                        kWidth, kHeight);
+    // the view viscerad shows a session with when its client set no camera: the scene's scope
+    scope_ = render::SceneLaparoscope(model_->params(), q0, kWidth, kHeight);
     view_ = {scope_.eye.cast<double>(), scope_.target.cast<double>(), scope_.up.cast<double>(), scope_.fov_y_degrees,
              static_cast<double>(kWidth) / kHeight};
   }

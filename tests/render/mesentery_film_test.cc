@@ -32,6 +32,8 @@ Blend CompareFilm(float opacity) {
   options.palette.mesentery.specular = 0.0f;
   options.palette.mesentery.sheen = 0.0f;
   options.palette.mesentery.opacity = opacity;
+  // one film colour: the blend is measured against it (the vessels would vary it)
+  options.palette.mesentery.pattern = Pattern::kPlain;
   const Eigen::Vector3f film = options.palette.mesentery.albedo * 255.0f;  // RGB levels
   const Laparoscope scope = LookAtLaparoscope(Vec3(0.0, -0.10, 0.24), Vec3(0.0, 0.0, 0.03));
   const Points& q = scene.model.initial_q;

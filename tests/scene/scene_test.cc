@@ -246,5 +246,44 @@ TEST(Scene, AnotherRateKeepsTheSubStepLengthNotTheCount) {
   EXPECT_EQ(at(30.0), 7);
 }
 
+// [camera]: the laparoscope through its port; without it, no scope (a plain framing camera).
+TEST(Scene, ReadsTheLaparoscope) {
+  EXPECT_FALSE(ParseScene(kIntestine).model.scope.has_value());
+  const Scene s = ParseScene(kIntestine + "[camera]\nport = [0, -0.1, 0.3]\nlook_at = [0, 0, 0.1]\n");
+  ASSERT_TRUE(s.model.scope.has_value());
+  const mechanics::ScopeParams defaults;
+  EXPECT_EQ(s.model.scope->port, Vec3(0.0, -0.1, 0.3));
+  EXPECT_EQ(s.model.scope->look_at, Vec3(0.0, 0.0, 0.1));
+  EXPECT_EQ(s.model.scope->optics_deg, 0.0);
+  EXPECT_EQ(s.model.scope->fov_deg, defaults.fov_deg);
+  EXPECT_EQ(s.model.scope->light_range, defaults.light_range);
+  EXPECT_TRUE(s.warnings.empty());
+  const Scene oblique = ParseScene(kIntestine +
+                                   "[camera]\nport = [0, -0.1, 0.3]\ndirection = [0, 0, -2]\noptics = 30\n"
+                                   "roll = 90\nfov = 80\ninsertion = 0.08\nlight_range = 0.2\nlight_cone = 45\n"
+                                   "up = [0, 2, 0]\n");
+  EXPECT_NEAR((oblique.model.scope->look_at - Vec3(0.0, -0.1, 0.2)).norm(), 0.0, 1e-12) << "10 cm along";
+  EXPECT_EQ(oblique.model.scope->optics_deg, 30.0);
+  EXPECT_EQ(oblique.model.scope->roll_deg, 90.0);
+  EXPECT_EQ(oblique.model.scope->fov_deg, 80.0);
+  EXPECT_EQ(oblique.model.scope->insertion, 0.08);
+  EXPECT_EQ(oblique.model.scope->light_cone_deg, 45.0);
+  EXPECT_EQ(oblique.model.scope->up, Vec3(0.0, 1.0, 0.0));
+}
+
+TEST(Scene, RefusesABadLaparoscope) {
+  const std::string port = kIntestine + "[camera]\nport = [0, -0.1, 0.3]\n";
+  ExpectError(port, {"camera.look_at", "one of them"});
+  ExpectError(port + "look_at = [0, 0, 0]\ndirection = [0, 0, -1]\n", {"camera.look_at", "not both"});
+  ExpectError(port + "look_at = [0, -0.1, 0.3]\n", {"camera.look_at", "1 mm"});
+  ExpectError(port + "direction = [0, 0, 0]\n", {"camera.direction", "zero"});
+  ExpectError(port + "direction = [0, 0, -1]\n", {"camera.up", "shaft"});
+  ExpectError(port + "direction = [0, 1, -0.3]\noptics = 75\n", {"camera.optics", "75", "[0, 60]"});
+  ExpectError(port + "direction = [0, 1, -0.3]\noptics = 30\nup = [0, 1, 0]\n", {"camera.up", "31"});
+  ExpectError(port + "direction = [0, 1, -0.3]\nfov = 200\n", {"camera.fov"});
+  ExpectError(port + "direction = [0, 1, -0.3]\nlight_range = 0\n", {"camera.light_range"});
+  ExpectError(port + "direction = [0, 1, -0.3]\nzoom = 2\n", {"camera.zoom"});
+}
+
 }  // namespace
 }  // namespace viscera::scene

@@ -21,6 +21,7 @@
 #include "assessment/report.h"
 #include "render/frame_renderer.h"
 #include "render/jpeg_sequence.h"
+#include "render/port_scope.h"
 #include "scene/scene.h"
 #include "script/scripted_tools.h"
 #include "skin/skin.h"
@@ -56,9 +57,9 @@ struct Options {
   std::string report;         // the assessment as JSON goes here
 };
 
-// The run's laparoscope: --camera, else the framing of the starting pose (as viscerad frames a
-// session whose client set no camera) for a frame of --frame-size.
-render::Laparoscope RunScope(const Options& opt, const Points& q0) {
+// The run's laparoscope: --camera, else the scene's [camera] scope or the framing of the starting
+// pose (as viscerad shows a session whose client set no camera) for a frame of --frame-size.
+render::Laparoscope RunScope(const Options& opt, const mechanics::ModelParams& params, const Points& q0) {
   int width = 0, height = 0;
   render::ParseFrameSize(opt.frame_size, &width, &height);
   ThrowUnless(opt.camera.empty() || opt.camera.size() == 6, "--camera takes ex ey ez cx cy cz");
@@ -66,8 +67,7 @@ render::Laparoscope RunScope(const Options& opt, const Points& q0) {
     return render::LookAtLaparoscope(Vec3(opt.camera[0], opt.camera[1], opt.camera[2]),
                                      Vec3(opt.camera[3], opt.camera[4], opt.camera[5]));
   }
-  return render::FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(), width,
-                                    height);
+  return render::SceneLaparoscope(params, q0, width, height);
 }
 
 assessment::View ViewOf(const render::Laparoscope& scope, const Options& opt) {
@@ -159,7 +159,7 @@ int Replay(const Options& opt) {
   int64_t step = 0;
   std::unique_ptr<SimAssessment> assessed;  // made at the first step: the record holds the model
   const session::ReplayResult r = session::ReplayRecord(opt.replay, [&](const mechanics::Model& model, const mechanics::State& state) {
-    if (!assessed) assessed = std::make_unique<SimAssessment>(model, ViewOf(RunScope(opt, state.q), opt));
+    if (!assessed) assessed = std::make_unique<SimAssessment>(model, ViewOf(RunScope(opt, model.params(), state.q), opt));
     assessed->AddStep(state);
     if (trace && step++ % opt.trace_every == 0) {
       trace->Write(model, state, nullptr, model.curve().Length(state.q), mechanics::ComputeEnergies(model, state.q, state.qd), 0.0);
@@ -237,7 +237,7 @@ int Run(const Options& opt) {
   auto targets_at = [&](double t) {
     return scripted ? scripted->At(t, interactions) : std::span<const mechanics::ToolTarget>{};
   };
-  const render::Laparoscope scope = RunScope(opt, state.q);
+  const render::Laparoscope scope = RunScope(opt, model.params(), state.q);
   SimAssessment assessed(model, ViewOf(scope, opt));
   // The sphere chain of the start, for the first frame.
   if (interactions) interactions->BeginSubstep(targets_at(0.0), 0.0, &state);
