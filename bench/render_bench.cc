@@ -6,25 +6,33 @@
 //   poses, so the convolution skin's warm start follows real residual motion. The camera is
 //   viscera-sim's default (the scene's [camera] laparoscope, else the framing of the pile).
 //   LP_NUM_THREADS=0 unless set: llvmpipe rasterizes in the benchmark's thread, so the figures
-//   are one core's; cpu_ms is that thread's CPU time per frame (skin, draw, JPEG). The last
-//   argument switches the procedural textures off (0) or on (1): their cost, in one run.
+//   are one core's. cpu_ms is the process's CPU time per frame (skin, draw, JPEG, and llvmpipe's
+//   own threads when LP_NUM_THREADS >= 1): on a loaded machine the wall times include waiting,
+//   the CPU time does not.
 //
 //   taskset -c 1 ./build/bench/bench_render --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
+#include <ctime>
 #include <string>
 #include <vector>
 
 #include "common/check.h"
 #include "mechanics/step.h"
-#include "common/clock.h"
 #include "render/frame_renderer.h"
 #include "render/port_scope.h"
 #include "scene/scene.h"
 
 namespace viscera::render {
 namespace {
+
+// CPU time of every thread of the process (ns).
+int64_t ProcessCpuNanos() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
 
 constexpr const char* kScene = VISCERA_SOURCE_DIR "/scenes/cavity.toml";
 constexpr int kPoses = 10;
@@ -53,7 +61,8 @@ const Cavity& Scene() {
 }
 
 // Args: skin index, width, height, sides (vertices per ring of the ring-based skins; 0: the
-// skin's default, 16 parametric, 32 convolution and hybrid), textures (0 plain, 1 procedural).
+// skin's default, 16 parametric, 32 convolution and hybrid), textures (0 plain, 1 procedural),
+// camera (1 the scene's default, 0 the framing camera from outside: the view before [camera]).
 void BM_Frame(benchmark::State& state) {
   const Cavity& cavity = Scene();
   FrameOptions options;
@@ -66,10 +75,15 @@ void BM_Frame(benchmark::State& state) {
   }
   options.scene.textures = state.range(4) != 0;
   FrameRenderer renderer(cavity.params, options);
-  const Laparoscope scope = SceneLaparoscope(cavity.params, cavity.poses.front(), options.width, options.height);
+  const Points& q0 = cavity.poses.front();
+  const bool framing = state.range(5) == 0;
+  const Laparoscope scope =
+      framing ? FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
+                                   options.width, options.height)
+              : SceneLaparoscope(cavity.params, q0, options.width, options.height);
   double skin_ms = 0.0, render_ms = 0.0, encode_ms = 0.0, bytes = 0.0;
   size_t k = 0;
-  const int64_t cpu0 = ThreadCpuNanos();
+  const int64_t cpu0 = ProcessCpuNanos();
   for (auto _ : state) {
     renderer.Render(cavity.poses[k++ % cavity.poses.size()], {}, scope);
     bytes += static_cast<double>(renderer.Encode().size());
@@ -77,10 +91,10 @@ void BM_Frame(benchmark::State& state) {
     render_ms += renderer.timings().render_ms;
     encode_ms += renderer.timings().encode_ms;
   }
-  const double cpu_ms = static_cast<double>(ThreadCpuNanos() - cpu0) * 1e-6;
+  const double cpu_ms = static_cast<double>(ProcessCpuNanos() - cpu0) * 1e-6;
   const double n = static_cast<double>(state.iterations());
   state.SetLabel(options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : "") +
-                 (options.scene.textures ? ", textured" : ", plain"));
+                 (options.scene.textures ? ", textured" : ", plain") + (framing ? ", framing camera" : ""));
   state.counters["cpu_ms"] = cpu_ms / n;
   state.counters["skin_ms"] = skin_ms / n;
   state.counters["render_ms"] = render_ms / n;
@@ -93,16 +107,20 @@ void BM_Frame(benchmark::State& state) {
 
 void Sizes(benchmark::internal::Benchmark* b) {
   for (int skin = 0; skin < 4; ++skin) {
-    b->Args({skin, 640, 480, 0, 1});
-    b->Args({skin, 1280, 720, 0, 1});
+    b->Args({skin, 640, 480, 0, 1, 1});
+    b->Args({skin, 1280, 720, 0, 1, 1});
   }
   // the convolution surface at the parametric skin's ring density
   for (int skin : {1, 3}) {
-    b->Args({skin, 640, 480, 16, 1});
-    b->Args({skin, 1280, 720, 16, 1});
+    b->Args({skin, 640, 480, 16, 1, 1});
+    b->Args({skin, 1280, 720, 16, 1, 1});
   }
-  // what the procedural textures cost: the same frames plain
-  for (int sides : {0, 16}) b->Args({1, 640, 480, sides, 0});
+  // what the laparoscope's look costs, convolution skin at 640x480: the same frames plain, and
+  // plain through the framing camera (the view before [camera] and the textures)
+  for (int sides : {0, 16}) {
+    b->Args({1, 640, 480, sides, 0, 1});
+    b->Args({1, 640, 480, sides, 0, 0});
+  }
 }
 BENCHMARK(BM_Frame)->Apply(Sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
 

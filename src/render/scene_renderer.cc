@@ -75,8 +75,8 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   ThrowUnless(tools.empty() || tools.size() == tool_params_.size(), "SceneRenderer::Draw: ", tools.size(),
               " tool states for ", tool_params_.size(), " tools");
   renderer_.Clear(palette_.background);
-  for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
-
+  // near to far, roughly: the bowel and the tools before the wall and organs behind them, so the
+  // depth test rejects the wall's hidden fragments before they are shaded
   intestine_cpu_.Clear();
   AppendSkin(intestine, length_, radius_, &intestine_cpu_);
   intestine_gpu_.Upload(intestine_cpu_);
@@ -92,6 +92,7 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   }
   tools_gpu_.Upload(tools_cpu_);
   renderer_.Draw(tools_gpu_, camera, palette_.tool, Faces::kFront);
+  for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
   // translucent last: it blends over everything opaque behind it
   membrane_cpu_.Clear();
   if (skeleton != nullptr && !membrane_s_.empty() && skeleton->rows() == num_points_) {
