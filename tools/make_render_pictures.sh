@@ -3,7 +3,8 @@
 # settled cavity scene through a laparoscope inside the cavity, the clearing gesture at t = 3 s
 # from viscera-sim's default camera, and a close-up of the grasper's jaws at t = 0.9 s. Frames
 # come from `viscera-sim --render` (OSMesa, JPEG quality 95) and are converted to PNG. Needs a
-# build and python3 with Pillow.
+# build and python3 with Pillow. Then the laparoscope's view (docs/images/view_*.jpg, JPEG as
+# rendered).
 set -eu
 repo=$(cd "$(dirname "$0")/.." && pwd)
 sim="$repo/build/tools/viscera-sim"
@@ -25,5 +26,20 @@ python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).save(sys.
   --render "$out/grasp" --render-every 90 --camera 0.05 -0.095 0.14 0.019 -0.036 0.1 --jpeg-quality 95 >/dev/null
 python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).save(sys.argv[2])" \
   "$out/grasp/frame_000001.jpg" "$repo/docs/render_grasp.png"
+# the laparoscope's view (docs/rendering.md): the cavity through its [camera] scope before and
+# after the clearing gesture, with 30 degree optics, and the mesentery scene; JPEG as rendered
+mkdir -p "$repo/docs/images"
+"$sim" "$repo/scenes/cavity.toml" --duration 6 --tool-script "$repo/scenes/clearing.csv" --skin convolution \
+  --render "$out/view" --render-every 600 --jpeg-quality 80 >/dev/null
+cp "$out/view/frame_000000.jpg" "$repo/docs/images/view_before.jpg"
+cp "$out/view/frame_000001.jpg" "$repo/docs/images/view_after.jpg"
+cp "$repo/scenes/liver.obj" "$out/"
+sed 's/^optics = 0 /optics = 30/' "$repo/scenes/cavity.toml" >"$out/oblique.toml"
+grep -q '^optics = 30' "$out/oblique.toml"
+"$sim" "$out/oblique.toml" --duration 0.01 --skin convolution --render "$out/oblique" --jpeg-quality 80 >/dev/null
+cp "$out/oblique/frame_000000.jpg" "$repo/docs/images/view_oblique.jpg"
+"$sim" "$repo/scenes/cavity_mesentery.toml" --duration 0.01 --skin convolution --render "$out/mesentery" \
+  --camera 0.0 -0.13 0.06 0.0 0.02 0.03 --jpeg-quality 80 >/dev/null
+cp "$out/mesentery/frame_000000.jpg" "$repo/docs/images/view_mesentery.jpg"
 rm -rf "$out"
 echo "pictures written to $repo/docs"
