@@ -115,12 +115,14 @@ void Sizes(benchmark::internal::Benchmark* b) {
     b->Args({skin, 640, 480, 16, 1, 1});
     b->Args({skin, 1280, 720, 16, 1, 1});
   }
-  // what the laparoscope's look costs, convolution skin at 640x480: the same frames plain, and
-  // plain through the framing camera (the view before [camera] and the textures)
+  // what the laparoscope's look costs at 640x480: the same frames plain, and plain through the
+  // framing camera (the view before [camera] and the textures); the server's skins (16 sides)
   for (int sides : {0, 16}) {
     b->Args({1, 640, 480, sides, 0, 1});
     b->Args({1, 640, 480, sides, 0, 0});
   }
+  b->Args({0, 640, 480, 0, 0, 1});
+  b->Args({0, 640, 480, 0, 0, 0});
 }
 BENCHMARK(BM_Frame)->Apply(Sizes)->Unit(benchmark::kMillisecond)->UseRealTime();
 

@@ -18,21 +18,26 @@ MeshRenderer::MeshRenderer() {
   if (major * 10 + minor < 33) {
     throw std::runtime_error(Cat("MeshRenderer needs GL 3.3, the context offers ", major, ".", minor));
   }
-  program_ = std::make_unique<ShaderProgram>(kTissueVertexShader, kTissueFragmentShader);
-  u_view_ = program_->Uniform("u_view");
-  u_projection_ = program_->Uniform("u_projection");
-  u_albedo_ = program_->Uniform("u_albedo");
-  u_ambient_ = program_->Uniform("u_ambient");
-  u_specular_ = program_->Uniform("u_specular");
-  u_shininess_ = program_->Uniform("u_shininess");
-  u_sheen_ = program_->Uniform("u_sheen");
-  u_sheen_shininess_ = program_->Uniform("u_sheen_shininess");
-  u_metallic_ = program_->Uniform("u_metallic");
-  u_light_range_ = program_->Uniform("u_light_range");
-  u_opacity_ = program_->Uniform("u_opacity");
-  u_pattern_ = program_->Uniform("u_pattern");
-  u_vessel_ = program_->Uniform("u_vessel");
-  u_spot_ = program_->Uniform("u_spot");
+  for (int k = 0; k < kPatterns; ++k) {
+    Program& p = programs_[k];
+    p.program = std::make_unique<ShaderProgram>(
+        kTissueVertexShader, Cat("#version 330 core\n#define PATTERN ", k, "\n", kTissueFragmentShader));
+    // -1 for a uniform the variant does not use (u_vessel when plain): glUniform ignores it
+    auto at = [&](const char* name) { return glGetUniformLocation(p.program->id(), name); };
+    p.u_view = at("u_view");
+    p.u_projection = at("u_projection");
+    p.u_albedo = at("u_albedo");
+    p.u_ambient = at("u_ambient");
+    p.u_specular = at("u_specular");
+    p.u_shininess = at("u_shininess");
+    p.u_sheen = at("u_sheen");
+    p.u_sheen_shininess = at("u_sheen_shininess");
+    p.u_metallic = at("u_metallic");
+    p.u_light_range = at("u_light_range");
+    p.u_opacity = at("u_opacity");
+    p.u_vessel = at("u_vessel");
+    p.u_spot = at("u_spot");
+  }
   stream_ = std::make_unique<GpuMesh>();
 }
 
@@ -59,23 +64,23 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
                         Faces faces) {
   if (mesh.num_indices() == 0) return;
   // Eigen's default column-major storage is what GL expects: no transpose
-  program_->Use();
-  glUniformMatrix4fv(u_view_, 1, GL_FALSE, camera.view.data());
-  glUniformMatrix4fv(u_projection_, 1, GL_FALSE, camera.projection.data());
-  glUniform3fv(u_albedo_, 1, material.albedo.data());
-  glUniform1f(u_ambient_, material.ambient);
-  glUniform1f(u_specular_, material.specular);
-  glUniform1f(u_shininess_, material.shininess);
-  glUniform1f(u_sheen_, material.sheen);
-  glUniform1f(u_sheen_shininess_, material.sheen_shininess);
-  glUniform1f(u_metallic_, material.metallic);
-  glUniform1f(u_light_range_, camera.light_range);
-  glUniform1f(u_opacity_, material.opacity);
-  glUniform1i(u_pattern_, static_cast<int>(material.pattern));
-  glUniform3fv(u_vessel_, 1, material.vessel.data());
+  const Program& p = programs_[static_cast<int>(material.pattern)];
+  p.program->Use();
+  glUniformMatrix4fv(p.u_view, 1, GL_FALSE, camera.view.data());
+  glUniformMatrix4fv(p.u_projection, 1, GL_FALSE, camera.projection.data());
+  glUniform3fv(p.u_albedo, 1, material.albedo.data());
+  glUniform1f(p.u_ambient, material.ambient);
+  glUniform1f(p.u_specular, material.specular);
+  glUniform1f(p.u_shininess, material.shininess);
+  glUniform1f(p.u_sheen, material.sheen);
+  glUniform1f(p.u_sheen_shininess, material.sheen_shininess);
+  glUniform1f(p.u_metallic, material.metallic);
+  glUniform1f(p.u_light_range, camera.light_range);
+  glUniform1f(p.u_opacity, material.opacity);
+  glUniform3fv(p.u_vessel, 1, material.vessel.data());
   const float to_radians = std::numbers::pi_v<float> / 180.0f;
   const bool cone = camera.spot_outer_deg > 0.0f && camera.spot_outer_deg > camera.spot_inner_deg;
-  glUniform2f(u_spot_, cone ? std::cos(camera.spot_inner_deg * to_radians) : 0.0f,
+  glUniform2f(p.u_spot, cone ? std::cos(camera.spot_inner_deg * to_radians) : 0.0f,
               cone ? std::cos(camera.spot_outer_deg * to_radians) : 1.0f);
   glEnable(GL_DEPTH_TEST);
   const bool translucent = material.opacity < 1.0f;

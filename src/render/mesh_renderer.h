@@ -93,11 +93,16 @@ class MeshRenderer {
             Faces faces = Faces::kBoth);
 
  private:
-  std::unique_ptr<ShaderProgram> program_;
+  // one program per Pattern (kTissueFragmentShader with its PATTERN) and its uniforms
+  struct Program {
+    std::unique_ptr<ShaderProgram> program;
+    int u_view = -1, u_projection = -1, u_albedo = -1, u_ambient = -1, u_specular = -1, u_shininess = -1,
+        u_sheen = -1, u_sheen_shininess = -1, u_metallic = -1, u_light_range = -1, u_opacity = -1, u_vessel = -1,
+        u_spot = -1;
+  };
+  static constexpr int kPatterns = 4;
+  Program programs_[kPatterns];
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
-  int u_view_ = -1, u_projection_ = -1, u_albedo_ = -1, u_ambient_ = -1, u_specular_ = -1,
-      u_shininess_ = -1, u_sheen_ = -1, u_sheen_shininess_ = -1, u_metallic_ = -1,
-      u_light_range_ = -1, u_opacity_ = -1, u_pattern_ = -1, u_vessel_ = -1, u_spot_ = -1;
 };
 
 }  // namespace viscera::render

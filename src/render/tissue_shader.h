@@ -29,7 +29,10 @@ void main() {
 // (u_sheen) together give the wet look of mucosa. The light falls off as 1 / (1 + (d/range)^2)
 // with the distance d from the scope tip (inverse square beyond `range`, finite at the lens),
 // times the spot cone. Vessels are where a smooth value noise (or a wavy band) crosses zero.
-inline constexpr char kTissueFragmentShader[] = R"(#version 330 core
+// Compiled once per Pattern, after "#version 330 core" and "#define PATTERN <n>": llvmpipe runs
+// both sides of a branch on a uniform, so one program with every pattern would cost every
+// fragment all of them.
+inline constexpr char kTissueFragmentShader[] = R"(
 uniform vec3 u_albedo;
 uniform float u_ambient;
 uniform float u_specular;
@@ -39,7 +42,6 @@ uniform float u_sheen_shininess;
 uniform float u_metallic;
 uniform float u_light_range;
 uniform float u_opacity;
-uniform int u_pattern;     // Pattern: 0 plain, 1 peritoneum, 2 serosa, 3 mesentery
 uniform vec3 u_vessel;
 uniform vec2 u_spot;       // cosines of the cone's inner and outer half angles; x <= y: no cone
 in vec3 v_position;
@@ -84,7 +86,7 @@ void main() {
   float specular = u_specular;
   float opacity = u_opacity;
   vec3 p = v_texture;
-  if (u_pattern == 1) {
+#if PATTERN == 1
     // parietal peritoneum: a faint mottle, branching vessels (a warped noise's zero set) and
     // finer capillaries
     float mottle = Noise(p * 45.0);
@@ -93,7 +95,7 @@ void main() {
     albedo *= 1.0 + 0.10 * mottle;
     albedo = mix(albedo, u_vessel, vessels);
     specular *= 0.7 + 0.5 * mottle;
-  } else if (u_pattern == 2) {
+#elif PATTERN == 2
     // serosa: p = (along the bowel, around it), m. Vasa recta: bands around the tube every
     // 7 mm, wavy, each fading out part of the way round; a patchy wet film
     float wave = Noise(p * 90.0);
@@ -102,7 +104,7 @@ void main() {
     albedo *= 1.0 + 0.08 * wave;
     albedo = mix(albedo, u_vessel, 0.7 * band * reach);
     specular *= 0.6 + 0.6 * Noise(p * 160.0 + 3.7);
-  } else if (u_pattern == 3) {
+#elif PATTERN == 3
     // mesentery: p = (along the bowel, from the root toward it), m. Straight vessels from the
     // root, every 2 cm, wavy; arcades joining them near the bowel; fat lobules
     float wave = Noise(p * 40.0);
@@ -113,7 +115,7 @@ void main() {
     albedo *= 1.0 + 0.12 * wave;
     albedo = mix(albedo, u_vessel, vessels);
     opacity = mix(opacity, min(1.0, 2.4 * opacity), vessels);
-  }
+#endif
 
   float highlight = specular * pow(diffuse, u_shininess) + u_sheen * pow(diffuse, u_sheen_shininess);
   vec3 highlight_colour = mix(vec3(1.0), albedo, u_metallic);
