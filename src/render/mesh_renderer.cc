@@ -18,30 +18,37 @@ MeshRenderer::MeshRenderer() {
   if (major * 10 + minor < 33) {
     throw std::runtime_error(Cat("MeshRenderer needs GL 3.3, the context offers ", major, ".", minor));
   }
-  for (int k = 0; k < kPatterns; ++k) {
-    Program& p = programs_[k];
-    p.program = std::make_unique<ShaderProgram>(
-        kTissueVertexShader, Cat("#version 330 core\n#define PATTERN ", k, "\n", kTissueFragmentShader));
-    // -1 for a uniform the variant does not use (u_vessel when plain): glUniform ignores it
-    auto at = [&](const char* name) { return glGetUniformLocation(p.program->id(), name); };
-    p.u_view = at("u_view");
-    p.u_projection = at("u_projection");
-    p.u_albedo = at("u_albedo");
-    p.u_ambient = at("u_ambient");
-    p.u_specular = at("u_specular");
-    p.u_shininess = at("u_shininess");
-    p.u_sheen = at("u_sheen");
-    p.u_sheen_shininess = at("u_sheen_shininess");
-    p.u_metallic = at("u_metallic");
-    p.u_light_range = at("u_light_range");
-    p.u_opacity = at("u_opacity");
-    p.u_vessel = at("u_vessel");
-    p.u_spot = at("u_spot");
-  }
+  ProgramFor(Pattern::kPlain);  // shader errors show at construction
   stream_ = std::make_unique<GpuMesh>();
 }
 
 MeshRenderer::~MeshRenderer() = default;
+
+// Compiles the program of one pattern the first time a material asks for it: a scene compiles
+// only the patterns it draws (every program is JIT code llvmpipe keeps with the context).
+const MeshRenderer::Program& MeshRenderer::ProgramFor(Pattern pattern) {
+  const int k = static_cast<int>(pattern);
+  Program& p = programs_[k];
+  if (p.program != nullptr) return p;
+  p.program = std::make_unique<ShaderProgram>(
+      kTissueVertexShader, Cat("#version 330 core\n#define PATTERN ", k, "\n", kTissueFragmentShader));
+  // -1 for a uniform the variant does not use (u_vessel when plain): glUniform ignores it
+  auto at = [&](const char* name) { return glGetUniformLocation(p.program->id(), name); };
+  p.u_view = at("u_view");
+  p.u_projection = at("u_projection");
+  p.u_albedo = at("u_albedo");
+  p.u_ambient = at("u_ambient");
+  p.u_specular = at("u_specular");
+  p.u_shininess = at("u_shininess");
+  p.u_sheen = at("u_sheen");
+  p.u_sheen_shininess = at("u_sheen_shininess");
+  p.u_metallic = at("u_metallic");
+  p.u_light_range = at("u_light_range");
+  p.u_opacity = at("u_opacity");
+  p.u_vessel = at("u_vessel");
+  p.u_spot = at("u_spot");
+  return p;
+}
 
 void MeshRenderer::Clear(const Eigen::Vector3f& rgb) {
   glClearColor(rgb.x(), rgb.y(), rgb.z(), 1.0f);
@@ -64,7 +71,7 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
                         Faces faces) {
   if (mesh.num_indices() == 0) return;
   // Eigen's default column-major storage is what GL expects: no transpose
-  const Program& p = programs_[static_cast<int>(material.pattern)];
+  const Program& p = ProgramFor(material.pattern);
   p.program->Use();
   glUniformMatrix4fv(p.u_view, 1, GL_FALSE, camera.view.data());
   glUniformMatrix4fv(p.u_projection, 1, GL_FALSE, camera.projection.data());

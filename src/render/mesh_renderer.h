@@ -100,8 +100,10 @@ class MeshRenderer {
         u_sheen = -1, u_sheen_shininess = -1, u_metallic = -1, u_light_range = -1, u_opacity = -1, u_vessel = -1,
         u_spot = -1;
   };
+  const Program& ProgramFor(Pattern pattern);
+
   static constexpr int kPatterns = 4;
-  Program programs_[kPatterns];
+  Program programs_[kPatterns];  // compiled when first used
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
 };
 
