@@ -102,7 +102,10 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   bench.counters["env"] = static_cast<double>(tally.environment_contacts) / steps;
   bench.counters["resets"] = static_cast<double>(resets);
   // Broad-phase searches per step (the Verlet list's rebuilds; since the workspace was made).
-  if (workspace.interactions()) bench.counters["searches_per_step"] = static_cast<double>(workspace.interactions()->searches()) / steps;
+  if (workspace.interactions()) {
+    bench.counters["searches_per_step"] = static_cast<double>(workspace.interactions()->searches()) / steps;
+    bench.counters["partial_per_step"] = static_cast<double>(workspace.interactions()->partial_searches()) / steps;
+  }
   if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
     // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
     bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());

@@ -61,6 +61,8 @@ class Interactions {
   const std::vector<collision::ContactCandidate>& candidates() const { return candidates_.candidates(); }
   /// Broad-phase searches so far (the list is reused between them).
   int64_t searches() const { return candidates_.searches(); }
+  /// Partial searches so far: only the bodies that moved far (collision::VerletList).
+  int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
   struct Penalty {
