@@ -95,6 +95,23 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
       }
       line_ += ']';
     }
+    // where each tool's tip is and which part of the bowel it holds (-1: none)
+    line_ += "},\"tool_tip\":{";
+    for (size_t t = 0; t < state.tools.size(); ++t) {
+      if (t) line_ += ',';
+      line_ += '"' + model.params().tools[t].name + "\":[";
+      for (int a = 0; a < 3; ++a) {
+        if (a) line_ += ',';
+        Number(&line_, state.tools[t].tip(a));
+      }
+      line_ += ']';
+    }
+    line_ += "},\"grasp_s\":{";
+    for (size_t t = 0; t < state.tools.size(); ++t) {
+      if (t) line_ += ',';
+      line_ += '"' + model.params().tools[t].name + "\":";
+      Number(&line_, state.tools[t].grasping ? state.tools[t].grasp_s : -1.0);
+    }
     line_ += '}';
   }
   line_ += "}\n";
