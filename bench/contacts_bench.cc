@@ -21,7 +21,7 @@
 //                              sub-step length; one iteration = the whole 5.5 s gesture. Counters
 //                              add p99_us (per step, thread CPU time), deepest_pct_r (deepest
 //                              pair at any step, % of the radius) and peak_force (N, on the hand).
-//   BM_CavityMesentery/term:T  scenes/cavity_mesentery.toml settled, then one iteration = one
+//   BM_CavityMesentery/term:T  scenes/cavity.toml settled, then one iteration = one
 //                              step (T = 0) or only the mesentery's force term with its
 //                              stiffness and damping blocks (T = 1, every tether taut: the
 //                              term's worst case), 2 sub-steps each as the scene runs it:
@@ -193,7 +193,7 @@ void BM_CavityClearing(benchmark::State& bench) {
 }
 
 void BM_CavityMesentery(benchmark::State& bench) {
-  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
+  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   const Model model(scene.model);
   Workspace workspace(model);
   State state = InitialState(model);
