@@ -38,7 +38,7 @@ sed 's/^optics = 0 /optics = 30/' "$repo/scenes/cavity.toml" >"$out/oblique.toml
 grep -q '^optics = 30' "$out/oblique.toml"
 "$sim" "$out/oblique.toml" --duration 0.01 --skin convolution --render "$out/oblique" --jpeg-quality 80 >/dev/null
 cp "$out/oblique/frame_000000.jpg" "$repo/docs/images/view_oblique.jpg"
-"$sim" "$repo/scenes/cavity_mesentery.toml" --duration 0.01 --skin convolution --render "$out/mesentery" \
+"$sim" "$repo/scenes/cavity.toml" --duration 0.01 --skin convolution --render "$out/mesentery" \
   --camera 0.0 -0.13 0.06 0.0 0.02 0.03 --jpeg-quality 80 >/dev/null
 cp "$out/mesentery/frame_000000.jpg" "$repo/docs/images/view_mesentery.jpg"
 rm -rf "$out"
