@@ -90,7 +90,7 @@ void main() {
     // parietal peritoneum: a faint mottle, branching vessels (a warped noise's zero set) and
     // finer capillaries
     float mottle = Noise(p * 45.0);
-    vec3 q = p * 28.0 + vec3(0.7 * mottle, -0.5 * mottle, 0.3 * mottle);
+    vec3 q = p * 28.0 + 0.7 * vec3(mottle, Noise(p * 45.0 + 11.3), 0.0);
     float vessels = 0.6 * Line(Noise(q), 0.05) + 0.3 * Line(Noise(p * 95.0 + 5.3), 0.04);
     albedo *= 1.0 + 0.10 * mottle;
     albedo = mix(albedo, u_vessel, vessels);
@@ -103,7 +103,7 @@ void main() {
     float reach = smoothstep(0.0, 0.5, Noise(vec3(p.x * 140.0, p.yz * 25.0)));
     albedo *= 1.0 + 0.08 * wave;
     albedo = mix(albedo, u_vessel, 0.7 * band * reach);
-    specular *= 0.9 + 0.5 * wave;
+    specular *= 0.6 + 0.6 * Noise(p * 160.0 + 3.7);
 #elif PATTERN == 3
     // mesentery: p = (along the bowel, from the root toward it), m. Straight vessels from the
     // root, every 2 cm, wavy; arcades joining them near the bowel; fat lobules
