@@ -21,6 +21,10 @@ std::string ResolveSceneFile(const std::string& scene_dir, const std::string& fi
 /// a few steps from its starting state (at most about `budget_s` of CPU), times the rate.
 double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_hz, double budget_s = 0.2);
 
+/// Before a scene's settle, its unsettled start must fit this many times the load limit (the
+/// settled pile must fit the limit itself): what an unsettled step may cost over a settled one.
+inline constexpr double kUnsettledLoadFactor = 4.0;
+
 /// The limits of `config` for a create's scene; `session_rate_hz` (0: the scene's) is the
 /// rate the session will run at, for the load estimate.
 scene::SceneLimits NetworkSceneLimits(const ServerConfig& config, double session_rate_hz);

@@ -328,8 +328,11 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
            &scene.model);
   scene.model.scope = ReadCamera(root);
-  if (limits.vet) limits.vet(scene.model);
-  if (settle > 0.0) Settle(settle, &scene.model);
+  if (settle > 0.0) {
+    if (limits.vet) limits.vet(scene.model, false);
+    Settle(settle, &scene.model);
+  }
+  if (limits.vet) limits.vet(scene.model, true);
   return scene;
 }
 

@@ -30,9 +30,10 @@ struct SceneLimits {
   /// Turns a mesh obstacle's `file` value into the path to open, or throws InputError (the
   /// server confines files to its scene directory). Empty: relative to the scene's directory.
   std::function<std::string(const std::string& file)> resolve_file;
-  /// Called with the whole model once read, before settling: may throw InputError (the
-  /// server estimates the step cost here).
-  std::function<void(const mechanics::ModelParams&)> vet;
+  /// Called with the whole model once read, before settling (settled = false; only when the
+  /// scene settles), and with the settled model, which is what runs (settled = true): may
+  /// throw InputError (the server estimates the step cost here).
+  std::function<void(const mechanics::ModelParams&, bool settled)> vet;
 };
 
 /// @throws InputError with the file, the key, the value and the reason.

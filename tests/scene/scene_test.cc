@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "common/check.h"
 #include "mechanics/model.h"
@@ -52,6 +54,24 @@ TEST(Scene, ParsesAMinimalSceneWithDefaults) {
   EXPECT_EQ(s.model.gravity, Vec3(0.0, 0.0, -9.81));
   EXPECT_TRUE(s.warnings.empty());
   EXPECT_NEAR((s.model.initial_q.row(40) - s.model.initial_q.row(0)).norm(), 2.0, 1e-12);
+}
+
+// The server's load estimate (SceneLimits::vet) must time what the session runs: the settled
+// pile, not only the falling start.
+TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
+  SceneLimits limits;
+  std::vector<std::pair<bool, double>> calls;  // (settled, height of the middle point)
+  limits.vet = [&](const mechanics::ModelParams& p, bool settled) { calls.emplace_back(settled, p.initial_q(20, 2)); };
+  ParseScene("[simulation]\nsettle = 0.2\n" + kIntestine, "test.toml", limits);
+  ASSERT_EQ(calls.size(), 2u);
+  EXPECT_FALSE(calls[0].first);
+  EXPECT_EQ(calls[0].second, 1.0);      // the straight start
+  EXPECT_TRUE(calls[1].first);
+  EXPECT_LT(calls[1].second, 0.99);     // it fell while settling
+  calls.clear();
+  ParseScene(kIntestine, "test.toml", limits);  // no settle: one call, on what runs
+  ASSERT_EQ(calls.size(), 1u);
+  EXPECT_TRUE(calls[0].first);
 }
 
 TEST(Scene, ReadsEverySimulationKey) {
