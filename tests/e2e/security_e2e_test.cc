@@ -173,7 +173,7 @@ TEST(SecurityE2E, HostileInlineScenesAreRefusedWithTheReasonAndMemoryStaysFlat) 
   for (const auto& [obstacle, reason] : cases) {
     const std::string file = dir + "/hostile.toml";
     std::ofstream(file) << base << obstacle;
-    const CliResult r = Viscera(dir, "create --scene-file " + file + " --frame-rate -1 2>&1");
+    const CliResult r = Viscera(dir, "create --scene-file " + file + " --frame-rate -1 --timeout 30 2>&1");
     EXPECT_EQ(r.rc, 4) << r.out;
     EXPECT_NE(r.out.find(reason), std::string::npos) << r.out;
   }
@@ -181,7 +181,7 @@ TEST(SecurityE2E, HostileInlineScenesAreRefusedWithTheReasonAndMemoryStaysFlat) 
   std::string big = base;
   big.replace(big.find("control_points = 21"), 19, "control_points = 5000");
   std::ofstream(dir + "/big.toml") << big;
-  const CliResult r = Viscera(dir, "create --scene-file " + dir + "/big.toml --frame-rate -1 2>&1");
+  const CliResult r = Viscera(dir, "create --scene-file " + dir + "/big.toml --frame-rate -1 --timeout 30 2>&1");
   EXPECT_EQ(r.rc, 4) << r.out;
   EXPECT_NE(r.out.find("above this server's limit of 1000"), std::string::npos) << r.out;
 

@@ -101,7 +101,7 @@ TEST(SessionsE2E, CreateStatusListDestroy) {
   EXPECT_EQ(destroyed.json()["status"]["state"], "stopped");
   EXPECT_EQ(Viscera(dir, "status " + std::to_string(id)).rc, 3);  // unknown session
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(id)).rc, 3);
-  EXPECT_EQ(Viscera(dir, "create no-such-scene").rc, 4);           // refused, with a reason
+  EXPECT_EQ(Viscera(dir, "create no-such-scene --timeout 30").rc, 4);  // refused, with a reason
   EXPECT_EQ(daemon.Stop(), 0);
   EXPECT_NE(daemon.Stderr().find("stopped cleanly"), std::string::npos);
 }
