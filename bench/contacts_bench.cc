@@ -21,7 +21,7 @@
 //                              sub-step length; one iteration = the whole 5.5 s gesture. Counters
 //                              add p99_us (per step, thread CPU time), deepest_pct_r (deepest
 //                              pair at any step, % of the radius) and peak_force (N, on the hand).
-//   BM_CavityMesentery/term:T  scenes/cavity_mesentery.toml settled, then one iteration = one
+//   BM_CavityMesentery/term:T  scenes/cavity.toml settled, then one iteration = one
 //                              step (T = 0) or only the mesentery's force term with its
 //                              stiffness and damping blocks (T = 1, every tether taut: the
 //                              term's worst case), 2 sub-steps each as the scene runs it:
@@ -102,7 +102,10 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   bench.counters["env"] = static_cast<double>(tally.environment_contacts) / steps;
   bench.counters["resets"] = static_cast<double>(resets);
   // Broad-phase searches per step (the Verlet list's rebuilds; since the workspace was made).
-  if (workspace.interactions()) bench.counters["searches_per_step"] = static_cast<double>(workspace.interactions()->searches()) / steps;
+  if (workspace.interactions()) {
+    bench.counters["searches_per_step"] = static_cast<double>(workspace.interactions()->searches()) / steps;
+    bench.counters["partial_per_step"] = static_cast<double>(workspace.interactions()->partial_searches()) / steps;
+  }
   if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
     // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
     bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
@@ -190,7 +193,7 @@ void BM_CavityClearing(benchmark::State& bench) {
 }
 
 void BM_CavityMesentery(benchmark::State& bench) {
-  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
+  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   const Model model(scene.model);
   Workspace workspace(model);
   State state = InitialState(model);

@@ -5,7 +5,8 @@
 #  1. round trip pose -> force (p50/p99) at a 1 kHz pose rate, mechanics at 100 Hz and 1 kHz,
 #     on the 250-point intestine of scenes/fall.toml (contacts with the floor) plus one tool;
 #  2. deadline misses at 100 Hz and 1 kHz over the drive;
-#  3. how many concurrent 100 Hz sessions of scenes/fall.toml run without deadline misses.
+#  3. the clinical scene (cavity.toml with its clearing gesture) at 100 Hz and 1 kHz: misses, cost;
+#  4. how many concurrent 100 Hz sessions of scenes/fall.toml run without deadline misses.
 # Sessions here stream no frames (--frame-rate -1): bench/frames_bench.sh measures those.
 # Usage: bench/server_bench.sh [BUILD_DIR] [MAX_SESSIONS] [REALTIME_PRIORITY]
 set -eu
@@ -49,6 +50,22 @@ print(f"mechanics {sys.argv[2]:>4} Hz: round trip p50 {r['round_trip_p50_us']:.0
       f"max |F| {r['max_force_n']:.2f} N; achieved {s['rate_hz']:.1f} Hz; "
       f"deadline misses {s['deadline_misses']} of {s['steps']} steps ({100.0 * s['deadline_misses'] / max(1, s['steps']):.3f} %); "
       f"step p50 {s['step_cost_p50_us']:.0f} us p99 {s['step_cost_p99_us']:.0f} us, longest (wall, last 0.25 s) {s['step_wall_max_us']:.0f} us; jitter p99 {s['jitter_p99_us']:.0f} us; contacts {s['contacts']}")
+PY
+  v destroy "$id" >/dev/null
+done
+
+echo "== the clinical scene: scenes/cavity.toml played with scenes/clearing.csv (poses at 1 kHz)"
+for rate in 100 1000; do
+  id=$(v create cavity --rate $rate --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  sleep 1
+  v drive "$id" --script "$root/scenes/clearing.csv" --pose-rate 1000 --json >"$work/drive.json"
+  python3 - "$work/drive.json" "$rate" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1])); r, s = d["drive"], d["status"]
+print(f"cavity {sys.argv[2]:>4} Hz: deadline misses {s['deadline_misses']} of {s['steps']} steps "
+      f"({100.0 * s['deadline_misses'] / max(1, s['steps']):.3f} %); achieved {s['rate_hz']:.1f} Hz; "
+      f"step p50 {s['step_cost_p50_us']:.0f} us p99 {s['step_cost_p99_us']:.0f} us, longest (wall, last 0.25 s) {s['step_wall_max_us']:.0f} us; "
+      f"round trip p50 {r['round_trip_p50_us']:.0f} us p99 {r['round_trip_p99_us']:.0f} us; max |F| {r['max_force_n']:.2f} N")
 PY
   v destroy "$id" >/dev/null
 done

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job, end to end: installs what it needs, builds, starts viscerad in the
-# background, creates a session, drives the clearing gesture with the viscera client,
-# prints the force and timing figures, records the session's frame stream (convolution skin,
+# background, creates a session on the training scene (docs/training.md), drives the clearing
+# gesture with the viscera client while it prints the hidden lesion's exposure as the gesture
+# uncovers it, prints the force and timing figures and the assessment report, records the session's frame stream (convolution skin,
 # OSMesa, JPEG over LCM) into out/demo/clearing.mp4 and saves a few frames in out/demo/frames,
 # runs the haptic device bridge (`viscera haptic`, a simulated hand on the left grasper at 1 kHz)
 # for a few seconds and prints its summary, destroys the session and stops the server.
@@ -10,7 +11,8 @@
 # The session's record is kept in out/records/.
 # Usage: ./tools/demo.sh [SCENE] [POSE_RATE_HZ]
 #   SCENE: a scene of scenes/ with the clearing gesture's "left" grasper (default: cavity,
-#   the 190-point intestine in the abdominal cavity that scenes/clearing.csv was made for)
+#   the 190-point intestine fanned on its mesentery in the abdominal cavity, with the lesion
+#   that scenes/clearing.csv exposes)
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${VISCERA_BUILD_DIR:-$root/build}"
@@ -52,7 +54,12 @@ echo "== drive the clearing gesture (poses at $pose_rate Hz), recording the fram
 # the binary itself in the background, not the function: its subshell would take the signal
 "$build/client/viscera" record "$id" --out "$demo/clearing.mp4" --lcm-url "$url" >"$demo/record.txt" &
 recorder=$!
+# the lesion's exposure from the session's status messages, printed as it changes
+"$root/.venv/bin/python" "$root/tools/watch_exposure.py" "$id" --lcm-url "$url" &
+watcher=$!
 viscera drive "$id" --gesture clearing --pose-rate "$pose_rate"
+kill -TERM $watcher  # (drive ends after its settling time: the last evaluations are in)
+wait $watcher 2>/dev/null || true
 kill -TERM $recorder  # ends it cleanly: the video gets its trailer (background jobs ignore SIGINT)
 wait $recorder
 cat "$demo/record.txt"
@@ -68,11 +75,18 @@ viscera haptic "$id" --tool left --device sim --script "$root/scenes/clearing.cs
 echo "   (one line per 1 ms device period in $demo/haptic.jsonl)"
 
 echo "== destroy the session, stop the server"
+# the session's last status carries its final assessment: `report --final` waits for it
+"$build/client/viscera" report "$id" --final --lcm-url "$url" >"$demo/report.txt" &
+final=$!
+sleep 0.5  # (report --final subscribes before the session ends; nothing below depends on it)
 viscera destroy "$id"
+wait $final
 kill -TERM $server
 wait $server
 trap - EXIT
 tail -n 2 "$root/out/viscerad.log"
 echo "== record: $(ls -1 "$records"/session-"$id".lcmlog) (lcm-logplayer reads it)"
-echo "== assessment: $(ls -1 "$records"/session-"$id".assessment.json) (written when the session ended)"
+echo "== the final assessment report (viscera report $id --final; docs/training.md)"
+sed 's/^/   /' "$demo/report.txt"
+echo "== assessment JSON: $(ls -1 "$records"/session-"$id".assessment.json) (written by viscerad when the session ended)"
 echo "== video: $demo/clearing.mp4, frames: $demo/frames/"

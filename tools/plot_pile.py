@@ -15,9 +15,10 @@ repeat it for several frames side by side) is drawn as two orthographic views, f
 and from the front (x-z), with the spheres as discs to scale (radius = `sphere_radius`), nearer
 ones drawn over farther ones, coloured by arc length (sphere index along the chain, start = dark
 blue, end = yellow). With --scene, the plane, sphere, capsule and ellipsoid obstacles are outlined
-and the tool ports marked; with --tool-script as well, each tool's scripted tip target at the
-frame's time is drawn with its shaft from the port (the simulated tip follows it through the
-virtual coupling, so it is where the tool is asked to be, not exactly where it is).
+and the tool ports marked; with --tool-script as well, each tool's tip at the frame's time is
+drawn with its shaft from the port and its jaws open (white) or closed (red): the simulated tip
+where the trace has it (`tool_tip`, viscera-sim writes it), else the script's target (where the
+tool is asked to be, which the tip follows through the virtual coupling).
 """
 import argparse
 import csv
@@ -152,6 +153,10 @@ def draw_frame(fig, gs_col, frame, scene, script, cmap, head, limits):
                 ax.plot(port[u], port[v], marker="v", color="k", ms=6, zorder=4)
                 if script and tool["name"] in script:
                     tip, jaw = script_target(script[tool["name"]], frame["t"])
+                    # the simulated tip where the trace has it: a row aimed at the tube
+                    # (aim = tube, tube@S) was written where the tool comes from, not where it went
+                    if tool["name"] in frame.get("tool_tip", {}):
+                        tip = np.asarray(frame["tool_tip"][tool["name"]], float)
                     ax.plot([port[u], tip[u]], [port[v], tip[v]], color="0.2", lw=2.0, zorder=5)
                     ax.plot(tip[u], tip[v], marker="o", ms=7, zorder=6, mec="k",
                             mfc="red" if jaw < 0.5 else "white")

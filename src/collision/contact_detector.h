@@ -39,9 +39,20 @@ class ContactDetector {
   void Detect(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
               const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out, double margin = -1.0);
 
+  /// Appends to `out` every candidate Detect would find that involves a sphere marked in
+  /// `moved_spheres` or a tool marked in `moved_tools`, each once (the Verlet list's partial
+  /// search). Allocates nothing once its capacity has grown.
+  void DetectAround(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
+                    const std::vector<ToolCapsule>& tools, const std::vector<char>& moved_spheres,
+                    const std::vector<char>& moved_tools, std::vector<ContactCandidate>* out, double margin);
+
   int self_skip() const { return self_skip_; }
 
  private:
+  double Extra(double margin) const { return margin >= 0.0 ? margin : margin_; }
+  bool NearObstacle(const Sphere& s, const Obstacle& o, double extra) const;
+  bool NearTool(const Sphere& s, const ToolCapsule& t, double extra) const;
+
   double radius_, margin_;
   bool self_;
   int self_skip_;

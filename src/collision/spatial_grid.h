@@ -4,6 +4,7 @@
 /// closer than a cell width is missed across a cell boundary (the paper checked only the same
 /// voxel). Pairs come out in a deterministic order.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -21,6 +22,13 @@ class SpatialGrid {
   /// (and some farther ones: the caller checks distances). Allocates nothing once sized.
   template <typename PairFn>
   void ForEachCandidatePair(const std::vector<Vec3>& points, PairFn&& pair);
+
+  /// Indexes `points` for ForEachNear. Allocates nothing once sized.
+  void Index(const std::vector<Vec3>& points) { Build(points); }
+  /// Calls near(j) once for every indexed point j in p's cell or the 26 around it: every point
+  /// closer to p than the cell width, and some farther (the caller checks distances).
+  template <typename NearFn>
+  void ForEachNear(const Vec3& p, NearFn&& near) const;
 
   /// All pairs (i < j) of points closer than `distance`, brute force, O(n^2): the reference.
   static std::vector<std::pair<int, int>> BruteForcePairs(const std::vector<Vec3>& points, double distance);
@@ -54,6 +62,21 @@ void SpatialGrid::ForEachCandidatePair(const std::vector<Vec3>& points, PairFn&&
       const int slot = Find(Key(cx + d[0], cy + d[1], cz + d[2]));
       if (slot < 0) continue;
       for (int j = slot_head_[slot]; j >= 0; j = next_[j]) pair(std::min(i, j), std::max(i, j));
+    }
+  }
+}
+
+template <typename NearFn>
+void SpatialGrid::ForEachNear(const Vec3& p, NearFn&& near) const {
+  int64_t c[3];
+  for (int a = 0; a < 3; ++a) c[a] = static_cast<int64_t>(std::floor(p(a) / cell_));
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const int slot = Find(Key(c[0] + dx, c[1] + dy, c[2] + dz));
+        if (slot < 0) continue;
+        for (int j = slot_head_[slot]; j >= 0; j = next_[j]) near(j);
+      }
     }
   }
 }

@@ -1,9 +1,11 @@
 #pragma once
 /// Contact candidates kept across sub-steps and steps while nothing moved far (Verlet lists,
 /// Verlet 1967): the search runs with `skin` more margin than asked, and the list stays valid
-/// until some sphere or tool tip has moved by half the spare margin since that search. A pile
-/// that barely moves between 1 kHz steps is searched once every few tens of steps instead of
-/// twice per sub-step; the obstacles' distance fields are queried only then.
+/// while no body (sphere or tool) can have closed the spare margin. A pile that barely moves
+/// between 1 kHz steps is searched once every few tens of steps instead of twice per sub-step;
+/// the obstacles' distance fields are queried only then. When only a few bodies moved far (a
+/// grasped loop, a tool), only they are searched again (a partial search): the whole pile's
+/// search made the 1 kHz steps' p99 (docs/contacts.md, "Broad phase").
 #include <cstdint>
 #include <vector>
 
@@ -27,20 +29,34 @@ class VerletList {
   void Invalidate() { valid_ = false; }
 
   const std::vector<ContactCandidate>& candidates() const { return candidates_; }
+  /// Whole searches and partial ones (the bodies that moved far) so far.
   int64_t searches() const { return searches_; }
+  int64_t partial_searches() const { return partial_searches_; }
 
  private:
-  // Largest displacement of a sphere centre or a tool tip since the last search (m).
-  double Travel(const std::vector<Sphere>& spheres, const std::vector<ToolCapsule>& tools) const;
+  // Each body's displacement since it was last searched (m): spheres, then tools (a capsule
+  // pivoting at its port: no point of the shaft moves farther than its tip or port).
+  void MeasureTravel(const std::vector<Sphere>& spheres, const std::vector<ToolCapsule>& tools);
+  // Searches again the bodies that moved farther than `threshold`; false if too many did.
+  bool SearchMoved(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
+                   const std::vector<ToolCapsule>& tools, double threshold);
+
+  // A partial search needs some spare margin left (else the whole search, which restores the
+  // skin) and few bodies to search (else the whole search is cheaper): 1/kPartialShare of them.
+  static constexpr double kLeastPartialSpare = 0.125;
+  static constexpr size_t kPartialShare = 4;
 
   ContactDetector detector_;
   double skin_;
   bool valid_ = false;
-  double searched_margin_ = 0.0;  // the margin of the last search (asked + skin)
-  std::vector<Vec3> centres_at_search_;
-  std::vector<ToolCapsule> tools_at_search_;
-  std::vector<ContactCandidate> candidates_;
-  int64_t searches_ = 0;
+  double searched_margin_ = 0.0;  // the margin of the last whole search (asked + skin)
+  double drift_ = 0.0;            // largest travel of a body a partial search left alone
+  std::vector<Vec3> centres_at_search_;      // each sphere where it was last searched
+  std::vector<ToolCapsule> tools_at_search_;  // each tool where it was last searched
+  std::vector<double> travel_;               // per body, MeasureTravel's
+  std::vector<char> moved_spheres_, moved_tools_;
+  std::vector<ContactCandidate> candidates_, kept_;
+  int64_t searches_ = 0, partial_searches_ = 0;
 };
 
 }  // namespace viscera::collision

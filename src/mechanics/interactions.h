@@ -61,6 +61,8 @@ class Interactions {
   const std::vector<collision::ContactCandidate>& candidates() const { return candidates_.candidates(); }
   /// Broad-phase searches so far (the list is reused between them).
   int64_t searches() const { return candidates_.searches(); }
+  /// Partial searches so far: only the bodies that moved far (collision::VerletList).
+  int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
   struct Penalty {
@@ -110,7 +112,7 @@ class Interactions {
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
   void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
   void AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts);
-  void UpdateGrasp(int index, double h, bool active, ToolState* ts);
+  void UpdateGrasp(int index, double h, bool active, const Points& q, ToolState* ts);
   // The grasp spring's stretch: jaws - tube - offset.
   Vec3 GraspStretch(int index, const Points& q) const;
 

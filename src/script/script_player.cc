@@ -21,7 +21,7 @@ ToolKeyframe ScriptPlayer::At(const std::string& tool, double t, const Tube& tub
       const bool begun = i == 0 || t >= f[i - 1].t;
       if (!begun) break;
       if (!pending[i]) continue;
-      f[i].tip = NearestOnTube(tube, script_.frames(tool)[i].tip);
+      f[i].tip = AimOnTube(tube, script_.frames(tool)[i]);
       pending[i] = false;
     }
   }

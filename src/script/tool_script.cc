@@ -16,6 +16,15 @@ std::string Trim(const std::string& s) {
   return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
 }
 
+// The point of the tube's surface over the centre-line point c, on the side facing p. On the
+// surface, not the axis: jaws aimed at the axis would press the tube with the whole coupling
+// force before they close. p itself when it is inside the tube.
+Vec3 OntoSurface(const Tube& tube, const Vec3& c, const Vec3& p) {
+  const double distance = (p - c).norm();
+  if (distance <= tube.radius) return p;
+  return c + (tube.radius / distance) * (p - c);
+}
+
 }  // namespace
 
 ToolScript ToolScript::Load(const std::string& path) {
@@ -71,9 +80,17 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
     k.jaw = v[9];
     ThrowUnless(k.jaw >= 0.0 && k.jaw <= 1.0, source, ":", line_no, ": jaw = ", k.jaw, ": expected 0..1");
     if (columns == 11) {
-      ThrowUnless(cells[10].empty() || cells[10] == "point" || cells[10] == "tube", source, ":", line_no,
-                  ": aim = \"", cells[10], "\": expected \"point\" or \"tube\"");
-      k.at_tube = cells[10] == "tube";
+      const std::string& aim = cells[10];
+      k.at_tube = aim.rfind("tube", 0) == 0;
+      if (aim.rfind("tube@", 0) == 0) {
+        char* end = nullptr;
+        k.along = std::strtod(aim.c_str() + 5, &end);
+        ThrowUnless(aim.size() > 5 && end && *end == '\0' && k.along >= 0.0 && k.along <= 1.0, source, ":", line_no,
+                    ": aim = \"", aim, "\": expected tube@S with 0 <= S <= 1");
+      } else {
+        ThrowUnless(aim.empty() || aim == "point" || aim == "tube", source, ":", line_no, ": aim = \"", aim,
+                    "\": expected \"point\", \"tube\" or \"tube@S\"");
+      }
       script.aims_at_tube_ = script.aims_at_tube_ || k.at_tube;
     }
     std::vector<ToolKeyframe>& frames = script.frames_[tool];
@@ -105,11 +122,25 @@ Vec3 NearestOnTube(const Tube& tube, const Vec3& p) {
     const double d2 = (q - p).squaredNorm();
     if (d2 < best_d2) best_d2 = d2, best = q;
   }
-  // On the surface, not the axis: jaws aimed at the axis would press the tube with the whole
-  // coupling force before they close.
-  const double distance = std::sqrt(best_d2);
-  if (distance <= tube.radius) return p;
-  return best + (tube.radius / distance) * (p - best);
+  return OntoSurface(tube, best, p);
+}
+
+Vec3 AlongTube(const Tube& tube, double s, const Vec3& p) {
+  const std::vector<Vec3>& line = tube.centre_line;
+  if (line.empty()) return p;
+  double total = 0.0;
+  for (size_t i = 0; i + 1 < line.size(); ++i) total += (line[i + 1] - line[i]).norm();
+  double left = std::clamp(s, 0.0, 1.0) * total;
+  for (size_t i = 0; i + 1 < line.size(); ++i) {
+    const double len = (line[i + 1] - line[i]).norm();
+    if (left <= len && len > 0.0) return OntoSurface(tube, line[i] + (left / len) * (line[i + 1] - line[i]), p);
+    left -= len;
+  }
+  return OntoSurface(tube, line.back(), p);
+}
+
+Vec3 AimOnTube(const Tube& tube, const ToolKeyframe& frame) {
+  return std::isnan(frame.along) ? NearestOnTube(tube, frame.tip) : AlongTube(tube, frame.along, frame.tip);
 }
 
 ToolKeyframe Interpolate(const std::vector<ToolKeyframe>& f, double t) {

@@ -1,12 +1,16 @@
 #pragma once
 /// Scripted tool trajectories: a CSV with the header `t,tool,x,y,z,qw,qx,qy,qz,jaw` (seconds,
 /// tool name, target tip position in m, orientation quaternion, jaw opening 0 = closed ..
-/// 1 = open), one keyframe per row, and an optional last column `aim`: `point` (the default) or
+/// 1 = open), one keyframe per row, and an optional last column `aim`: `point` (the default),
 /// `tube`, which aims the row at the tube itself: its target is the point of the tube's surface
-/// nearest to the row's position, so a gesture still finds its loop when the pile settled
-/// elsewhere (ScriptPlayer resolves it). Between rows of a tool the target is interpolated
+/// nearest to the row's position, or `tube@S` (0 <= S <= 1), which aims it at one part of the
+/// bowel: the tube's surface at arc-length fraction S of its centre line, on the side facing
+/// the row's position. `tube` still depends on where the pile settled (the nearest loop to a
+/// fixed point); `tube@S` takes the same piece of bowel whatever the pile (ScriptPlayer resolves
+/// both). Between rows of a tool the target is interpolated
 /// (linearly, orientation by slerp); before its first row it holds the first, after its last the
 /// last.
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -22,7 +26,8 @@ struct ToolKeyframe {
   Vec3 tip = Vec3::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   double jaw = 1.0;
-  bool at_tube = false;  ///< aim: the nearest point of the tube's surface to `tip`
+  bool at_tube = false;  ///< aim at the tube: `along` or, if NaN, the surface point nearest `tip`
+  double along = std::numeric_limits<double>::quiet_NaN();  ///< aim: the arc-length fraction S
 };
 
 /// The tube as a script aims at it: its centre line (e.g. the sphere centres, in order) and
@@ -35,6 +40,13 @@ struct Tube {
 /// The point of the tube's surface nearest to p (p itself inside the tube or when the centre
 /// line is empty): the nearest point of the polyline, pushed out by the radius toward p.
 Vec3 NearestOnTube(const Tube& tube, const Vec3& p);
+
+/// The point of the tube's surface at arc-length fraction s (clamped to 0..1) of its centre
+/// line, on the side facing p (p itself when the centre line is empty).
+Vec3 AlongTube(const Tube& tube, double s, const Vec3& p);
+
+/// Where a row aimed at the tube lands (`frame.at_tube`): AlongTube or NearestOnTube.
+Vec3 AimOnTube(const Tube& tube, const ToolKeyframe& frame);
 
 /// The target at time t between keyframes (sorted by t, at least one).
 ToolKeyframe Interpolate(const std::vector<ToolKeyframe>& frames, double t);

@@ -41,7 +41,10 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
   ASSERT_EQ(drive.rc, 0) << drive.out;
   // pause: no more steps, so the report read now is the one written when the session ends
   ASSERT_EQ(Viscera(dir, "pause " + sid).rc, 0);
-  ASSERT_TRUE(Eventually([&] { return Status(dir, id)["state"] == "paused"; }, 30.0, [] { Sleep(0.05); }));
+  ASSERT_TRUE(Eventually([&] {
+    const auto s = TryStatus(dir, id);
+    return !s.is_null() && s["state"] == "paused";
+  }, 30.0, [] { Sleep(0.05); }));
   // the exposure watcher evaluates every 0.1 s: wait until it has seen the last pose
   json live;
   ASSERT_TRUE(Eventually([&] {
@@ -93,7 +96,10 @@ TEST(AssessmentE2E, AServerThatStopsWritesTheReport) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-assess-stop", {"--log-dir", dir}, dir);
   const int64_t id = Create(dir, "cavity")["session"].get<int64_t>();
-  ASSERT_TRUE(Eventually([&] { return Status(dir, id)["sim_time"].get<double>() > 0.5; }, 30.0, [] { Sleep(0.05); }));
+  ASSERT_TRUE(Eventually([&] {
+    const auto s = TryStatus(dir, id);
+    return !s.is_null() && s["sim_time"].get<double>() > 0.5;
+  }, 30.0, [] { Sleep(0.05); }));
   EXPECT_EQ(daemon.Stop(SIGTERM), 0);
   const assessment::Report r = ReadReport(dir + "/session-" + std::to_string(id) + ".assessment.json");
   EXPECT_TRUE(r.finished);

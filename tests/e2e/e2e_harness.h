@@ -137,6 +137,13 @@ inline nlohmann::json Status(const std::string& dir, int64_t id, const std::stri
   return r.rc == 0 ? r.json() : nlohmann::json();
 }
 
+/// The same, or null when no answer came (a busy machine can miss the CLI's 2 s): for polls,
+/// which ask again rather than fail on one late answer.
+inline nlohmann::json TryStatus(const std::string& dir, int64_t id, const std::string& extra = "") {
+  const CliResult r = Viscera(dir, "status " + std::to_string(id) + " --json " + extra);
+  return r.rc == 0 ? r.json() : nlohmann::json();
+}
+
 inline void Sleep(double seconds) {
   std::this_thread::sleep_for(std::chrono::duration<double>(seconds));
 }

@@ -41,7 +41,7 @@ json StatusWhen(const std::string& dir, int64_t id, const std::function<bool(con
                 const std::string& extra = "") {
   json s;
   EXPECT_TRUE(Eventually([&] {
-    s = Status(dir, id, extra);
+    s = TryStatus(dir, id, extra);
     return !s.is_null() && done(s);
   }, 30.0, [] { Sleep(0.05); })) << "last status: " << s.dump();
   return s;

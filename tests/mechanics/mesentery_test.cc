@@ -1,6 +1,6 @@
-// The mesentery fan (scenes/cavity_mesentery.toml, [mesentery]): tethers hold every part of the intestine
+// The mesentery fan (scenes/cavity.toml, [mesentery]): tethers hold every part of the intestine
 // within its slack length of the root while a tool pulls hard, the settled pile lies spread over
-// the posterior wall (more than the four-spring scene, scenes/cavity.toml), and the tethers never add energy.
+// the posterior wall (more than the four-spring scene, scenes/cavity_springs.toml), and the tethers never add energy.
 #include <gtest/gtest.h>
 
 
@@ -54,7 +54,7 @@ Fan Measure(const Model& model, const Points& q, const Vec3& root_start, const V
 
 
 MesenteryParams CavityMesentery() {
-  return *scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml").model.mesentery;
+  return *scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml").model.mesentery;
 }
 
 // The settled cavity; the left grasper takes the highest mid-gut loop and pulls it toward the
@@ -69,7 +69,7 @@ struct PullRun {
 // `tethered` false: the same settled pile with the mesentery switched off (the control); the
 // stretch is always measured against the scene's tethers.
 PullRun Pull(bool tethered) {
-  scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
+  scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   const Model measure(scene.model);
   if (!tethered) scene.model.mesentery.reset();
   const Model model(scene.model);
@@ -140,8 +140,8 @@ TEST(Mesentery, NoPartGoesFartherFromTheRootThanItsSlackWhileAToolPullsHard) {
 TEST(Mesentery, TheSettledPileLiesFannedOverThePosteriorWall) {
   const MesenteryParams m = CavityMesentery();
   const double root_length = (m.root_end - m.root_start).norm();
-  const scene::Scene fanned = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
-  const scene::Scene hanging = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
+  const scene::Scene fanned = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
+  const scene::Scene hanging = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_springs.toml");
   const Model fanned_model(fanned.model), hanging_model(hanging.model);
   const Fan fan = Measure(fanned_model, fanned_model.params().initial_q, m.root_start, m.root_end);
   const Fan springs = Measure(hanging_model, hanging_model.params().initial_q, m.root_start, m.root_end);

@@ -24,7 +24,7 @@ struct Blend {
 // The film unlit (ambient 1, no highlight): its colour is its albedo exactly, so a pixel behind
 // n layers of opacity a is c0 + (1 - (1 - a)^n) (albedo - c0).
 Blend CompareFilm(float opacity) {
-  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_mesentery.toml");
+  const scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
   FrameOptions options;
   options.width = 320;
   options.height = 240;

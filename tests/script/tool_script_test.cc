@@ -50,6 +50,38 @@ TEST(ToolScript, MalformedScriptsNameLineAndColumn) {
   EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1\n").find("expected 11 columns"), std::string::npos);
 }
 
+// tube@S aims at one part of the bowel: the point at arc-length fraction S of the centre line
+// (not of its vertices), on the surface facing the row's position, wherever the tube lies.
+TEST(ToolScript, ARowAimedAlongTheTubeTakesThatPartOfTheBowel) {
+  const ToolScript s = ToolScript::Parse(
+      "t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n"
+      "0,left,0,0,0.3,1,0,0,0,1,point\n"
+      "1,left,0,0,0.3,1,0,0,0,1,tube@0.6\n");
+  EXPECT_TRUE(s.aims_at_tube());
+  EXPECT_DOUBLE_EQ(s.frames("left")[1].along, 0.6);
+  // 10 cm along x, then 10 and 30 cm along y (uneven vertices): 0.6 of 50 cm is 30 cm in,
+  // 10 cm into the last piece.
+  Tube tube{{Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.1, 0.1, 0), Vec3(0.1, 0.4, 0)}, 0.01};
+  ScriptPlayer player(s);
+  EXPECT_TRUE(player.At("left", 1.0, tube).tip.isApprox(Vec3(0.1, 0.2, 0.0) + 0.01 * (Vec3(0, 0, 0.3) - Vec3(0.1, 0.2, 0)).normalized()));
+  // the same part of the bowel when the tube lies elsewhere
+  for (Vec3& c : tube.centre_line) c = Vec3(c.y(), -c.x(), 0.05);
+  EXPECT_NEAR((AlongTube(tube, 0.6, Vec3(0, 0, 0.3)) - Vec3(0.2, -0.1, 0.05)).norm(), 0.01, 1e-12);
+  EXPECT_TRUE(AlongTube(tube, 1.5, Vec3(0.4, -0.1, 1)).isApprox(Vec3(0.4, -0.1, 0.06)));  // clamped to the end
+  EXPECT_EQ(AlongTube(Tube{}, 0.5, Vec3(1, 2, 3)), Vec3(1, 2, 3));
+  auto error = [](const std::string& aim) {
+    try {
+      ToolScript::Parse("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1," + aim + "\n", "s.csv");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  for (const char* bad : {"tube@", "tube@1.5", "tube@-0.1", "tube@x", "tube@0.5x", "tubes"}) {
+    EXPECT_NE(error(bad).find("s.csv:2: aim"), std::string::npos) << bad;
+  }
+}
+
 TEST(ScriptPlayer, AnAimedRowIsResolvedOnTheTubeWhenItsSegmentBeginsAndThenHeld) {
   const ToolScript s = ToolScript::Parse(
       "t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n"

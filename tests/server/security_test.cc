@@ -228,7 +228,7 @@ TEST_F(SecurityTest, EachLimitRefusesACreateWithTheReason) {
   with([](ServerConfig* c) { c->max_mesh_bytes = 1000; });
   RefusedCreate(cavity, "bytes: above this server's limit of 1000");
   with([](ServerConfig* c) { c->max_settle_s = 1.0; });
-  RefusedCreate(cavity, "simulation.settle = 3: above this server's limit of 1");
+  RefusedCreate(cavity, "simulation.settle = 9: above this server's limit of 1");
   with([](ServerConfig* c) { c->max_substeps = 1; });
   RefusedCreate(cavity, "simulation.substeps = 2: above this server's limit of 1");
   with([](ServerConfig* c) { c->max_session_load = 1e-6; });

@@ -16,7 +16,6 @@
 #include <string>
 #include <vector>
 
-#include "script/tool_script.h"
 
 namespace {
 
@@ -106,31 +105,26 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   std::ifstream in(trace);
   for (std::string line; std::getline(in, line);) frames.push_back(nlohmann::json::parse(line));
   ASSERT_EQ(frames.size(), 601u);
-  // The sphere under the jaws when they close (the script's row at t = 1.5 s, aimed at the
-  // tube: the nearest point of its surface) is lifted and carried aside by the end.
-  Eigen::Vector3d jaws = Eigen::Vector3d::Constant(1e9);
-  std::ifstream script(Scene("clearing.csv"));
-  for (std::string line; std::getline(script, line);) {
-    double t, x, y, z;
-    if (std::sscanf(line.c_str(), "%lf,left,%lf,%lf,%lf", &t, &x, &y, &z) == 4 && t == 1.5) jaws = {x, y, z};
-  }
-  ASSERT_LT(jaws.norm(), 1.0) << "clearing.csv has no row for the left tool at t = 1.5";
+  // The jaws close at 1.0-1.5 s (clearing.csv aims them at the mid-gut, tube@0.5): at 1.5 s the
+  // trace says they hold the tube half way along it, and the sphere under the tip is lifted and
+  // carried aside by the end.
   auto sphere = [](const nlohmann::json& f, size_t k) {
     return Eigen::Vector3d(f["spheres"][k][0], f["spheres"][k][1], f["spheres"][k][2]);
   };
   const nlohmann::json& grasp = frames[150];
-  viscera::script::Tube tube;
-  tube.radius = grasp["sphere_radius"];
-  for (size_t k = 0; k < grasp["spheres"].size(); ++k) tube.centre_line.push_back(sphere(grasp, k));
-  const Eigen::Vector3d aimed = viscera::script::NearestOnTube(tube, jaws);
-  EXPECT_LT((aimed - jaws).norm(), 0.05) << "the script's point is near the pile";
+  ASSERT_GE(grasp["grasp_s"]["left"].get<double>(), 0.0) << "not grasping at 1.5 s";
+  EXPECT_NEAR(grasp["grasp_s"]["left"].get<double>(), 0.5, 0.02);
+  EXPECT_LT(grasp["grasp_s"]["right"].get<double>(), 0.0) << "the right tool never grasps";
+  const Eigen::Vector3d tip(grasp["tool_tip"]["left"][0], grasp["tool_tip"]["left"][1], grasp["tool_tip"]["left"][2]);
+  const double radius = grasp["sphere_radius"];
   size_t grasped = 0;
   double best = 1e9;
-  for (size_t k = 0; k < tube.centre_line.size(); ++k) {
-    const double d = (tube.centre_line[k] - aimed).norm();
+  for (size_t k = 0; k < grasp["spheres"].size(); ++k) {
+    const double d = (sphere(grasp, k) - tip).norm();
     if (d < best) best = d, grasped = k;
   }
-  EXPECT_LT(best, 1.2 * tube.radius);
+  EXPECT_LT(best, 1.2 * radius) << "the tip is at the tube";
+  EXPECT_NEAR(static_cast<double>(grasped) / (grasp["spheres"].size() - 1.0), 0.5, 0.02);
   const Eigen::Vector3d moved = sphere(frames.back(), grasped) - sphere(grasp, grasped);
   EXPECT_GT(std::hypot(moved.x(), moved.y()), 0.04) << "the loop was not moved aside";
   // Force feedback: bounded by the tool's 5 N, non-zero while working, and smooth: no jump

@@ -85,17 +85,27 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
       Number(&line_, c.min_clearance);
     }
     line_ += ",\"deepest\":\"" + std::string(c.deepest) + '"';
-    line_ += ",\"tool_force\":{";
-    for (size_t t = 0; t < state.tools.size(); ++t) {
-      if (t) line_ += ',';
-      line_ += '"' + model.params().tools[t].name + "\":[";
+    // per tool: the force on the hand, where its tip is, which part of the bowel it holds (-1: none)
+    const auto per_tool = [&](const char* key, const auto& write) {
+      line_ += ",\"" + std::string(key) + "\":{";
+      for (size_t t = 0; t < state.tools.size(); ++t) {
+        if (t) line_ += ',';
+        line_ += '"' + model.params().tools[t].name + "\":";
+        write(state.tools[t]);
+      }
+      line_ += '}';
+    };
+    const auto vector = [&](const Vec3& v) {
+      line_ += '[';
       for (int a = 0; a < 3; ++a) {
         if (a) line_ += ',';
-        Number(&line_, state.tools[t].force(a));
+        Number(&line_, v(a));
       }
       line_ += ']';
-    }
-    line_ += '}';
+    };
+    per_tool("tool_force", [&](const mechanics::ToolState& ts) { vector(ts.force); });
+    per_tool("tool_tip", [&](const mechanics::ToolState& ts) { vector(ts.tip); });
+    per_tool("grasp_s", [&](const mechanics::ToolState& ts) { Number(&line_, ts.grasping ? ts.grasp_s : -1.0); });
   }
   line_ += "}\n";
   std::fwrite(line_.data(), 1, line_.size(), file_);
