@@ -22,6 +22,10 @@ constexpr int kWarmupSteps = 5;   // first steps fill caches and factor the solv
 constexpr int kMinSteps = 20;
 constexpr int kFrames = 5;        // after one warm-up frame (context, buffers, skin binding)
 
+void StopIfAsked(const std::function<bool()>& stop) {
+  if (stop && stop()) throw MeasurementStopped();
+}
+
 double Median(std::vector<double> v) {
   VISCERA_DEMAND(!v.empty());
   std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
@@ -30,7 +34,7 @@ double Median(std::vector<double> v) {
 
 // CPU ms of one frame (skin, draw, JPEG) of `state`, on the calling thread.
 double MeasureFrame(const mechanics::Model& model, const mechanics::State& state,
-                    const ServerConfig& config) {
+                    const ServerConfig& config, const std::function<bool()>& stop) {
   render::FrameOptions options;
   options.width = config.frame_width;
   options.height = config.frame_height;
@@ -43,6 +47,7 @@ double MeasureFrame(const mechanics::Model& model, const mechanics::State& state
       render::SceneLaparoscope(model.params(), state.q, renderer.width(), renderer.height());
   std::vector<double> costs;
   for (int i = 0; i <= kFrames; ++i) {
+    StopIfAsked(stop);
     const int64_t cpu0 = ThreadCpuNanos();
     renderer.Render(state, camera);
     renderer.Encode();
@@ -79,9 +84,11 @@ int SessionsThatFit(int cores, double session_cores) {
 }
 
 CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string& scene_name,
-                                  double seconds) {
+                                  double seconds, const std::function<bool()>& stop) {
+  StopIfAsked(stop);
   const session::SessionScene scene = session::LoadSessionScene(
       config.scene_dir, scene_name, "", config.rate_hz, config.max_rate_hz);
+  StopIfAsked(stop);
   CapacityEstimate e;
   e.scene = scene.label;
   e.cores = AvailableCores();
@@ -92,6 +99,7 @@ CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string&
   std::vector<double> costs;
   const int64_t end = MonotonicNanos() + static_cast<int64_t>(seconds * 1e9);
   for (int i = 0; i < kWarmupSteps + kMinSteps || MonotonicNanos() < end; ++i) {
+    StopIfAsked(stop);
     const int64_t cpu0 = ThreadCpuNanos();
     stepper.Advance({});
     if (i >= kWarmupSteps) costs.push_back(static_cast<double>(ThreadCpuNanos() - cpu0) * 1e-3);
@@ -104,7 +112,7 @@ CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string&
     std::exception_ptr error;
     std::thread render([&] {
       try {
-        e.frame_cpu_ms = MeasureFrame(*scene.model, stepper.state(), config);
+        e.frame_cpu_ms = MeasureFrame(*scene.model, stepper.state(), config, stop);
       } catch (...) {
         error = std::current_exception();
       }

@@ -3,6 +3,8 @@
 /// start-up, not assumed: the reference scene is stepped on this machine (and, when the
 /// server streams frames by default, a few of its frames are drawn), and the cost of one
 /// session in cores is compared with the cores this process may run on.
+#include <functional>
+#include <stdexcept>
 #include <string>
 
 #include "server/server_config.h"
@@ -32,11 +34,21 @@ int AvailableCores();
 /// most 1024). @pre session_cores > 0.
 int SessionsThatFit(int cores, double session_cores);
 
+/// Thrown by EstimateCapacity when its `stop` turned true.
+class MeasurementStopped : public std::runtime_error {
+ public:
+  MeasurementStopped() : std::runtime_error("capacity measurement stopped") {}
+};
+
 /// Measures `scene_name` from config.scene_dir at config.rate_hz (0: the scene's rate) for
 /// about `seconds` of stepping, plus a few frames of config's default frames when
 /// config.frame_rate_hz > 0 (on a thread of its own: an OSMesa context belongs to one).
-/// @throws InputError when the scene cannot be loaded; std::runtime_error when OSMesa fails.
+/// `stop`, when set, is asked before and after loading the scene, before every step and before
+/// every frame (from the render thread too): a stopping server abandons a measurement that a
+/// busy machine stretches to minutes (loading the scene itself cannot be interrupted).
+/// @throws InputError when the scene cannot be loaded; std::runtime_error when OSMesa fails;
+///         MeasurementStopped once `stop` returns true.
 CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string& scene_name,
-                                  double seconds = 0.3);
+                                  double seconds = 0.3, const std::function<bool()>& stop = nullptr);
 
 }  // namespace viscera::server

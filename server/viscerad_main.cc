@@ -10,10 +10,12 @@
 #include <csignal>
 #include <cstring>
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <ctime>
 #include <exception>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -42,11 +44,17 @@ const char* SignalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTE
 
 // --max-sessions 0: as many sessions as the measured cost of `scene` fits in this
 // process's cores (docs/capacity.md); one per core if the scene cannot be measured.
-int AutoMaxSessions(const viscera::server::ServerConfig& config, const std::string& scene) {
+// A stop abandons the measurement: std::nullopt.
+std::optional<int> AutoMaxSessions(const viscera::server::ServerConfig& config, const std::string& scene,
+                                   const std::atomic<bool>& stopping) {
   try {
-    const viscera::server::CapacityEstimate e = viscera::server::EstimateCapacity(config, scene);
+    const viscera::server::CapacityEstimate e =
+        viscera::server::EstimateCapacity(config, scene, 0.3, [&stopping] { return stopping.load(); });
     std::fprintf(stderr, "viscerad: %s (--max-sessions N overrides)\n", e.Describe().c_str());
     return e.max_sessions;
+  } catch (const viscera::server::MeasurementStopped&) {
+    std::fprintf(stderr, "viscerad: capacity measurement abandoned: stopping\n");
+    return std::nullopt;
   } catch (const std::exception& e) {
     const int cores = viscera::server::AvailableCores();
     std::fprintf(stderr,
@@ -84,15 +92,19 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
   if (measure) config.max_sessions = viscera::server::AvailableCores();
   viscera::server::IoLoop loop(config);
   loop.Start();
+  // a stop does not wait for the measurement (nice 19: minutes on a busy machine)
+  std::atomic<bool> stopping{false};
   std::thread estimator;
   if (measure) {
-    estimator = std::thread([&loop, config, capacity_scene] {
+    estimator = std::thread([&loop, &stopping, config, capacity_scene] {
       // Sessions may already run: the measurement takes what they leave (nice 19, inherited
       // by its render thread). It counts CPU time, so waiting costs it no accuracy.
       sched_param normal{};
       pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
       setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
-      loop.SetMaxSessions(AutoMaxSessions(config, capacity_scene));
+      if (const std::optional<int> max = AutoMaxSessions(config, capacity_scene, stopping)) {
+        loop.SetMaxSessions(*max);
+      }
     });
   }
   std::fprintf(stderr,
@@ -109,6 +121,7 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
     const int signal = sigtimedwait(&stop_signals, nullptr, &poll);
     if (signal == SIGINT || signal == SIGTERM) {
       std::fprintf(stderr, "viscerad: %s received, stopping\n", SignalName(signal));
+      stopping = true;
       if (estimator.joinable()) estimator.join();
       loop.Stop();
       std::fprintf(stderr, "viscerad: stopped cleanly after %lld heartbeats (%lld messages rejected)\n",
@@ -117,6 +130,7 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
       return 0;
     }
     if (loop.failed()) {
+      stopping = true;
       if (estimator.joinable()) estimator.join();
       loop.Stop();
       std::fprintf(stderr, "viscerad: I/O thread failed: %s\n", loop.error().c_str());

@@ -54,12 +54,14 @@ std::string SetRealtime(int priority) {
   return Cat("SCHED_FIFO ", param.sched_priority);
 }
 
-void WriteLogLine(std::FILE* log, double t, const Vec3& x, const Vec3& f, const Vec3& fs,
+// `limited`: the model's force after the limits, before the passivity controller's damping
+void WriteLogLine(std::FILE* log, double t, const Vec3& x, const Vec3& f, const Vec3& limited, const Vec3& fs,
                   double age_ms, double period_us, double gain, double energy, int64_t nonfinite) {
   std::fprintf(log,
                "{\"t\":%.6f,\"position\":[%.9g,%.9g,%.9g],\"force\":[%.9g,%.9g,%.9g],"
-               "\"server_force\":[%.9g,%.9g,%.9g],\"model_age_ms\":",
-               t, x.x(), x.y(), x.z(), f.x(), f.y(), f.z(), fs.x(), fs.y(), fs.z());
+               "\"limited_force\":[%.9g,%.9g,%.9g],\"server_force\":[%.9g,%.9g,%.9g],\"model_age_ms\":",
+               t, x.x(), x.y(), x.z(), f.x(), f.y(), f.z(), limited.x(), limited.y(), limited.z(), fs.x(),
+               fs.y(), fs.z());
   if (std::isfinite(age_ms)) {
     std::fprintf(log, "%.3f", age_ms);
   } else {
@@ -192,8 +194,8 @@ LoopSummary DeviceLoop::Run() {
 
     // 3. the force: local model, limits, then the passivity controller's damping (last, so
     // that the rate limit cannot hold back the energy it removes) within the force limit
-    Vec3 f = limiter.Apply(model.Force(x, wake), dt);
-    f = passivity.Control(f, v, period_s);
+    const Vec3 limited = limiter.Apply(model.Force(x, wake), dt);
+    Vec3 f = passivity.Control(limited, v, period_s);
     if (f.norm() > max_force) f *= max_force / f.norm();
     device_->Write(f);
     passivity.Commit(f);
@@ -203,7 +205,7 @@ LoopSummary DeviceLoop::Run() {
     if (std::isfinite(age)) model_age.Add(age * 1e3);
     s.peak_force_n = std::max(s.peak_force_n, f.norm());
     if (options_.log != nullptr) {
-      WriteLogLine(options_.log, t, x, f, model.has_answer() ? model.newest().force : Vec3::Zero(),
+      WriteLogLine(options_.log, t, x, f, limited, model.has_answer() ? model.newest().force : Vec3::Zero(),
                    age * 1e3, dt * 1e6, model.gain(), passivity.energy_j(),
                    model.nonfinite() + limiter.nonfinite() + device_nonfinite);
     }

@@ -152,7 +152,7 @@ TEST(FramesE2E, ASessionWithoutFramesSaysSo) {
   EXPECT_EQ(none.rc, 2);
   const CliResult status = Viscera(dir, "status " + id + " --json");
   EXPECT_EQ(status.json()["frames"]["sent"], 0);
-  EXPECT_EQ(Viscera(dir, "create hanging --skin marble").rc, 4);  // refused with the reason
+  EXPECT_EQ(Viscera(dir, "create hanging --skin marble --timeout 30").rc, 4);  // refused with the reason
   EXPECT_EQ(daemon.Stop(), 0);
 }
 

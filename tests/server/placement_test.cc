@@ -91,5 +91,45 @@ TEST(CapacityEstimate, MeasuresTheSceneOnThisMachine) {
   EXPECT_THROW(EstimateCapacity(config, "no_such_scene", 0.05), InputError);
 }
 
+// A stopping viscerad abandons its start-up measurement rather than wait for it (at nice 19 on a
+// busy machine it ran for minutes): the stop is asked before and after loading the scene and
+// before every step, and its first "yes" ends the measurement there.
+TEST(CapacityEstimate, AStopAbandonsTheMeasurementAtTheNextStep) {
+  ServerConfig config;
+  config.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes";
+  config.frame_rate_hz = -1.0;
+  for (const int stop_at : {1, 2, 3, 40}) {
+    int asked = 0;
+    // an hour of stepping unless the stop is heeded (ctest's timeout would fail the test)
+    EXPECT_THROW(EstimateCapacity(config, "push", 3600.0, [&] { return ++asked >= stop_at; }),
+                 MeasurementStopped);
+    EXPECT_EQ(asked, stop_at) << "asked again after it said stop";
+  }
+}
+
+// ... and before every frame, on the render thread.
+TEST(CapacityEstimate, AStopAbandonsTheFramesToo) {
+  ServerConfig config;
+  config.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes";
+  config.frame_width = 160;
+  config.frame_height = 120;
+  ASSERT_GT(config.frame_rate_hz, 0.0);
+  // no stepping time: the minimum steps (as many each time), then the frames
+  auto checks = [&](const ServerConfig& c) {
+    int asked = 0;
+    EstimateCapacity(c, "push", 0.0, [&] { ++asked; return false; });
+    return asked;
+  };
+  ServerConfig mechanics_only = config;
+  mechanics_only.frame_rate_hz = -1.0;
+  const int stepping = checks(mechanics_only), all = checks(config);
+  EXPECT_GT(all, stepping + 1) << "the frames must ask too";
+  for (const int stop_at : {stepping + 1, all}) {  // before the first frame, before the last
+    int asked = 0;
+    EXPECT_THROW(EstimateCapacity(config, "push", 0.0, [&] { return ++asked >= stop_at; }), MeasurementStopped);
+    EXPECT_EQ(asked, stop_at);
+  }
+}
+
 }  // namespace
 }  // namespace viscera::server
