@@ -14,7 +14,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-$root/build}
 max_sessions=${2:-12}
 realtime=${3:-0}
-if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then
+# VISCERA_BENCH_NETNS=0 runs on the host's network (ttl=0: nothing leaves the machine): the
+# namespace is a user namespace here, which refuses --realtime's SCHED_FIFO.
+if [ "${VISCERA_IN_NETNS:-}" != 1 ] && [ "${VISCERA_BENCH_NETNS:-1}" != 0 ]; then
   exec "$root/tests/e2e/in_netns.sh" env VISCERA_IN_NETNS=1 sh "$0" "$build" "$max_sessions" "$realtime"
 fi
 echo "== $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), viscerad --realtime $realtime"
