@@ -3,12 +3,7 @@
 #include <optional>
 
 #include "mechanics/scope_params.h"
-
-namespace toml {
-inline namespace v3 {
-class table;
-}  // namespace v3
-}  // namespace toml
+#include "scene/toml_fwd.h"
 
 namespace viscera::scene {
 

@@ -4,12 +4,7 @@
 #include <vector>
 
 #include "mechanics/model_params.h"
-
-namespace toml {
-inline namespace v3 {
-class table;
-}  // namespace v3
-}  // namespace toml
+#include "scene/toml_fwd.h"
 
 namespace viscera::scene {
 

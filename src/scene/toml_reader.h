@@ -9,13 +9,7 @@
 
 #include "common/check.h"
 #include "common/types.h"
-
-namespace toml {
-inline namespace v3 {
-class table;
-class node;
-}  // namespace v3
-}  // namespace toml
+#include "scene/toml_fwd.h"
 
 namespace viscera::scene {
 
