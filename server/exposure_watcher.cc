@@ -1,6 +1,5 @@
 #include "server/exposure_watcher.h"
 
-#include <chrono>
 #include <exception>
 #include <vector>
 
@@ -20,21 +19,11 @@ ExposureWatcher::ExposureWatcher(session::Session* session, ExposureWatchConfig 
 
 ExposureWatcher::~ExposureWatcher() { Stop(); }
 
-void ExposureWatcher::Start() {
-  VISCERA_DEMAND(!thread_.joinable());
-  thread_ = std::thread([this] { Run(); });
-}
+void ExposureWatcher::Start() { worker_.Start([this] { Run(); }); }
 
-void ExposureWatcher::RequestStop() {
-  std::lock_guard<std::mutex> lock(stop_mutex_);
-  stop_ = true;
-  stop_wake_.notify_all();
-}
+void ExposureWatcher::RequestStop() { worker_.RequestStop(); }
 
-void ExposureWatcher::Stop() {
-  RequestStop();
-  if (thread_.joinable()) thread_.join();
-}
+void ExposureWatcher::Stop() { worker_.Stop(); }
 
 void ExposureWatcher::Run() {
   NiceThisThread();
@@ -51,10 +40,7 @@ void ExposureWatcher::Run() {
     const int64_t period = static_cast<int64_t>(1e9 / params.task.assessment.exposure_rate_hz);
 
     int64_t next = MonotonicNanos();
-    std::unique_lock<std::mutex> lock(stop_mutex_);
-    while (!stop_wake_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(next)),
-                                  [this] { return stop_; })) {
-      lock.unlock();
+    while (worker_.SleepUntil(next)) {
       if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot();
           snapshot != nullptr && snapshot->step != shown_step) {
         if (!have_framing) {
@@ -76,7 +62,6 @@ void ExposureWatcher::Run() {
       next += period;
       const int64_t now = MonotonicNanos();
       if (next < now) next = now;  // late (a loaded machine): the next one from now, no burst
-      lock.lock();
     }
   } catch (const std::exception& e) {
     session_->SetError(Cat("target exposure stopped: ", e.what()));

@@ -6,11 +6,9 @@
 /// only reads what the session hands off, off the mechanics thread, at nice 10 (a few hundred
 /// microseconds per evaluation: it is never starved, and never delays a step).
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
-#include <mutex>
-#include <thread>
 
+#include "common/stoppable_thread.h"
 #include "session/session.h"
 
 namespace viscera::server {
@@ -41,10 +39,7 @@ class ExposureWatcher {
 
   session::Session* session_;
   ExposureWatchConfig config_;
-  std::thread thread_;
-  std::mutex stop_mutex_;
-  std::condition_variable stop_wake_;
-  bool stop_ = false;
+  StoppableThread worker_;
   std::atomic<bool> finished_{false};
   std::atomic<int64_t> evaluations_{0};
 };

@@ -1,6 +1,5 @@
 #include "server/frame_streamer.h"
 
-#include <chrono>
 #include <cmath>
 #include <deque>
 #include <exception>
@@ -79,23 +78,11 @@ FrameStreamer::FrameStreamer(session::Session* session, bus::LcmBus* bus, FrameS
 
 FrameStreamer::~FrameStreamer() { Stop(); }
 
-void FrameStreamer::Start() {
-  VISCERA_DEMAND(!thread_.joinable());
-  thread_ = std::thread([this] { Run(); });
-}
+void FrameStreamer::Start() { worker_.Start([this] { Run(); }); }
 
-void FrameStreamer::RequestStop() {
-  {
-    std::lock_guard<std::mutex> lock(stop_mutex_);
-    stop_ = true;
-  }
-  stop_wake_.notify_all();
-}
+void FrameStreamer::RequestStop() { worker_.RequestStop(); }
 
-void FrameStreamer::Stop() {
-  RequestStop();
-  if (thread_.joinable()) thread_.join();
-}
+void FrameStreamer::Stop() { worker_.Stop(); }
 
 void FrameStreamer::ReportError(session::FrameStreamReport* report, const std::string& why) {
   report->error = why;
@@ -144,10 +131,7 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
   int64_t seq = 0;
 
   int64_t next = MonotonicNanos();
-  std::unique_lock<std::mutex> lock(stop_mutex_);
-  while (!stop_wake_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(next)),
-                                [this] { return stop_; })) {
-    lock.unlock();
+  while (worker_.SleepUntil(next)) {
     const session::CameraPose pose = session_->camera();
     if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot()) {
       if (!have_framing) {
@@ -199,7 +183,6 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
     report->dropped += AdvanceFrameSchedule(&next, now, period);
     window.Fill(now, report);
     session_->ReportFrames(*report);
-    lock.lock();
   }
 }
 

@@ -7,12 +7,10 @@
 /// is being made are dropped and counted. It runs on the CPU time nothing else in viscerad
 /// wants (SCHED_IDLE).
 #include <atomic>
-#include <condition_variable>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "bus/lcm_bus.h"
+#include "common/stoppable_thread.h"
 #include "render/frame_renderer.h"
 #include "session/session.h"
 
@@ -51,10 +49,7 @@ class FrameStreamer {
   bus::LcmBus* bus_;
   FrameStreamConfig config_;
   std::string channel_;
-  std::thread thread_;
-  std::mutex stop_mutex_;  // with stop_wake_: a stop interrupts the wait between frames
-  std::condition_variable stop_wake_;
-  bool stop_ = false;
+  StoppableThread worker_;
   std::atomic<bool> finished_{false};
 };
 
