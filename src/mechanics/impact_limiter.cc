@@ -3,13 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mechanics/contact_impulses.h"
+
 namespace viscera::mechanics {
-namespace {
-
-constexpr int kMaxSweeps = 100;
-constexpr double kSpeedTolerance = 1e-6;  // m/s: a contact's speed this close to its target is met
-
-}  // namespace
 
 ImpactLimiter::ImpactLimiter(const Model& model, int spheres)
     : model_(model), mass_(model), immobile_(1e-9 / model.segment_mass()) {
@@ -74,6 +70,7 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
   if (lambda_.size() < c) {
     lambda_.resize(c);
     speed_.resize(c);
+    target_.resize(c);
   }
   for (Eigen::Index i = 0; i < c; ++i) {
     const Contact& ci = contacts[i];
@@ -89,25 +86,12 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
       delassus_(i, j) = g;
       delassus_(j, i) = g;
     }
-    lambda_(i) = 0.0;
     speed_(i) = ci.normal_speed;
+    target_(i) = ci.target;
   }
 
-  // Projected Gauss-Seidel: impulses only push (λ ≥ 0), and only as much as the target asks.
-  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
-    double worst = 0.0;
-    for (Eigen::Index i = 0; i < c; ++i) {
-      const double gii = delassus_(i, i);
-      if (!(gii > immobile_)) continue;  // pinned in place: nothing to move
-      const double next = std::max(0.0, lambda_(i) + (contacts[i].target - speed_(i)) / gii);
-      const double change = next - lambda_(i);
-      if (change == 0.0) continue;
-      lambda_(i) = next;
-      speed_.head(c) += change * delassus_.col(i).head(c);
-      worst = std::max(worst, std::abs(change) * gii);
-    }
-    if (worst < kSpeedTolerance) break;
-  }
+  // Impulses only push (λ ≥ 0), and only as much as the targets ask.
+  SolveContactImpulses(delassus_, c, target_, immobile_, &lambda_, &speed_);
 
   // Kinetic energy change Λ^T J v + Λ^T G Λ / 2: ≤ 0 at convergence when v is u; scaled back to
   // no gain if the iteration stopped short or v's normal speeds differ from u's.

@@ -58,7 +58,7 @@ class ImpactLimiter {
   std::vector<int> sphere_of_;       // per slot
   std::vector<int> pending_;         // slots not solved yet
   MatX delassus_;                    // contacts square
-  VecX lambda_, speed_;
+  VecX lambda_, speed_, target_;
   std::vector<Vec3> impulse_;        // per slot
 };
 

@@ -152,13 +152,13 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   }
 }
 
-void ImplicitEulerIntegrator::RefineExactly(const VecX& b, Eigen::Ref<VecX> dv) {
+int ImplicitEulerIntegrator::RefineExactly(const VecX& b, Eigen::Ref<VecX> dv, VecX* warm) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // last sub-step's correction: between 1 kHz steps the contacts barely change, so that start is
   // most of the way. It stops when the preconditioned residual is a small fraction of b's.
   const double reference = b.dot(dv);  // b^T P^-1 b, with dv the band's answer
-  dv += cg_correction_;
+  if (warm) dv += *warm;
   MultiplyExact(dv, &cg_q_);
   cg_r_ = b - cg_q_;
   cg_z_ = cg_r_;
@@ -174,7 +174,7 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, Eigen::Ref<VecX> dv) 
     if (!(pq > 0.0)) break;  // A is positive definite; guard against round-off at convergence
     const double alpha = rz / pq;
     dv += alpha * cg_p_;
-    cg_correction_ += alpha * cg_p_;
+    if (warm) *warm += alpha * cg_p_;
     cg_r_ -= alpha * cg_q_;
     cg_z_ = cg_r_;
     ApplyBandInverse(cg_z_.data());
@@ -183,8 +183,8 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, Eigen::Ref<VecX> dv) 
     rz = rz_next;
   }
   if (it == kMaxCgIterations && rz > stop) ++cg_unconverged_;
-  last_cg_iterations_ = it;
   cg_iterations_ += it;
+  return it;
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
@@ -237,13 +237,15 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
   last_cg_iterations_ = 0;
   if (coupled) {
     interactions_->WeighCommonModes(-h * h, -h);
-    RefineExactly(b_, dv);
+    last_cg_iterations_ = RefineExactly(b_, dv, &cg_correction_);
   } else {
     cg_correction_.setZero();
   }
+  const bool correct_depth = ResolveImpacts(h, v, dv);
 
   Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
   q += h * v;
+  if (correct_depth) q += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
 }
 
 }  // namespace viscera::mechanics

@@ -16,7 +16,9 @@
 
 #include "mechanics/block_band_cholesky.h"
 #include "mechanics/cholmod_solver.h"
+#include "mechanics/impact_limiter.h"
 #include "mechanics/integrator.h"
+#include "mechanics/interactions.h"
 
 namespace viscera::mechanics {
 
@@ -39,6 +41,10 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// (docs/contacts.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~3 iterations at 1 kHz).
   static constexpr double kCgTolerance = 1e-3;
   static constexpr int kMaxCgIterations = 60;
+  /// Sub-steps whose impacts needed impulses inside the solve, and those impulses' contacts in all
+  /// (docs/contacts.md, "Impacts").
+  int64_t impact_substeps() const { return impact_substeps_; }
+  int64_t impact_contacts() const { return impact_contacts_total_; }
 
  private:
   void BuildPattern();
@@ -50,8 +56,19 @@ class ImplicitEulerIntegrator final : public Integrator {
   void ApplyBandInverse(double* x);
   // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y);
-  // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
-  void RefineExactly(const VecX& b, Eigen::Ref<VecX> dv);
+  // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG,
+  // starting from dv + *warm (and adding its own correction to *warm) if warm is given.
+  // Returns the iterations.
+  int RefineExactly(const VecX& b, Eigen::Ref<VecX> dv, VecX* warm);
+  // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
+  // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
+  // depth_dq_ (a position correction, h times it) on top of h (v + dv).
+  bool ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv);
+  // One kind of end constraint on the velocity `base`: *delta = A^-1 J^T Λ (3N), or returns false
+  // when no pair needs one.
+  bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base, VecX* delta);
+  // x (3N) <- J_i x, the normal speed of contact i.
+  double ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const;
 
   const Model& model_;
   Interactions* interactions_;
@@ -75,6 +92,13 @@ class ImplicitEulerIntegrator final : public Integrator {
   VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
   Points cg_x_, cg_y_;                  // a CG vector reshaped to #N by 3, and its product
   VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
+  // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts; through the
+  // band system, refined once for their sum), their Delassus matrix and impulses.
+  std::vector<ImpactLimiter::Contact> impact_set_;
+  MatX impact_columns_, impact_delassus_;
+  VecX impact_lambda_, impact_speed_, impact_target_, impact_dv_, depth_dq_;
+  Points impact_v_, impact_check_;
+  int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;
   double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;

@@ -81,6 +81,8 @@ Interactions::Interactions(const Model& model)
 }
 
 void Interactions::Configure(const Points& q, bool place) {
+  // Spheres that follow the material are placed once, along the first configuration's arc length.
+  if (model_.params().contacts.spheres_follow_material && configured_) place = false;
   const bool same = configured_ && (placed_ || !place) && q.rows() == configured_q_.rows() &&
                     (q.array() == configured_q_.array()).all();
   if (same) return;
@@ -307,17 +309,23 @@ double Interactions::CandidateMargin(const State& state, double h) const {
   return margin_ + 2.0 * h * (std::sqrt(speed) + tool_speed);
 }
 
-void Interactions::LimitImpacts(double h, Points* u, Points* v) {
-  const double allowed = model_.params().contacts.impact_depth * radius_;
-  if (!(allowed > 0.0)) return;
-  // Impacts are closing faster than the linear law stops within 2 x `allowed` (a sphere's own
+double Interactions::ImpactSpeed() {
+  // Impacts are closing faster than the linear law stops within 2 x impact_depth (a sphere's own
   // mass against k; 0.5 m/s with the defaults). Slower pairs (a tool pressing loops together,
   // a pile settling) are the penalty's: with half that, the clearing gesture's 1 kHz reference
   // carried its loop with 1 % less force, so impulses were absorbing what the hand should feel.
   if (impact_speed_ < 0.0) {
+    const double allowed = model_.params().contacts.impact_depth * radius_;
     const double sphere_mass = model_.params().mass * chain_.spacing() / model_.params().length;
     impact_speed_ = 2.0 * allowed * std::sqrt(model_.params().contacts.stiffness / sphere_mass);
   }
+  return impact_speed_;
+}
+
+void Interactions::LimitImpacts(double h, Points* u, Points* v) {
+  const double allowed = model_.params().contacts.impact_depth * radius_;
+  if (!(allowed > 0.0)) return;
+  const double impact_speed = ImpactSpeed();
   EnsureGeometry();
   const auto& list = candidates();
   // The set of contacts grows until the impulses on it leave no other contact too fast: an
@@ -340,7 +348,7 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
       // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
       // Slower pairs are the penalty's (the law stops them within `allowed`): a tool pressing
       // loops together is felt through the contacts' springs, not absorbed by impulses.
-      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9 || -un < impact_speed_) continue;
+      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9 || -un < impact_speed) continue;
       in_impact_set_[i] = 1;
       impact_set_.push_back(static_cast<int>(i));
       grew = true;
@@ -371,6 +379,47 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     }
     impacts_.Apply(impact_contacts_, chain_, u, v);
   }
+}
+
+bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Points& v_check, const Points& v_base,
+                                        bool first, std::vector<ImpactLimiter::Contact>* contacts) {
+  const ContactParams& cp = model_.params().contacts;
+  const bool impact = kind == EndConstraint::kImpact;
+  if (!(cp.impact_depth > 0.0) || !cp.impact_constraints || (!impact && cp.impact_depth >= kDepthGoal)) return false;
+  const double allowed = (impact ? cp.impact_depth : 0.5 * (cp.impact_depth + kDepthGoal)) * radius_;
+  const double impact_speed = impact ? ImpactSpeed() : 0.0;
+  // The least normal speed that ends the sub-step within `allowed`; impacts are never pushed apart.
+  auto target = [&](const Penalty& p) { return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h; };
+  EnsureGeometry();  // the sub-step's start, as the forces saw it
+  const auto& list = candidates();
+  if (first) {
+    end_impact_set_.clear();
+    in_end_impact_set_.assign(list.size(), 0);  // grows with the list's high-water mark only
+  }
+  // Sphere velocities straight from v_check and v_base: the gathered ones are the step's.
+  auto normal_speed = [&](const ContactCandidate& c, const Penalty& p, const Points& v) {
+    const Vec3 other = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v) : OtherVelocity(c, p.lever);
+    return (SphereVelocity(c.a, v) - other).dot(p.normal);
+  };
+  bool grew = false;
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;  // tools: their coupling
+    const Penalty& p = geometry_[i];
+    const double un = normal_speed(list[i], p, v_check);
+    if (un >= target(p) - 1e-9 || -un < impact_speed) continue;
+    in_end_impact_set_[i] = 1;
+    end_impact_set_.push_back(static_cast<int>(i));
+    grew = true;
+  }
+  if (!grew) return false;
+  contacts->clear();
+  for (int i : end_impact_set_) {
+    const ContactCandidate& c = list[i];
+    const Penalty& p = geometry_[i];
+    const double un = normal_speed(c, p, v_base);
+    contacts->push_back({c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un, target(p), un});
+  }
+  return true;
 }
 
 int Interactions::RequiredSubsteps(State* state_in) {

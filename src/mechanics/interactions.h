@@ -53,6 +53,22 @@ class Interactions {
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
+  /// What the implicit solve's impulses hold (docs/contacts.md, "Impacts"), at the end of a
+  /// sub-step (the depth at its start minus h times the closing speed):
+  /// kImpact: impacts (closing faster than the penalty stops) within impact_depth, never pushed
+  ///   apart (their impulse stays in the velocity);
+  /// kDepth: any pair within the depth goal's margin, (impact_depth + 10 %) / 2 of the radius,
+  ///   pushed back if deeper (a position correction only: the sphere chain's re-placement along
+  ///   the arc length slides spheres into each other while an impact stretches the tube).
+  enum class EndConstraint { kImpact, kDepth };
+  /// Collects the self and environment pairs that the end velocity v_check (#N by 3) leaves
+  /// beyond `kind`'s bound. `first` starts a new set; later calls keep the pairs already in it,
+  /// in the same order, and add the new ones. Each contact of the set gets its normal speed at
+  /// v_base and its target. Returns whether the set grew (false when impact_depth or
+  /// impact_constraints is off).
+  bool GatherEndConstraints(EndConstraint kind, double h, const Points& v_check, const Points& v_base, bool first,
+                            std::vector<ImpactLimiter::Contact>* contacts);
+
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
 
@@ -107,6 +123,8 @@ class Interactions {
   // contacts.impact_depth moving at u (docs/contacts.md, "Impacts"): u changes, and so does v
   // (if given: the velocity whose kinetic energy counts) by the same impulses.
   void LimitImpacts(double h, Points* u, Points* v);
+  // Closing speeds below this are the penalty's (m/s): LimitImpacts.
+  double ImpactSpeed();
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
@@ -163,6 +181,8 @@ class Interactions {
   std::vector<int> impact_set_;     // candidates in the impulse solve
   std::vector<char> in_impact_set_;
   Points impact_u0_, impact_v0_;    // velocities before the impulses
+  std::vector<int> end_impact_set_;  // candidates in the implicit solve's impact constraints
+  std::vector<char> in_end_impact_set_;
   double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
   // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
   // sub-step and the contact normal times the lever (the tip moving along it presses deeper).

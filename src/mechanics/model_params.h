@@ -62,6 +62,16 @@ struct ContactParams {
   /// Fraction of the radius: a contact that would end a sub-step deeper than this at its current
   /// speed is stopped there by an inelastic impulse (ImpactLimiter); 0 turns that off.
   double impact_depth = 0.05;
+  /// Implicit integrator: impulses inside the implicit solve (through its system matrix) stop the
+  /// impacts that the step's own forces would still drive deeper than impact_depth, and push any
+  /// pair back within (impact_depth + 10 %) / 2 of the radius by a position correction
+  /// (docs/contacts.md, "Impacts"). Off by default: it changes the cavity's settled pile.
+  bool impact_constraints = false;
+  /// The contact spheres stay where they were first placed along the tube (material points)
+  /// instead of being re-placed along its arc length at every sub-step, which slides them into
+  /// each other while an impact stretches the tube (docs/contacts.md, "Impacts"). Off by default:
+  /// it changes the cavity's settled pile.
+  bool spheres_follow_material = false;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.

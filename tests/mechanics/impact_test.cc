@@ -1,10 +1,12 @@
 // Impacts: the coil of scenes/fall.toml dropped from 50 cm (it ships at ~5 cm), at every rate
 // a session may ask for. Measured by the deepest pair at the end of every step and the energy
-// of every step (no input after the release). Issue 10 asks for 10 % of the radius; the impact
-// limiter and the stiffening law reach 12-17 % (from 65-82 %), see docs/contacts.md, "Impacts":
-// the bound below guards that, and the negative control shows what the limiter is worth.
+// of every step (no input after the release). Issue 10 asks for 10 % of the radius. With the
+// defaults, the impact limiter and the stiffening law reach 12-17 % (from 65-82 %); with the
+// impulses inside the implicit solve and spheres that follow the material (both off by default:
+// they change the cavity's settled pile), 7.5-7.7 %. docs/contacts.md, "Impacts".
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,7 +24,17 @@ struct Drop {
   double impact_depth = -1;  // < 0: the default
   double bend_stiffness = -1;  // < 0: the scene's
   double seconds = 0.8;
+  bool constraints = false;  // [contacts] impact_constraints
+  bool material = false;     // [contacts] spheres = "material"
 };
+
+Drop HeldInsideTheSolve(double rate_hz) {
+  Drop d;
+  d.rate_hz = rate_hz;
+  d.constraints = true;
+  d.material = true;
+  return d;
+}
 
 struct DropRun {
   double deepest = 0.0;  // fraction of the radius, deepest pair at the end of any step
@@ -38,6 +50,8 @@ DropRun RunDrop(const Drop& d) {
   scene::ChangeRate(&p, d.rate_hz);
   if (d.impact_depth >= 0.0) p.contacts.impact_depth = d.impact_depth;
   if (d.bend_stiffness >= 0.0) p.bend_stiffness = d.bend_stiffness;
+  p.contacts.impact_constraints = d.constraints;
+  p.contacts.spheres_follow_material = d.material;
   const double lowest = p.initial_q.col(2).minCoeff();
   p.initial_q.col(2).array() += d.height - lowest;
   const Model model(p);
@@ -71,15 +85,18 @@ TEST_P(FiftyCentimetreDrop, SinksLessThanAFifthOfTheRadiusAndNeverGainsEnergy) {
   EXPECT_LE(run.deepest, 0.20) << d.rate_hz << " Hz";  // the goal is 0.10: not met yet
   // 1 kHz gains 3e-3 J in one step after the impact (the stiffening law, linearized once per
   // sub-step): a known defect, docs/contacts.md.
-  if (d.rate_hz < 1000.0) EXPECT_LE(run.growth, 1e-6 * run.start) << d.rate_hz << " Hz";
+  if (d.rate_hz < 1000.0) {
+    EXPECT_LE(run.growth, 1e-6 * run.start) << d.rate_hz << " Hz";
+  }
   EXPECT_LT(run.end, 0.5 * run.start);  // it landed and the impact dissipated
 }
 
 INSTANTIATE_TEST_SUITE_P(Rates, FiftyCentimetreDrop, testing::Values(100.0, 250.0, 500.0, 1000.0));
 
-// The issue's goal, which fails until impulses act inside the implicit solve (the coil's free end
-// whips into the turn below after the limiter stopped it; docs/contacts.md): at most a tenth of
-// the radius at every rate, and no energy gained at 1 kHz either.
+// The issue's goal with the defaults, which fails until the two parts below are on by default
+// (they change the cavity's settled pile, which the exposure tests depend on: the lead's call;
+// docs/contacts.md, "Impacts"): at most a tenth of the radius at every rate, and no energy gained
+// at 1 kHz either.
 TEST(FiftyCentimetreDropKnownFailure, SinksLessThanATenthOfTheRadiusAtEveryRateAndNeverGainsEnergy) {
   for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
     Drop d;
@@ -87,6 +104,38 @@ TEST(FiftyCentimetreDropKnownFailure, SinksLessThanATenthOfTheRadiusAtEveryRateA
     const DropRun run = RunDrop(d);
     EXPECT_LE(run.deepest, 0.10) << rate << " Hz";
     EXPECT_LE(run.growth, 1e-6 * run.start) << rate << " Hz";
+  }
+}
+
+// The goal met: impulses inside the implicit solve (through A = M + h D + h^2 K) and spheres that
+// follow the material hold the 50 cm drop within a tenth of the radius at every step and every
+// rate, and no step gains energy.
+class FiftyCentimetreDropHeldInsideTheSolve : public testing::TestWithParam<double> {};
+
+TEST_P(FiftyCentimetreDropHeldInsideTheSolve, SinksLessThanATenthOfTheRadiusAndNeverGainsEnergy) {
+  const DropRun run = RunDrop(HeldInsideTheSolve(GetParam()));
+  EXPECT_LE(run.deepest, 0.10) << GetParam() << " Hz";
+  EXPECT_LE(run.growth, 1e-6 * run.start) << GetParam() << " Hz";
+  EXPECT_LT(run.end, 0.5 * run.start);  // it landed and the impact dissipated
+}
+
+INSTANTIATE_TEST_SUITE_P(Rates, FiftyCentimetreDropHeldInsideTheSolve, testing::Values(100.0, 250.0, 500.0, 1000.0));
+
+// The safeguard: without either part the same drop goes deeper than a tenth of the radius at
+// 250 or 500 Hz. Without the impulses inside the solve the penalty and the limiter let a landing
+// pile sink (11.6 / 12.1 % R); with the spheres re-placed along the arc length at every
+// sub-step, the tube stretched by the impact slides them into each other by ~1 % of R per
+// sub-step, which the solve's impulses cannot see (13.3 / 19.9 % R).
+TEST(Impacts, EachPartOfTheSolveIsNeeded) {
+  for (const bool constraints : {false, true}) {
+    double deepest = 0.0;
+    for (double rate : {250.0, 500.0}) {
+      Drop d = HeldInsideTheSolve(rate);
+      d.constraints = constraints;
+      d.material = !constraints;
+      deepest = std::max(deepest, RunDrop(d).deepest);
+    }
+    EXPECT_GT(deepest, 0.10) << (constraints ? "spheres re-placed along the arc length" : "no impulses inside the solve");
   }
 }
 
@@ -106,7 +155,10 @@ TEST(Impacts, Figures) {
   const char* only = std::getenv("VISCERA_IMPACT_ONLY");  // "height rate": one run
   if (only) {
     Drop d;
-    std::sscanf(only, "%lf %lf %lf", &d.height, &d.rate_hz, &d.impact_depth);
+    int constraints = 0, material = 0;
+    std::sscanf(only, "%lf %lf %lf %d %d", &d.height, &d.rate_hz, &d.impact_depth, &constraints, &material);
+    d.constraints = constraints != 0;
+    d.material = material != 0;
     const DropRun r = RunDrop(d);
     std::printf("deepest %.1f %% R growth %.2e substeps %d\n", 100 * r.deepest, r.growth, r.substeps);
     return;
@@ -114,13 +166,18 @@ TEST(Impacts, Figures) {
   for (double height : {0.3, 0.5, 1.0}) {
     for (IntegratorKind kind : {IntegratorKind::kImplicitEuler, IntegratorKind::kRk4}) {
       if (kind == IntegratorKind::kRk4 && height != 0.5) continue;
-      for (double depth : {0.0, 0.05}) {
+      // Limiter off, the defaults, impulses inside the solve, and those with material spheres.
+      for (int variant = 0; variant < 4; ++variant) {
+        if (kind == IntegratorKind::kRk4 && variant >= 2) continue;  // the implicit solve's
         for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
-          Drop d{height, rate, kind, depth};
+          Drop d{height, rate, kind, variant == 0 ? 0.0 : 0.05};
+          d.constraints = variant >= 2;
+          d.material = variant == 3;
           const DropRun r = RunDrop(d);
-          std::printf("height %.2f %-8s limiter %.2f %5.0f Hz: deepest %6.1f %% R, worst step energy gain %+.2e J, "
-                      "energy %.3f -> %.3f J, %d sub-steps\n",
-                      height, Name(kind), depth, rate, 100.0 * r.deepest, r.growth, r.start, r.end, r.substeps);
+          std::printf("height %.2f %-8s limiter %.2f constraints %d material %d %5.0f Hz: deepest %6.1f %% R, "
+                      "worst step energy gain %+.2e J, energy %.3f -> %.3f J, %d sub-steps\n",
+                      height, Name(kind), d.impact_depth, d.constraints, d.material, rate, 100.0 * r.deepest,
+                      r.growth, r.start, r.end, r.substeps);
         }
       }
     }

@@ -1,0 +1,104 @@
+// ImplicitEulerIntegrator's impacts inside the solve (docs/contacts.md, "Impacts"): impulses
+// through the implicit system A = M + h D + h^2 K rather than through M alone, so that the
+// tube's stretching stiffness spreads a stopped sphere's correction along the chain.
+#include <algorithm>
+
+#include "mechanics/contact_impulses.h"
+#include "mechanics/implicit_euler.h"
+#include "mechanics/interactions.h"
+
+namespace viscera::mechanics {
+namespace {
+
+// The set of contacts grows until the impulses leave no other pair beyond its bound; rarely
+// past two rounds.
+constexpr int kMaxImpactRounds = 4;
+
+}  // namespace
+
+double ImplicitEulerIntegrator::ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const {
+  const auto& spheres = interactions_->chain().spheres();
+  Vec3 u = Vec3::Zero();
+  const collision::Sphere& sa = spheres[c.a];
+  for (int k = 0; k < 4; ++k) u += sa.w[k] * Eigen::Map<const Vec3>(x + 3 * (sa.first + k));
+  if (c.b >= 0) {
+    const collision::Sphere& sb = spheres[c.b];
+    for (int k = 0; k < 4; ++k) u -= sb.w[k] * Eigen::Map<const Vec3>(x + 3 * (sb.first + k));
+  }
+  return c.normal.dot(u);
+}
+
+bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base,
+                                                  VecX* delta) {
+  // The constrained step: A dv = b + J^T Λ with Λ ≥ 0 the least impulses that bring every
+  // selected pair's end depth within its bound (J (v + dv) ≥ target): the implicit step's
+  // quadratic model minimized under those constraints. With v + A^-1 b = base already solved, Λ
+  // solves the LCP on the Delassus matrix J A^-1 J^T, whose columns A^-1 J_i^T each take one
+  // solve of the band system (with its rank-one term and pins). The band holds self pairs as an
+  // upper bound of the exact matrix; refining A^-1 J^T Λ by CG on the exact one (as the solve
+  // does) broke the LCP's balance (opposed impulses on a squeezed sphere no longer cancel) and
+  // blew up, so the impulses act through the band system, which is what their Λ was solved on.
+  impact_check_ = base;
+  const auto& spheres = interactions_->chain().spheres();
+  const double immobile = 1e-9 / model_.segment_mass();
+  Eigen::Index solved = 0;
+  bool any = false;
+  for (int round = 0; round < kMaxImpactRounds; ++round) {
+    if (!interactions_->GatherEndConstraints(kind, h, impact_check_, base, round == 0, &impact_set_)) break;
+    const auto c = static_cast<Eigen::Index>(impact_set_.size());
+    if (impact_columns_.cols() < c) impact_columns_.conservativeResize(3 * n_, std::max<Eigen::Index>(c, 2 * impact_columns_.cols()));
+    if (impact_delassus_.rows() < c) {
+      const Eigen::Index room = std::max<Eigen::Index>(c, 2 * impact_delassus_.rows());
+      impact_delassus_.resize(room, room);
+      impact_lambda_.resize(room);
+      impact_speed_.resize(room);
+      impact_target_.resize(room);
+    }
+    // The new contacts' columns A^-1 J_i^T; the set keeps its order from round to round.
+    for (Eigen::Index j = solved; j < c; ++j) {
+      auto col = impact_columns_.col(j);
+      col.setZero();
+      const ImpactLimiter::Contact& cj = impact_set_[j];
+      for (int side = 0; side < (cj.b >= 0 ? 2 : 1); ++side) {
+        const collision::Sphere& sp = spheres[side == 0 ? cj.a : cj.b];
+        const Vec3 n = side == 0 ? cj.normal : Vec3(-cj.normal);
+        for (int k = 0; k < 4; ++k) col.segment<3>(3 * (sp.first + k)) += sp.w[k] * n;
+      }
+      ApplyBandInverse(col.data());
+    }
+    solved = c;
+    for (Eigen::Index i = 0; i < c; ++i) {
+      for (Eigen::Index j = i; j < c; ++j) {
+        const double g = ContactSpeed(impact_set_[i], impact_columns_.col(j).data());
+        impact_delassus_(i, j) = g;
+        impact_delassus_(j, i) = g;
+      }
+      impact_speed_(i) = impact_set_[i].normal_speed;
+      impact_target_(i) = impact_set_[i].target;
+    }
+    SolveContactImpulses(impact_delassus_, c, impact_target_, immobile, &impact_lambda_, &impact_speed_);
+    delta->noalias() = impact_columns_.leftCols(c) * impact_lambda_.head(c);
+    impact_check_ = base + Eigen::Map<const Points>(delta->data(), n_, 3);
+    any = true;
+  }
+  if (any) impact_contacts_total_ += static_cast<int64_t>(impact_set_.size());
+  return any;
+}
+
+bool ImplicitEulerIntegrator::ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv) {
+  if (interactions_ == nullptr) return false;
+  // Impacts: their impulses stay in the velocity (inelastic, never a push apart).
+  impact_v_ = v + Eigen::Map<const Points>(dv.data(), n_, 3);
+  const bool impacts = SolveEndConstraints(Interactions::EndConstraint::kImpact, h, impact_v_, &impact_dv_);
+  if (impacts) {
+    dv += impact_dv_;
+    impact_v_ += Eigen::Map<const Points>(impact_dv_.data(), n_, 3);
+  }
+  // Depth: a position correction only (q moves by h times it, v keeps none of it), so it never
+  // gives a pair a separating speed.
+  const bool depth = SolveEndConstraints(Interactions::EndConstraint::kDepth, h, impact_v_, &depth_dq_);
+  if (impacts || depth) ++impact_substeps_;
+  return depth;
+}
+
+}  // namespace viscera::mechanics
