@@ -11,6 +11,8 @@
 //                              seconds (300 steps: falling, impact at about 0.16 s, landing,
 //                              the pile sliding and settling, which takes until about 2.8 s).
 //                              The state is reset to the coil between iterations (not timed).
+//   BM_FallWholeHeld/n:N       the same with impacts held inside the implicit solve
+//                              ([contacts] impact_constraints = true, spheres = "material").
 //   BM_FallSettled/n:N/self:S  the settled pile: 3 simulated seconds of warm-up (not timed),
 //                              then one iteration = one step.
 // S = 1 is the scene as shipped; S = 0 turns self-contacts off (the plane stays) to show what
@@ -109,11 +111,16 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
     // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
     bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
+    if (model.params().contacts.impact_constraints) {
+      bench.counters["impact_substeps"] = static_cast<double>(implicit->impact_substeps()) / steps;
+      bench.counters["impact_contacts"] =
+          static_cast<double>(implicit->impact_contacts()) / std::max<int64_t>(1, implicit->impact_substeps());
+    }
   }
 }
 
-void BM_FallWhole(benchmark::State& bench) {
-  const Model model(FallParams(static_cast<int>(bench.range(0)), bench.range(1) != 0));
+void RunFallWhole(benchmark::State& bench, const ModelParams& params) {
+  const Model model(params);
   Workspace workspace(model);
   const State start = InitialState(model);
   State state = start;
@@ -136,6 +143,20 @@ void BM_FallWhole(benchmark::State& bench) {
   }
   resets += state.nonfinite_resets;
   Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
+}
+
+void BM_FallWhole(benchmark::State& bench) {
+  RunFallWhole(bench, FallParams(static_cast<int>(bench.range(0)), bench.range(1) != 0));
+}
+
+// The same fall with the impacts held inside the implicit solve ([contacts] impact_constraints,
+// spheres = "material"; docs/contacts.md, "Impacts"). Extra counters: impact_substeps (per step,
+// sub-steps whose solve needed impulses) and impact_contacts (per such sub-step).
+void BM_FallWholeHeld(benchmark::State& bench) {
+  ModelParams params = FallParams(static_cast<int>(bench.range(0)), true);
+  params.contacts.impact_constraints = true;
+  params.contacts.spheres_follow_material = true;
+  RunFallWhole(bench, params);
 }
 
 void BM_FallSettled(benchmark::State& bench) {
@@ -221,6 +242,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_FallWhole)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FallWholeHeld)->Arg(250)->ArgNames({"n"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FallSettled)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CavityMesentery)->Arg(0)->Arg(1)->ArgNames({"term"})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CavityClearing)->Arg(100)->Arg(1000)->ArgNames({"rate"})->Unit(benchmark::kMillisecond)->Iterations(1);

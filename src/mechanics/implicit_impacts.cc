@@ -86,7 +86,7 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
 }
 
 bool ImplicitEulerIntegrator::ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv) {
-  if (interactions_ == nullptr) return false;
+  if (interactions_ == nullptr || !model_.params().contacts.impact_constraints) return false;
   // Impacts: their impulses stay in the velocity (inelastic, never a push apart).
   impact_v_ = v + Eigen::Map<const Points>(dv.data(), n_, 3);
   const bool impacts = SolveEndConstraints(Interactions::EndConstraint::kImpact, h, impact_v_, &impact_dv_);

@@ -83,6 +83,35 @@ TEST(Contacts, SameInputsGiveBitIdenticalStates) {
   EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()), 0);
 }
 
+// fall.toml with the impacts held inside the implicit solve (docs/contacts.md, "Impacts").
+std::string HeldImpactsFall() {
+  std::string text = SceneText("fall.toml");
+  const size_t table = text.find("[contacts]");
+  EXPECT_NE(table, std::string::npos);
+  text.insert(table + std::string("[contacts]").size(), "\nimpact_constraints = true\nspheres = \"material\"\n");
+  return text;
+}
+
+TEST(Contacts, HeldImpactsNeverGainEnergyAndRerunBitIdentically) {
+  Simulation a = Start(HeldImpactsFall());
+  Simulation b = Start(HeldImpactsFall());
+  ASSERT_TRUE(a.model->params().contacts.impact_constraints);
+  ASSERT_TRUE(a.model->params().contacts.spheres_follow_material);
+  Interactions* in = a.workspace->interactions();
+  double previous = ComputeEnergies(*a.model, a.state.q, a.state.qd, in).total();
+  const double start = previous;
+  for (int k = 0; k < 150; ++k) {  // the fall and its impact on the plane
+    Step(*a.model, {}, &a.state, a.workspace.get());
+    Step(*b.model, {}, &b.state, b.workspace.get());
+    const double e = ComputeEnergies(*a.model, a.state.q, a.state.qd, in).total();
+    ASSERT_LE(e, previous + 1e-6 * start) << "step " << k;
+    previous = e;
+  }
+  EXPECT_LT(previous, 0.5 * start);  // the impact dissipated
+  EXPECT_EQ(std::memcmp(a.state.q.data(), b.state.q.data(), sizeof(double) * a.state.q.size()), 0);
+  EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()), 0);
+}
+
 TEST(Contacts, NothingEverLeavesTheCavity) {
   // The cavity without its pre-settling: watch every step of the fall into the pile. (The
   // four-spring cavity: cavity.toml's mesentery starts 15 cm overstretched and needs its settling

@@ -155,8 +155,13 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Combine(::testing::Values(IntegratorKind::kRk4, IntegratorKind::kImplicitEuler),
                        ::testing::Values(MassSolverKind::kBanded, MassSolverKind::kCholmod)));
 
-TEST(StepAllocationWithContacts, ContactsAndToolsAllocateNothingInSteadyState) {
+// Param: impacts held inside the implicit solve ([contacts] impact_constraints, spheres = "material").
+class StepAllocationWithContacts : public ::testing::TestWithParam<bool> {};
+
+TEST_P(StepAllocationWithContacts, ContactsAndToolsAllocateNothingInSteadyState) {
   ModelParams p = testing::StraightChain(60, 1.0);
+  p.contacts.impact_constraints = GetParam();
+  p.contacts.spheres_follow_material = GetParam();
   for (int i = 0; i < 60; ++i) p.initial_q.row(i) << 0.2 * std::cos(0.1 * i), 0.2 * std::sin(0.1 * i), 0.05 + 0.0005 * i;
   p.gravity = Vec3(0.0, 0.0, -9.81);
   p.stretch_stiffness = 50.0;
@@ -184,6 +189,8 @@ TEST(StepAllocationWithContacts, ContactsAndToolsAllocateNothingInSteadyState) {
             0);
   EXPECT_GT(state.contacts.environment, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(ImpactsHeld, StepAllocationWithContacts, ::testing::Bool());
 
 TEST(Step, NonFiniteStateResetsToStartAndIsCounted) {
   ModelParams p = testing::StraightChain(10);
