@@ -41,8 +41,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// (docs/contacts.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~3 iterations at 1 kHz).
   static constexpr double kCgTolerance = 1e-3;
   static constexpr int kMaxCgIterations = 60;
-  /// Sub-steps whose impacts needed impulses inside the solve, and those impulses' contacts in all
-  /// (docs/contacts.md, "Impacts").
+  /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
+  /// contacts in all (docs/contacts.md, "Impacts").
   int64_t impact_substeps() const { return impact_substeps_; }
   int64_t impact_contacts() const { return impact_contacts_total_; }
 
@@ -51,15 +51,15 @@ class ImplicitEulerIntegrator final : public Integrator {
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();
   void SolveColumns();             // rhs_ <- system_^-1 rhs_
-  void PrepareConstraints();       // after SolveColumns: the pins' Schur complement, factored
+  void PrepareConstraints();       // after SolveColumns: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
+  // x <- from the band system's solution to that of the preconditioner (rank one, pins).
+  void ApplyCorrections(double* x);
   // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y);
-  // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG,
-  // starting from dv + *warm (and adding its own correction to *warm) if warm is given.
-  // Returns the iterations.
-  int RefineExactly(const VecX& b, Eigen::Ref<VecX> dv, VecX* warm);
+  // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
+  void RefineExactly(const VecX& b, Eigen::Ref<VecX> dv);
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
@@ -92,8 +92,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
   Points cg_x_, cg_y_;                  // a CG vector reshaped to #N by 3, and its product
   VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
-  // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts; through the
-  // band system, refined once for their sum), their Delassus matrix and impulses.
+  VecX cg_previous_correction_;         // the one before: the warm start extrapolates the two
+  // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
+  // band system), their Delassus matrix and impulses.
   std::vector<ImpactLimiter::Contact> impact_set_;
   MatX impact_columns_, impact_delassus_;
   VecX impact_lambda_, impact_speed_, impact_target_, impact_dv_, depth_dq_;
