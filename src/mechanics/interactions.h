@@ -57,8 +57,8 @@ class Interactions {
   /// sub-step (the depth at its start minus h times the closing speed):
   /// kImpact: impacts (closing faster than the penalty stops) within impact_depth, never pushed
   ///   apart (their impulse stays in the velocity);
-  /// kDepth: any pair within the depth goal's margin, (impact_depth + 10 %) / 2 of the radius,
-  ///   pushed back if deeper (a position correction only: the sphere chain's re-placement along
+  /// kDepth: any pair within impact_depth + (10 % - impact_depth) / 4 of the radius (6.25 % with
+  ///   the defaults), pushed back if deeper (a position correction only: the sphere chain's re-placement along
   ///   the arc length slides spheres into each other while an impact stretches the tube).
   enum class EndConstraint { kImpact, kDepth };
   /// Collects the self and environment pairs that the end velocity v_check (#N by 3) leaves

@@ -64,7 +64,7 @@ struct ContactParams {
   double impact_depth = 0.05;
   /// Implicit integrator: impulses inside the implicit solve (through its system matrix) stop the
   /// impacts that the step's own forces would still drive deeper than impact_depth, and push any
-  /// pair back within (impact_depth + 10 %) / 2 of the radius by a position correction
+  /// pair back within impact_depth + (10 % - impact_depth) / 4 of the radius by a position correction
   /// (docs/contacts.md, "Impacts"). Off by default: it changes the cavity's settled pile.
   bool impact_constraints = false;
   /// The contact spheres stay where they were first placed along the tube (material points)
