@@ -3,7 +3,7 @@
 // of every step (no input after the release). Issue 10 asks for 10 % of the radius. With the
 // defaults, the impact limiter and the stiffening law reach 12-17 % (from 65-82 %); with the
 // impulses inside the implicit solve and spheres that follow the material (both off by default:
-// they change the cavity's settled pile), 7.5-7.7 %. docs/contacts.md, "Impacts".
+// they change the cavity's settled pile), 6.3-8.7 %. docs/contacts.md, "Impacts".
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -125,7 +125,7 @@ INSTANTIATE_TEST_SUITE_P(Rates, FiftyCentimetreDropHeldInsideTheSolve, testing::
 // 250 or 500 Hz. Without the impulses inside the solve the penalty and the limiter let a landing
 // pile sink (11.6 / 12.1 % R); with the spheres re-placed along the arc length at every
 // sub-step, the tube stretched by the impact slides them into each other by ~1 % of R per
-// sub-step, which the solve's impulses cannot see (13.3 / 19.9 % R).
+// sub-step, which the solve's impulses cannot see (13.5 / 15.2 % R).
 TEST(Impacts, EachPartOfTheSolveIsNeeded) {
   for (const bool constraints : {false, true}) {
     double deepest = 0.0;
