@@ -68,15 +68,31 @@ double ArcLengthTable::ArcLengthAt(double s) const {
 }
 
 double ArcLengthTable::ParameterAt(double arc) const {
+  size_t interval = 0;
+  return ParameterAt(arc, &interval);
+}
+
+double ArcLengthTable::ParameterAt(double arc, size_t* interval) const {
   VISCERA_ASSERT(!cumulative_.empty());
   const size_t last = cumulative_.size() - 1;
   if (arc <= 0.0) return 0.0;
   if (arc >= cumulative_[last]) return 1.0;
-  const size_t i = std::upper_bound(cumulative_.begin(), cumulative_.end(), arc) - cumulative_.begin() - 1;
+  // The interval holding arc: cumulative_[i] <= arc < cumulative_[i + 1]. A sweep in increasing
+  // arc walks a step or two from the last one; elsewhere, a binary search.
+  size_t i = std::min(*interval, last - 1);
+  if (cumulative_[i] <= arc && arc < cumulative_[i + 1]) {
+    // the hint itself
+  } else if (i + 2 <= last && cumulative_[i + 1] <= arc && arc < cumulative_[i + 2]) {
+    ++i;
+  } else {
+    i = std::upper_bound(cumulative_.begin(), cumulative_.end(), arc) - cumulative_.begin() - 1;
+  }
+  *interval = i;
   const double span = cumulative_[i + 1] - cumulative_[i];
   if (!(span > 0.0)) return static_cast<double>(i) / last;
-  // Newton on the interval's quartic, kept inside a shrinking bracket (bisection when a
-  // step would leave it), from the straight line's answer.
+  // Newton on the interval's quartic from the straight line's answer, kept inside a shrinking
+  // bracket (bisection when a step would leave it). It converges quadratically: once a step is
+  // below 1e-9 the next would be below rounding, so it stops there.
   double lo = 0.0, hi = 1.0;
   double t = std::clamp((arc - cumulative_[i]) / span, 0.0, 1.0);
   const std::array<double, 4>& c = poly_[i];
@@ -89,13 +105,14 @@ double ArcLengthTable::ParameterAt(double arc) const {
       lo = t;
     }
     const double slope = c[0] + t * (2.0 * c[1] + t * (3.0 * c[2] + t * 4.0 * c[3]));
-    double next = slope > 0.0 ? t - r / slope : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - t) <= 1e-15) {
-      t = next;
-      break;
+    const double next = slope > 0.0 ? t - r / slope : -1.0;
+    if (!(next > lo && next < hi)) {
+      t = 0.5 * (lo + hi);  // bisection
+      continue;
     }
+    const bool converged = std::abs(next - t) <= 1e-9;
     t = next;
+    if (converged) break;
   }
   return (i + t) / last;
 }

@@ -34,6 +34,9 @@ class ArcLengthTable {
   /// Curve parameter whose arc length from the start is `arc` (clamped to the curve): the
   /// inverse of ArcLengthAt to rounding.
   double ParameterAt(double arc) const;
+  /// Same, with `interval` the table interval it found (in and out): a hint that makes a sweep
+  /// in increasing arc cost O(1) per call instead of a search.
+  double ParameterAt(double arc, size_t* interval) const;
 
  private:
   // Arc length at t in [0, 1] of interval i (between entries i and i + 1).
