@@ -92,8 +92,8 @@ double ArcLengthTable::ParameterAt(double arc, size_t* interval) const {
   const double span = cumulative_[i + 1] - cumulative_[i];
   if (!(span > 0.0)) return static_cast<double>(i) / last;
   // The inverse's cubic Hermite interpolant (its end slopes 1 / speed, limited to 3 times the
-  // mean so that it is monotone: Fritsch and Carlson 1980) is within ~1e-3 of an interval of
-  // the quartic's inverse, then one Newton step on the quartic squares that error. A fixed
+  // mean so that it is monotone: Fritsch and Carlson 1980) is within a few percent of an interval
+  // of the quartic's inverse, then one Newton step on the quartic squares that error. A fixed
   // count of operations: continuous in arc and in q.
   const std::array<double, 4>& c = poly_[i];
   const double end_speed = c[0] + 2.0 * c[1] + 3.0 * c[2] + 4.0 * c[3];  // d(arc)/dt at t = 1
