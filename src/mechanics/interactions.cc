@@ -128,11 +128,16 @@ void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
   for (int a = 0; a < 4; ++a) F->row(sp.first + a) += sp.w[a] * f.transpose();
 }
 
-void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const {
+void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
+                                  BlockBand* K, BlockBand* D) const {
+  // The window's 10 upper blocks, K's and D's in one pass, by their symmetric entries.
+  const Sym3 k = ToSym3(hk);
+  const Sym3 d = hd ? ToSym3(*hd) : Sym3{};
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
       const double wab = w[a] * w[b];
-      if (wab != 0.0) m->Add(first + a, first + b, wab * h);
+      K->AddSymmetric(first + a, first + b, wab, k);
+      if (hd) D->AddSymmetric(first + a, first + b, wab, d);
     }
   }
 }
@@ -262,8 +267,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       if (!sphere_touched_[k]) continue;
       sphere_touched_[k] = 0;
       const collision::Sphere& sp = chain_.spheres()[k];
-      AddWindowOuter(sp.first, sp.w, sphere_k_[k], K);
-      if (D) AddWindowOuter(sp.first, sp.w, sphere_d_[k], D);
+      AddWindowOuter(sp.first, sp.w, sphere_k_[k], D ? &sphere_d_[k] : nullptr, K, D);
     }
   }
   // Grasps: a stiff spring from the jaws to the grasped curve point.
@@ -275,7 +279,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     for (int a = 0; a < 4; ++a) F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
     if (K) {
       const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2), grasp_at_[t].w(3)};
-      AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), K);
+      AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), nullptr, K, nullptr);
     }
   }
   return energy;

@@ -110,7 +110,10 @@ class Interactions {
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
-  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
+  // K += (w w^T) (x) hk on the window from `first`, and D the same with hd if given.
+  // @pre hk, hd symmetric (as every contact's blocks are).
+  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd, BlockBand* K,
+                      BlockBand* D) const;
   void AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts);
   void UpdateGrasp(int index, double h, bool active, const Points& q, ToolState* ts);
   // The grasp spring's stretch: jaws - tube - offset.
