@@ -260,7 +260,11 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       sphere_k_[sphere] += scale * kn;
       sphere_d_[sphere] += scale * dn;
     }
-    if (self && cp.exact_pairs) pairs_.push_back({c.a, c.b, kn, dn});
+    if (self && cp.exact_pairs) {
+      const collision::Sphere& sa = chain_.spheres()[c.a];
+      const collision::Sphere& sb = chain_.spheres()[c.b];
+      pairs_.push_back({sa.first, sb.first, sa.w, sb.w, kn, dn});
+    }
   }
   if (K) {
     for (int k = 0; k < chain_.size(); ++k) {
@@ -290,15 +294,27 @@ void Interactions::WeighCommonModes(double ck, double cd) {
 }
 
 void Interactions::AddCommonModeTerms(const Points& x, Points* y) const {
-  const auto& spheres = chain_.spheres();
+  // Called at every CG product: each pair carries its windows, so this reads nothing else.
+  const double* xd = x.data();
+  double* yd = y->data();
   for (const PairCoupling& pair : pairs_) {
-    const collision::Sphere& sa = spheres[pair.a];
-    const collision::Sphere& sb = spheres[pair.b];
-    Vec3 common = Vec3::Zero();  // (J_a + J_b) x
-    for (int i = 0; i < 4; ++i) common += sa.w[i] * x.row(sa.first + i).transpose() + sb.w[i] * x.row(sb.first + i).transpose();
-    const Vec3 f = pair.weighed * common;
-    AddToWindow(pair.a, f, y);
-    AddToWindow(pair.b, f, y);
+    const double* xa = xd + 3 * pair.first_a;
+    const double* xb = xd + 3 * pair.first_b;
+    double common[3] = {0.0, 0.0, 0.0};  // (J_a + J_b) x
+    for (int i = 0; i < 4; ++i) {
+      for (int c = 0; c < 3; ++c) common[c] += pair.w_a[i] * xa[3 * i + c] + pair.w_b[i] * xb[3 * i + c];
+    }
+    const Mat3& m = pair.weighed;
+    double f[3];
+    for (int r = 0; r < 3; ++r) f[r] = m(r, 0) * common[0] + m(r, 1) * common[1] + m(r, 2) * common[2];
+    double* ya = yd + 3 * pair.first_a;
+    double* yb = yd + 3 * pair.first_b;
+    for (int i = 0; i < 4; ++i) {
+      for (int c = 0; c < 3; ++c) ya[3 * i + c] += pair.w_a[i] * f[c];
+    }
+    for (int i = 0; i < 4; ++i) {
+      for (int c = 0; c < 3; ++c) yb[3 * i + c] += pair.w_b[i] * f[c];
+    }
   }
 }
 

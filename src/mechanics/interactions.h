@@ -155,8 +155,10 @@ class Interactions {
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
   // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
+  // The spheres' windows are copied in: AddCommonModeTerms runs at every CG product.
   struct PairCoupling {
-    int a = 0, b = 0;
+    int first_a = 0, first_b = 0;
+    std::array<double, 4> w_a{}, w_b{};
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
     Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };
