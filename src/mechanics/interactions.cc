@@ -163,7 +163,7 @@ Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const
     case ContactKind::kSelf: {
       const Vec3 d = sa.centre - chain_.spheres()[c.b].centre;
       distance = d.norm();
-      p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
+      p.normal = distance > 1e-12 ? Vec3(d * (1.0 / distance)) : Vec3::UnitZ();  // one division
       reach = 2.0 * radius_;
       break;
     }
@@ -175,7 +175,7 @@ Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const
       const Vec3 on_shaft = collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever);
       const Vec3 d = sa.centre - on_shaft;
       distance = d.norm();
-      p.normal = distance > 1e-12 ? Vec3(d / distance) : Vec3::UnitZ();
+      p.normal = distance > 1e-12 ? Vec3(d * (1.0 / distance)) : Vec3::UnitZ();
       reach = radius_ + cap.radius;
       break;
     }

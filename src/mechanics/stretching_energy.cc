@@ -19,8 +19,10 @@ double EvaluateNodes(const Model& model, const Points& q, StretchScratch* s) {
       const Eigen::RowVector3d d = dw.row(g) * window;
       const double speed = d.norm();
       const int node = 4 * j + g;
+      const double inv_speed = speed > 0.0 ? 1.0 / speed : 0.0;  // one division per node
       s->node_speed(node) = speed;
-      s->node_tangent.row(node) = speed > 0.0 ? Eigen::RowVector3d(d / speed) : Eigen::RowVector3d::Zero();
+      s->node_inv_speed(node) = inv_speed;
+      s->node_tangent.row(node) = d * inv_speed;
       total += Rule::kWeights[g] * speed;
     }
   }
@@ -57,7 +59,7 @@ void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j,
       p[g].fill(0.0);
       continue;
     }
-    const double c = coeff * Rule::kWeights[g] / s.node_speed(node);
+    const double c = coeff * Rule::kWeights[g] * s.node_inv_speed(node);
     const double x = s.node_tangent(node, 0), y = s.node_tangent(node, 1), z = s.node_tangent(node, 2);
     p[g] = {c * (1.0 - x * x), c * (1.0 - y * y), c * (1.0 - z * z), c * (0.0 - x * y), c * (0.0 - x * z), c * (0.0 - y * z)};
   }
@@ -81,6 +83,7 @@ void StretchScratch::Resize(int num_points) {
   const int nodes = 4 * (num_points - 1);
   node_tangent.resize(nodes, 3);
   node_speed.resize(nodes);
+  node_inv_speed.resize(nodes);
   length_gradient.resize(num_points, 3);
 }
 
