@@ -7,7 +7,7 @@
 namespace viscera::collision {
 
 SphereChain::SphereChain(const spline::CatmullRom& curve, double rest_length, double radius)
-    : curve_(curve), radius_(radius), table_(2) {
+    : curve_(curve), radius_(radius), table_(4) {
   ThrowUnless(radius > 0.0 && rest_length > 0.0, "sphere chain needs a positive radius and length");
   // One radius apart: neighbours overlap by half, so the chain has no gap a sphere could pass.
   const int count = std::max(2, static_cast<int>(std::ceil(rest_length / radius)) + 1);
