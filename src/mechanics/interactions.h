@@ -152,6 +152,7 @@ class Interactions {
   // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
   // damping (spread onto its window once, not once per contact).
   std::vector<Vec3> sphere_velocity_;
+  double fastest_sphere_ = 0.0;  // m/s, the largest of sphere_velocity_
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
   // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
