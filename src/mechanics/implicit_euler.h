@@ -45,9 +45,11 @@ class ImplicitEulerIntegrator final : public Integrator {
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();
   void SolveColumns();             // rhs_ <- system_^-1 rhs_
-  void PrepareConstraints();       // after SolveColumns: the pins' Schur complement, factored
+  void PrepareConstraints();       // after SolveColumns: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
+  // x <- from the band system's solution to that of the preconditioner (rank one, pins).
+  void ApplyCorrections(double* x);
   // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
@@ -75,6 +77,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
   Points cg_x_, cg_y_;                  // a CG vector reshaped to #N by 3, and its product
   VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
+  VecX cg_previous_correction_;         // the one before: the warm start extrapolates the two
   double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
