@@ -1,0 +1,61 @@
+// Energy through an impact (issue 10: "energy on a 55 cm drop of scenes/fall.toml: +4 % in one
+// step at impact; goal: never grows without input"). The coil of scenes/fall.toml released with
+// its lowest point 55 cm above the plane (impact_test.cc's convention), no input: the total
+// energy (kinetic, gravity, elastic, contact) after each step must never exceed the step
+// before's by more than round-off, through the fall, the impact and the landing.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "tests/mechanics/fall_record.h"
+
+namespace viscera::mechanics {
+namespace {
+
+constexpr double kHeight = 0.55;   // m
+constexpr double kSeconds = 1.5;   // impact at ~0.33 s; the landing and the pile sliding after it
+constexpr double kRoundOff = 1e-9;  // of the energy at release: far above double round-off on ~6 J
+
+FallRecord Drop(double rate_hz, double impact_depth = -1.0) {
+  ModelParams p = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/fall.toml").model;
+  scene::ChangeRate(&p, rate_hz);
+  if (impact_depth >= 0.0) p.contacts.impact_depth = impact_depth;
+  return RecordFall(DroppedFrom(p, kHeight), kSeconds);
+}
+
+// The step that gains the most, and by how much, against the step before it.
+void ExpectNoStepGains(double rate_hz) {
+  const FallRecord r = Drop(rate_hz);
+  EXPECT_LE(r.LargestGain(), kRoundOff * r.start_energy) << rate_hz << " Hz: " << Describe(r);
+  EXPECT_LT(r.energy.back(), 0.1 * r.start_energy) << rate_hz << " Hz: it landed and the impact dissipated";
+}
+
+TEST(DropEnergy, FiftyFiveCentimetreDropNeverGainsEnergyAt100And250Hz) {
+  ExpectNoStepGains(100.0);
+  ExpectNoStepGains(250.0);
+}
+
+// Issue 10's goal at the faster rates, which fails today (and shows that the check above catches
+// a real gain): 500 Hz gains 1.5 mJ in one step and 1 kHz 22 mJ at the impact (docs/contacts.md, "Impacts": the stiffening law linearized once per
+// sub-step; impulses inside the implicit solve are missing).
+TEST(DropEnergyKnownFailure, FiftyFiveCentimetreDropNeverGainsEnergyAt500HzAnd1kHz) {
+  ExpectNoStepGains(500.0);
+  ExpectNoStepGains(1000.0);
+}
+
+// Figures for docs/benchmarks.md: VISCERA_DROP_ENERGY_FIGURES=1 prints every rate.
+TEST(DropEnergy, Figures) {
+  if (!std::getenv("VISCERA_DROP_ENERGY_FIGURES")) GTEST_SKIP() << "set VISCERA_DROP_ENERGY_FIGURES=1 to print the table";
+  for (double depth : {-1.0, 0.0}) {  // the scene's impact limiter, then none (and the linear law)
+    for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
+      const FallRecord r = Drop(rate, depth);
+      int gains = 0;  // steps that gained more than round-off
+      for (size_t k = 0; k < r.energy.size(); ++k) gains += r.energy[k] > (k ? r.energy[k - 1] : r.start_energy) + kRoundOff * r.start_energy;
+      std::printf("%s %5.0f Hz: %d steps gain; %s\n", depth < 0.0 ? "limiter" : "none   ", rate, gains, Describe(r).c_str());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace viscera::mechanics
