@@ -75,6 +75,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
   Points cg_x_, cg_y_;                  // a CG vector reshaped to #N by 3, and its product
   VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
+  VecX cg_previous_correction_;         // the one before: the warm start extrapolates the two
   double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
