@@ -24,25 +24,27 @@ FallRecord Drop(double rate_hz, double impact_depth = -1.0) {
   return RecordFall(DroppedFrom(p, kHeight), kSeconds);
 }
 
-// The step that gains the most, and by how much, against the step before it.
+// No step ends with more energy than the step before it (beyond round-off), and the drop ends
+// with little of its energy left.
 void ExpectNoStepGains(double rate_hz) {
   const FallRecord r = Drop(rate_hz);
   EXPECT_LE(r.LargestGain(), kRoundOff * r.start_energy) << rate_hz << " Hz: " << Describe(r);
   EXPECT_LT(r.energy.back(), 0.1 * r.start_energy) << rate_hz << " Hz: it landed and the impact dissipated";
 }
 
-TEST(DropEnergy, FiftyFiveCentimetreDropNeverGainsEnergyAt100And250Hz) {
+// 500 Hz holds only since the CG warm start of 256e214 (it gained 1.5 mJ in one step before):
+// whether an impact gains is sensitive to the solve's round-off and tolerance.
+TEST(DropEnergy, FiftyFiveCentimetreDropNeverGainsEnergyAt100To500Hz) {
   ExpectNoStepGains(100.0);
   ExpectNoStepGains(250.0);
+  ExpectNoStepGains(500.0);
 }
 
-// Issue 10's goal at the faster rates, which fails today (and shows that the check above catches
-// a real gain): 500 Hz gains 1.5 mJ in one step and 1 kHz 22 mJ at the impact (docs/contacts.md, "Impacts": the stiffening law linearized once per
-// sub-step; impulses inside the implicit solve are missing).
-TEST(DropEnergyKnownFailure, FiftyFiveCentimetreDropNeverGainsEnergyAt500HzAnd1kHz) {
-  ExpectNoStepGains(500.0);
-  ExpectNoStepGains(1000.0);
-}
+// Issue 10's goal at 1 kHz, which fails today (and shows that the check above catches a real
+// gain): four steps gain, the worst 22 mJ (+1.6 % of the step before) at the impact, mostly elastic,
+// while a self pair is 15 % of R deep, in the stiffening law's range (docs/contacts.md, "Impacts":
+// the law linearized once per sub-step; impulses inside the implicit solve are missing).
+TEST(DropEnergyKnownFailure, FiftyFiveCentimetreDropNeverGainsEnergyAt1kHz) { ExpectNoStepGains(1000.0); }
 
 // Figures for docs/benchmarks.md: VISCERA_DROP_ENERGY_FIGURES=1 prints every rate.
 TEST(DropEnergy, Figures) {
