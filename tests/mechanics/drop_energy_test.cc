@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 #include "tests/mechanics/fall_record.h"
 
@@ -52,9 +53,12 @@ TEST(DropEnergy, Figures) {
   for (double depth : {-1.0, 0.0}) {  // the scene's impact limiter, then none (and the linear law)
     for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
       const FallRecord r = Drop(rate, depth);
-      int gains = 0;  // steps that gained more than round-off
-      for (size_t k = 0; k < r.energy.size(); ++k) gains += r.energy[k] > (k ? r.energy[k - 1] : r.start_energy) + kRoundOff * r.start_energy;
-      std::printf("%s %5.0f Hz: %d steps gain; %s\n", depth < 0.0 ? "limiter" : "none   ", rate, gains, Describe(r).c_str());
+      std::string gains;  // the steps that gained more than round-off
+      for (size_t k = 0; k < r.energy.size(); ++k) {
+        const double gain = r.energy[k] - (k ? r.energy[k - 1] : r.start_energy);
+        if (gain > kRoundOff * r.start_energy) gains += " " + std::to_string(r.Seconds(static_cast<int>(k))).substr(0, 5) + " s (" + std::to_string(gain * 1e3).substr(0, 5) + " mJ)";
+      }
+      std::printf("%s %5.0f Hz: gains at [%s]; %s\n", depth < 0.0 ? "limiter" : "none   ", rate, gains.c_str(), Describe(r).c_str());
     }
   }
 }

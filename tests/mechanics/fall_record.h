@@ -61,14 +61,15 @@ inline std::string Describe(const FallRecord& r) {
   const Energies before = at > 0 ? r.terms[at - 1] : r.start_terms, after = r.terms[at];
   const double elastic_before = before.stretch + before.bend + before.continuous + before.attachment + before.mesentery;
   const double elastic_after = after.stretch + after.bend + after.continuous + after.attachment + after.mesentery;
-  char line[640];
+  char line[768];
   std::snprintf(line, sizeof line,
                 "deepest pair %6.2f %% R at %.3f s (%s), into the floor %6.2f %% R at %.3f s; at the end %.2f / %.2f %% R; "
                 "worst one-step energy gain %+.2e J (%+.1e of the start %.3f J) at %.3f s [kinetic %+.1e, gravity %+.1e, "
-                "elastic %+.1e, contact %+.1e]; end %.3f J; max sub-steps %d",
+                "elastic %+.1e (stretch %+.1e, bend %+.1e, continuous %+.1e), contact %+.1e]; end %.3f J; max sub-steps %d",
                 100.0 * r.depth[deepest], r.Seconds(deepest), r.what[deepest].c_str(), 100.0 * r.floor[floor], r.Seconds(floor),
                 100.0 * r.depth.back(), 100.0 * r.floor.back(), gain, gain / r.start_energy, r.start_energy, r.Seconds(at), after.kinetic - before.kinetic,
-                after.gravity - before.gravity, elastic_after - elastic_before, after.contact - before.contact, r.energy.back(),
+                after.gravity - before.gravity, elastic_after - elastic_before, after.stretch - before.stretch,
+                after.bend - before.bend, after.continuous - before.continuous, after.contact - before.contact, r.energy.back(),
                 r.max_substeps);
   return line;
 }
