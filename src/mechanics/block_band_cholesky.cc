@@ -54,20 +54,28 @@ bool BlockBandCholesky::Factor(const BlockBand& a) {
   return true;
 }
 
-void BlockBandCholesky::SolveInPlace(double* b) const {
+template <int kColumns>
+void BlockBandCholesky::Solve(const std::array<double*, kColumns>& columns) const {
   using Vec = Eigen::Map<Vec3>;
   // Forward: L y = b.
   for (int i = 0; i < n_; ++i) {
-    Vec3 v = Vec(b + 3 * i);
-    for (int d = 1; d <= std::min(i, kBand); ++d) v.noalias() -= L(i, d) * Vec(b + 3 * (i - d));
-    Vec(b + 3 * i).noalias() = inv_diag_[i] * v;
+    for (double* b : columns) {
+      Vec3 v = Vec(b + 3 * i);
+      for (int d = 1; d <= std::min(i, kBand); ++d) v.noalias() -= L(i, d) * Vec(b + 3 * (i - d));
+      Vec(b + 3 * i).noalias() = inv_diag_[i] * v;
+    }
   }
   // Backward: L^T x = y.
   for (int i = n_ - 1; i >= 0; --i) {
-    Vec3 v = Vec(b + 3 * i);
-    for (int d = 1; d <= std::min(n_ - 1 - i, kBand); ++d) v.noalias() -= L(i + d, d).transpose() * Vec(b + 3 * (i + d));
-    Vec(b + 3 * i).noalias() = inv_diag_[i].transpose() * v;
+    for (double* b : columns) {
+      Vec3 v = Vec(b + 3 * i);
+      for (int d = 1; d <= std::min(n_ - 1 - i, kBand); ++d) v.noalias() -= L(i + d, d).transpose() * Vec(b + 3 * (i + d));
+      Vec(b + 3 * i).noalias() = inv_diag_[i].transpose() * v;
+    }
   }
 }
+
+template void BlockBandCholesky::Solve<1>(const std::array<double*, 1>&) const;
+template void BlockBandCholesky::Solve<2>(const std::array<double*, 2>&) const;
 
 }  // namespace viscera::mechanics

@@ -83,15 +83,22 @@ bool ImplicitEulerIntegrator::FactorSystem() {
 }
 
 void ImplicitEulerIntegrator::SolveColumns() {
-  // Column 0 goes through ApplyBandInverse; column 1 matters only with a rank-one term.
-  const int first = rank1_w_ > 0.0 ? 1 : 2;
-  const int cols = static_cast<int>(rhs_.cols()) - first;
-  if (cols <= 0) return;
+  // Column 0 (b) always; column 1 (u) only with a rank-one term; then the pins' columns. On the
+  // band, columns 0 and 1 share one pass.
+  const bool rank1 = rank1_w_ > 0.0;
   if (use_cholmod_) {
-    solver_.SolveInPlace(rhs_.col(first).data(), cols, &solve_work_);
+    solver_.SolveInPlace(rhs_.col(0).data(), 1, &solve_one_work_);
+    const int first = rank1 ? 1 : 2;
+    const int cols = static_cast<int>(rhs_.cols()) - first;
+    if (cols > 0) solver_.SolveInPlace(rhs_.col(first).data(), cols, &solve_work_);
     return;
   }
-  for (int k = 0; k < cols; ++k) band_factor_.SolveInPlace(rhs_.col(first + k).data());
+  if (rank1) {
+    band_factor_.SolveTwoInPlace(rhs_.col(0).data(), rhs_.col(1).data());
+  } else {
+    band_factor_.SolveInPlace(rhs_.col(0).data());
+  }
+  for (Eigen::Index k = 2; k < rhs_.cols(); ++k) band_factor_.SolveInPlace(rhs_.col(k).data());
 }
 
 void ImplicitEulerIntegrator::PrepareConstraints() {
@@ -122,6 +129,10 @@ void ImplicitEulerIntegrator::ApplyBandInverse(double* x) {
   } else {
     band_factor_.SolveInPlace(x);
   }
+  ApplyCorrections(x);
+}
+
+void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
   Eigen::Map<VecX> dv(x, 3 * n_);
   // (A + w u u^T)^-1 x = A^-1 x - z (w u.A^-1 x) / (1 + w u.z), z = A^-1 u.
   if (rank1_w_ > 0.0) {
@@ -233,12 +244,12 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
     q += h * v;
     return;
   }
-  // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once; column 0 through the same corrections.
+  // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once; column 0 then gets their corrections.
   rank1_w_ = h * h * c;
   SolveColumns();
   auto dv = rhs_.col(0);
   PrepareConstraints();
-  ApplyBandInverse(dv.data());
+  ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
   if (coupled) {
     interactions_->WeighCommonModes(-h * h, -h);

@@ -45,9 +45,11 @@ class ImplicitEulerIntegrator final : public Integrator {
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();
   void SolveColumns();             // rhs_ <- system_^-1 rhs_
-  void PrepareConstraints();       // after SolveColumns: the pins' Schur complement, factored
+  void PrepareConstraints();       // after SolveColumns: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
+  // x <- from the band system's solution to that of the preconditioner (rank one, pins).
+  void ApplyCorrections(double* x);
   // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.

@@ -3,8 +3,10 @@
 // force on the hand is the same at every rate, over the gesture (RMS) and phase by phase.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "mechanics/step.h"
@@ -69,6 +71,13 @@ TEST(ClearingGesture, NothingSinksDeeperThanATenthOfTheRadiusAndTheFeelDoesNotDe
   for (double rate : {100.0, 250.0, 500.0}) {
     const GestureRun run = Clearing(rate);
     EXPECT_LE(run.deepest, 0.1 * radius) << rate << " Hz";
+    double worst_phase = 0.0;  // the figures docs/contacts.md quotes ("Where it stands")
+    for (const auto& [from, to] : phases) {
+      worst_phase = std::max(worst_phase, (Mean(run, from, to) - Mean(reference, from, to)).norm() / Mean(reference, from, to).norm());
+    }
+    std::printf("%4.0f Hz: RMS force %.1f %% off 1 kHz's, worst phase mean %.1f %% off, deepest %.1f %% of R (1 kHz: %.1f %%)\n",
+                rate, 100.0 * std::abs(Rms(run) / Rms(reference) - 1.0), 100.0 * worst_phase, 100.0 * run.deepest / radius,
+                100.0 * reference.deepest / radius);
     EXPECT_NEAR(Rms(run), Rms(reference), 0.1 * Rms(reference)) << rate << " Hz: RMS over the gesture";
     for (const auto& [from, to] : phases) {
       const Vec3 expected = Mean(reference, from, to);
