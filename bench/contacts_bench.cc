@@ -23,6 +23,14 @@
 //                              sub-step length; one iteration = the whole 5.5 s gesture. Counters
 //                              add p99_us (per step, thread CPU time), deepest_pct_r (deepest
 //                              pair at any step, % of the radius) and peak_force (N, on the hand).
+//   BM_PaperCoilFall/rate:R    the peers' benchmark (issue 10): bench/scenes/paper_coil.toml, the
+//                              paper's 4 m, 250-point coil (EI 1.9e-3 N m^2) falling 30 cm, at
+//                              R Hz (the scene's sub-step length); one iteration = 2 simulated
+//                              seconds from the release (reset between iterations, not timed).
+//                              Counters add deepest_pct_r (deepest pair after any step, % of R),
+//                              deepest_at_s (when), end_pct_r (after the last step, at 2 s) and
+//                              x_pybullet: pybullet's CPU time per simulated second on this run
+//                              (2.46 s, from issue 10's table) over ours.
 //   BM_CavityMesentery/term:T  scenes/cavity.toml settled, then one iteration = one
 //                              step (T = 0) or only the mesentery's force term with its
 //                              stiffness and damping blocks (T = 1, every tether taut: the
@@ -31,6 +39,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "common/check.h"
@@ -65,6 +74,8 @@ struct Tally {
   int max_substeps = 0;
   int64_t self_contacts = 0;
   int64_t environment_contacts = 0;
+  double deepest = 0.0;     // m, the deepest pair after any step
+  double deepest_at = 0.0;  // s, when
 
   void Add(const State& state) {
     ++steps;
@@ -72,8 +83,19 @@ struct Tally {
     max_substeps = std::max(max_substeps, state.substeps);
     self_contacts += state.contacts.self;
     environment_contacts += state.contacts.environment;
+    if (-state.contacts.min_clearance > deepest) {  // false for NaN (no pairs)
+      deepest = -state.contacts.min_clearance;
+      deepest_at = state.t;
+    }
   }
 };
+
+// A scene file's model at `rate_hz`, with the scene's sub-step length.
+ModelParams SceneAtRate(const char* path, double rate_hz) {
+  ModelParams params = scene::LoadSceneFile(path).model;
+  scene::ChangeRate(&params, rate_hz);
+  return params;
+}
 
 // Counters (CPU time; "per step" means per 10 ms step of the scene's 100 Hz):
 //   n, spheres       control points, spheres of the chain
@@ -177,14 +199,12 @@ void BM_FallSettled(benchmark::State& bench) {
 }
 
 void BM_CavityClearing(benchmark::State& bench) {
-  scene::Scene scene = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
-  scene::ChangeRate(&scene.model, static_cast<double>(bench.range(0)));
-  const Model model(scene.model);
+  const Model model(SceneAtRate(VISCERA_SOURCE_DIR "/scenes/cavity.toml", static_cast<double>(bench.range(0))));
   Workspace workspace(model);
   const State start = InitialState(model);
   std::vector<double> costs_us;
   Tally tally;
-  double deepest = 0.0, peak = 0.0;
+  double peak = 0.0;
   int64_t resets = 0;
   for (auto _ : bench) {
     bench.PauseTiming();
@@ -202,15 +222,49 @@ void BM_CavityClearing(benchmark::State& bench) {
       Step(model, {{}, targets}, &state, &workspace);
       costs_us.push_back(static_cast<double>(ThreadCpuNanos() - begin) * 1e-3);
       tally.Add(state);
-      if (!std::isnan(state.contacts.min_clearance)) deepest = std::max(deepest, -state.contacts.min_clearance);
       for (const ToolState& t : state.tools) peak = std::max(peak, t.force.norm());
     }
     resets += state.nonfinite_resets;
   }
   Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
   bench.counters["p99_us"] = Quantile(costs_us, 0.99);
-  bench.counters["deepest_pct_r"] = 100.0 * deepest / model.params().radius;
+  bench.counters["deepest_pct_r"] = 100.0 * tally.deepest / model.params().radius;
   bench.counters["peak_force"] = peak;
+}
+
+// pybullet's capsule chain on the peers' benchmark, CPU seconds per simulated second: issue 10's
+// table (viscera 0.063 s, 39x faster). The fastest peer; MuJoCo's flex rod took 230x.
+constexpr double kPybulletSecondsPerSimulatedSecond = 0.063 * 39.0;
+
+void BM_PaperCoilFall(benchmark::State& bench) {
+  const Model model(SceneAtRate(VISCERA_SOURCE_DIR "/bench/scenes/paper_coil.toml", static_cast<double>(bench.range(0))));
+  Workspace workspace(model);
+  const State start = InitialState(model);
+  const int64_t steps = static_cast<int64_t>(2.0 * model.params().rate_hz + 0.5);
+  State state = start;
+  Step(model, {}, &state, &workspace);  // warm-up: the solvers and the contact buffers size themselves
+  Tally tally;
+  double end = 0.0;
+  int64_t resets = 0;
+  for (auto _ : bench) {
+    bench.PauseTiming();
+    state = start;  // same sizes: a copy, no allocation
+    bench.ResumeTiming();
+    for (int64_t i = 0; i < steps; ++i) {
+      Step(model, {}, &state, &workspace);
+      tally.Add(state);
+    }
+    const double clearance = state.contacts.min_clearance;
+    end = std::isnan(clearance) ? 0.0 : std::max(0.0, -clearance);
+    resets += state.nonfinite_resets;
+  }
+  Report(bench, model, workspace.interactions()->chain().size(), tally, resets, workspace);
+  const double radius = model.params().radius;
+  bench.counters["deepest_pct_r"] = 100.0 * tally.deepest / radius;
+  bench.counters["deepest_at_s"] = tally.deepest_at;
+  bench.counters["end_pct_r"] = 100.0 * end / radius;
+  using C = benchmark::Counter;
+  bench.counters["x_pybullet"] = C(static_cast<double>(tally.steps) * model.step_size() * kPybulletSecondsPerSimulatedSecond, C::kIsRate);
 }
 
 void BM_CavityMesentery(benchmark::State& bench) {
@@ -244,6 +298,7 @@ void Sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_FallWhole)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FallWholeHeld)->Arg(250)->ArgNames({"n"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FallSettled)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PaperCoilFall)->Arg(100)->Arg(1000)->ArgNames({"rate"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CavityMesentery)->Arg(0)->Arg(1)->ArgNames({"term"})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_CavityClearing)->Arg(100)->Arg(1000)->ArgNames({"rate"})->Unit(benchmark::kMillisecond)->Iterations(1);
 

@@ -8,7 +8,7 @@ namespace {
 
 Vec3 SafeNormalize(const Vec3& v, const Vec3& fallback) {
   const double n = v.norm();
-  return n > 1e-12 ? Vec3(v / n) : fallback;
+  return n > 1e-12 ? Vec3(v * (1.0 / n)) : fallback;
 }
 
 // Distance from p to the solid (positive outside), normal outward.
@@ -53,12 +53,15 @@ double SolidDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
       // gradient p / r^2.
       const Mat3 r = o.orientation.toRotationMatrix();
       const Vec3 local = r.transpose() * (p - o.centre);
-      const Vec3 scaled = local.cwiseQuotient(o.radii);
-      const Vec3 grad = local.cwiseQuotient(o.radii.cwiseProduct(o.radii));
+      // (Every sphere of the tube queries its cavity at every step: 4 divisions, not 10.)
+      const Vec3 inv_radii = o.radii.cwiseInverse();
+      const Vec3 scaled = local.cwiseProduct(inv_radii);
+      const Vec3 grad = scaled.cwiseProduct(inv_radii);
       const double k0 = scaled.norm(), k1 = grad.norm();
-      *normal = r * SafeNormalize(grad, Vec3::UnitZ());
+      const double inv_k1 = 1.0 / k1;
+      *normal = k1 > 1e-12 ? Vec3(r * (grad * inv_k1)) : Vec3(r * Vec3::UnitZ());
       if (k1 < 1e-12) return -o.radii.minCoeff();
-      return k0 * (k0 - 1.0) / k1;
+      return k0 * (k0 - 1.0) * inv_k1;
     }
     case ObstacleKind::kMesh:
       return o.sdf->Distance(p, normal);

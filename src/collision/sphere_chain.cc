@@ -19,9 +19,10 @@ void SphereChain::Place(const Points& q) {
   table_.Build(curve_, q);
   const double total = table_.total_length();
   const int n = size();
+  size_t interval = 0;
   for (int k = 0; k < n; ++k) {
     Sphere& sp = spheres_[k];
-    sp.s = table_.ParameterAt(total * k / (n - 1));
+    sp.s = table_.ParameterAt(total * k / (n - 1), &interval);
     const spline::SegmentBasis b = curve_.BasisAt(sp.s);
     sp.first = b.first;
     sp.w = b.w;

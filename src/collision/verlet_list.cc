@@ -44,6 +44,10 @@ bool VerletList::Update(const std::vector<Sphere>& spheres, const std::vector<Ob
   searched_margin_ = margin + skin_;
   drift_ = 0.0;
   detector_.Detect(spheres, obstacles, tools, &candidates_, searched_margin_);
+  // The partial searches filter the list into kept_ and swap the two: both keep the list's
+  // high-water capacity, so that the first partial search, long after the buffers were sized,
+  // allocates nothing.
+  kept_.reserve(candidates_.capacity());
   centres_at_search_.resize(spheres.size());
   for (size_t i = 0; i < spheres.size(); ++i) centres_at_search_[i] = spheres[i].centre;
   tools_at_search_ = tools;  // same size after the first search: no allocation

@@ -2,12 +2,21 @@
 /// A symmetric 3N x 3N matrix made of 3x3 blocks (i, j) with |i - j| <= 3: the pattern of every
 /// force Jacobian of the Catmull-Rom chain (springs, stretching energy, attachments). Stores
 /// the upper blocks: block(i, d) = A(i, i + d).
+#include <array>
 #include <vector>
 
 #include "common/check.h"
 #include "common/types.h"
 
 namespace viscera::mechanics {
+
+/// A symmetric 3x3 block by its 6 entries: xx, yy, zz, xy, xz, yz.
+using Sym3 = std::array<double, 6>;
+
+/// The symmetric part's entries of m (m's own if m is symmetric).
+inline Sym3 ToSym3(const Mat3& m) {
+  return {m(0, 0), m(1, 1), m(2, 2), 0.5 * (m(0, 1) + m(1, 0)), 0.5 * (m(0, 2) + m(2, 0)), 0.5 * (m(1, 2) + m(2, 1))};
+}
 
 class BlockBand {
  public:
@@ -35,6 +44,24 @@ class BlockBand {
     } else {
       block(j, i - j) += h.transpose();
     }
+  }
+
+  /// A(i, j) += s h, and so A(j, i) += s h, for a symmetric h: Add(i, j, s h) with 6
+  /// multiplications instead of 9, and no transpose.
+  /// @pre |i - j| <= 3.
+  void AddSymmetric(int i, int j, double s, const Sym3& h) {
+    VISCERA_ASSERT(std::abs(i - j) < kWidth);
+    double* b = (i <= j ? block(i, j - i) : block(j, i - j)).data();  // column-major 3x3
+    const double xx = s * h[0], yy = s * h[1], zz = s * h[2], xy = s * h[3], xz = s * h[4], yz = s * h[5];
+    b[0] += xx;
+    b[1] += xy;
+    b[2] += xz;
+    b[3] += xy;
+    b[4] += yy;
+    b[5] += yz;
+    b[6] += xz;
+    b[7] += yz;
+    b[8] += zz;
   }
 
   /// y = A x (#N by 3 each).

@@ -128,7 +128,10 @@ class Interactions {
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
-  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& h, BlockBand* m) const;
+  // K += (w w^T) (x) hk on the window from `first`, and D the same with hd if given.
+  // @pre hk, hd symmetric (as every contact's blocks are).
+  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd, BlockBand* K,
+                      BlockBand* D) const;
   void AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts);
   void UpdateGrasp(int index, double h, bool active, const Points& q, ToolState* ts);
   // The grasp spring's stretch: jaws - tube - offset.
@@ -167,11 +170,14 @@ class Interactions {
   // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
   // damping (spread onto its window once, not once per contact).
   std::vector<Vec3> sphere_velocity_;
+  double fastest_sphere_ = 0.0;  // m/s, the largest of sphere_velocity_
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
   // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
+  // The spheres' windows are copied in: AddCommonModeTerms runs at every CG product.
   struct PairCoupling {
-    int a = 0, b = 0;
+    int first_a = 0, first_b = 0;
+    std::array<double, 4> w_a{}, w_b{};
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
     Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };

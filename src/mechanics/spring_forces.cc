@@ -11,26 +11,30 @@ double AddSpringForces(std::span<const Spring> springs, const Points& q, const P
     const Vec3 x = (q.row(sp.j) - q.row(sp.i)).transpose();
     const double l = x.norm();
     if (l <= 0.0) continue;  // coincident points: no direction to push along
-    const Vec3 t = x / l;
+    const double inv_l = 1.0 / l;  // one division, not four
+    const Vec3 t = x * inv_l;
     const double stretch = l - sp.rest;
     energy += 0.5 * sp.stiffness * stretch * stretch;
     const double relative_speed = (qd.row(sp.j) - qd.row(sp.i)).dot(t.transpose());
     const Vec3 f = (sp.stiffness * stretch + sp.damping * relative_speed) * t;  // pulls i toward j
     F->row(sp.i) += f.transpose();
     F->row(sp.j) -= f.transpose();
+    // Both blocks are symmetric: h on the two diagonal blocks, -h between them.
+    const Sym3 ttT{t.x() * t.x(), t.y() * t.y(), t.z() * t.z(), t.x() * t.y(), t.x() * t.z(), t.y() * t.z()};
     if (K) {
-      const Mat3 ttT = t * t.transpose();
-      const double geometric = std::max(0.0, 1.0 - sp.rest / l);
-      const Mat3 h = sp.stiffness * (ttT + geometric * (Mat3::Identity() - ttT));
-      K->Add(sp.i, sp.i, h);
-      K->Add(sp.j, sp.j, h);
-      K->Add(sp.i, sp.j, -h);
+      // k (t t^T + g (I - t t^T)), g the geometric part.
+      const double geometric = std::max(0.0, 1.0 - sp.rest * inv_l);
+      const double k = sp.stiffness, g = geometric;
+      const Sym3 h{k * (ttT[0] + g * (1.0 - ttT[0])), k * (ttT[1] + g * (1.0 - ttT[1])), k * (ttT[2] + g * (1.0 - ttT[2])),
+                   k * (ttT[3] - g * ttT[3]),         k * (ttT[4] - g * ttT[4]),         k * (ttT[5] - g * ttT[5])};
+      K->AddSymmetric(sp.i, sp.i, 1.0, h);
+      K->AddSymmetric(sp.j, sp.j, 1.0, h);
+      K->AddSymmetric(sp.i, sp.j, -1.0, h);
     }
     if (D && sp.damping > 0.0) {
-      const Mat3 h = sp.damping * t * t.transpose();
-      D->Add(sp.i, sp.i, h);
-      D->Add(sp.j, sp.j, h);
-      D->Add(sp.i, sp.j, -h);
+      D->AddSymmetric(sp.i, sp.i, sp.damping, ttT);
+      D->AddSymmetric(sp.j, sp.j, sp.damping, ttT);
+      D->AddSymmetric(sp.i, sp.j, -sp.damping, ttT);
     }
   }
   return energy;

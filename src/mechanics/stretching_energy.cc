@@ -19,8 +19,10 @@ double EvaluateNodes(const Model& model, const Points& q, StretchScratch* s) {
       const Eigen::RowVector3d d = dw.row(g) * window;
       const double speed = d.norm();
       const int node = 4 * j + g;
+      const double inv_speed = speed > 0.0 ? 1.0 / speed : 0.0;  // one division per node
       s->node_speed(node) = speed;
-      s->node_tangent.row(node) = speed > 0.0 ? Eigen::RowVector3d(d / speed) : Eigen::RowVector3d::Zero();
+      s->node_inv_speed(node) = inv_speed;
+      s->node_tangent.row(node) = d * inv_speed;
       total += Rule::kWeights[g] * speed;
     }
   }
@@ -49,21 +51,28 @@ void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j,
                              BlockBand* K) {
   const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
   const int f = model.curve().FirstIndex(j);
-  Mat3 p[4];
+  // Each node's coeff w_g / |P'| (I - t t^T), by its symmetric entries.
+  Sym3 p[4];
   for (int g = 0; g < 4; ++g) {
     const int node = 4 * j + g;
     if (s.node_speed(node) <= 0.0) {
-      p[g].setZero();
+      p[g].fill(0.0);
       continue;
     }
-    const Vec3 t = s.node_tangent.row(node).transpose();
-    p[g] = (coeff * Rule::kWeights[g] / s.node_speed(node)) * (Mat3::Identity() - t * t.transpose());
+    const double c = coeff * Rule::kWeights[g] * s.node_inv_speed(node);
+    const double x = s.node_tangent(node, 0), y = s.node_tangent(node, 1), z = s.node_tangent(node, 2);
+    p[g] = {c * (1.0 - x * x), c * (1.0 - y * y), c * (1.0 - z * z), c * (0.0 - x * y), c * (0.0 - x * z), c * (0.0 - y * z)};
   }
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
-      Mat3 h = dw(0, a) * dw(0, b) * p[0];
-      for (int g = 1; g < 4; ++g) h += dw(g, a) * dw(g, b) * p[g];
-      K->Add(f + a, f + b, h);
+      Sym3 h;
+      const double w0 = dw(0, a) * dw(0, b);
+      for (int e = 0; e < 6; ++e) h[e] = w0 * p[0][e];
+      for (int g = 1; g < 4; ++g) {
+        const double wg = dw(g, a) * dw(g, b);
+        for (int e = 0; e < 6; ++e) h[e] += wg * p[g][e];
+      }
+      K->AddSymmetric(f + a, f + b, 1.0, h);
     }
   }
 }
@@ -74,6 +83,7 @@ void StretchScratch::Resize(int num_points) {
   const int nodes = 4 * (num_points - 1);
   node_tangent.resize(nodes, 3);
   node_speed.resize(nodes);
+  node_inv_speed.resize(nodes);
   length_gradient.resize(num_points, 3);
 }
 

@@ -16,6 +16,7 @@ namespace viscera::mechanics {
 struct StretchScratch {
   Points node_tangent;  ///< unit tangents at the Gauss nodes, #segments*4 by 3
   VecX node_speed;      ///< |P'(u_g)|, #segments*4
+  VecX node_inv_speed;  ///< 1 / |P'(u_g)| (0 where the speed is 0), #segments*4
   Points length_gradient;  ///< dl/dq (global scope), #N by 3
   void Resize(int num_points);
 };

@@ -40,11 +40,25 @@ double ArcLengthTable::ArcLengthAt(double s) const {
 }
 
 double ArcLengthTable::ParameterAt(double arc) const {
+  size_t interval = 0;
+  return ParameterAt(arc, &interval);
+}
+
+double ArcLengthTable::ParameterAt(double arc, size_t* interval) const {
   VISCERA_ASSERT(!cumulative_.empty());
   const size_t last = cumulative_.size() - 1;
   if (arc <= 0.0) return 0.0;
   if (arc >= cumulative_[last]) return 1.0;
-  const size_t i = std::upper_bound(cumulative_.begin(), cumulative_.end(), arc) - cumulative_.begin() - 1;
+  // The last interval whose start is at or before arc. A sweep in increasing arc walks a few
+  // entries from the last one; elsewhere, a binary search.
+  size_t i = std::min(*interval, last - 1);
+  if (cumulative_[i] <= arc) {
+    for (int walked = 0; walked < 8 && cumulative_[i + 1] <= arc; ++walked) ++i;  // arc < cumulative_[last]
+  }
+  if (!(cumulative_[i] <= arc && arc < cumulative_[i + 1])) {
+    i = std::upper_bound(cumulative_.begin(), cumulative_.end(), arc) - cumulative_.begin() - 1;
+  }
+  *interval = i;
   const double span = cumulative_[i + 1] - cumulative_[i];
   const double f = span > 0.0 ? (arc - cumulative_[i]) / span : 0.0;
   return (i + f) / last;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <utility>
+#include <vector>
 
 namespace viscera::mechanics {
 namespace {
@@ -79,6 +81,29 @@ TEST(BlockBand, FactorRefusesAnIndefiniteMatrix) {
   a.block(6, 0)(1, 1) = -100.0;
   BlockBandCholesky chol;
   EXPECT_FALSE(chol.Factor(a));
+}
+
+TEST(BlockBand, AddSymmetricIsAddOfTheScaledBlockBitForBit) {
+  // Above, below and on the diagonal: the same stored numbers as Add(i, j, s h).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Mat3 h;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = r; c < 3; ++c) h(r, c) = h(c, r) = u(rng);
+  }
+  MatX unused;
+  BlockBand a = RandomSpdBand(8, 3, &unused);
+  BlockBand b = a;
+  const double s = -0.37;
+  for (const auto& [i, j] : std::vector<std::pair<int, int>>{{2, 5}, {6, 3}, {4, 4}, {0, 1}}) {
+    a.Add(i, j, s * h);
+    b.AddSymmetric(i, j, s, ToSym3(h));
+  }
+  for (int i = 0; i < 8; ++i) {
+    for (int d = 0; d < BlockBand::kWidth; ++d) {
+      for (int k = 0; k < 9; ++k) EXPECT_EQ(a.block(i, d)(k / 3, k % 3), b.block(i, d)(k / 3, k % 3)) << i << " " << d;
+    }
+  }
 }
 
 }  // namespace

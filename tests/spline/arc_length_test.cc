@@ -24,6 +24,14 @@ TEST(ArcLengthTable, InvertsArcLengthOnAHelix) {
   }
   EXPECT_EQ(table.ParameterAt(-1.0), 0.0);
   EXPECT_EQ(table.ParameterAt(1e9), 1.0);
+  // A sweep with a hint finds exactly what the searches find, in steps shorter and longer than
+  // the table's intervals.
+  for (const double step : {0.001, 0.013, 0.07}) {
+    size_t hint = 0;
+    for (double arc = -0.01; arc < table.total_length() + 0.02; arc += step) {
+      EXPECT_EQ(table.ParameterAt(arc, &hint), table.ParameterAt(arc)) << arc;
+    }
+  }
 }
 
 TEST(ArcLengthTable, UniformOnAStraightLine) {
