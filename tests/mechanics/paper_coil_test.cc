@@ -66,6 +66,21 @@ TEST(PaperCoilKnownFailure, SinksAtMostATenthOfTheRadiusAtEveryStepAndRateAndNev
   }
 }
 
+// The goal met with the impulses inside the implicit solve and spheres that follow the material
+// ([contacts] impact_constraints, spheres = "material"; off by default, docs/contacts.md,
+// "Impacts"): 6.3-6.8 % R at every rate, and no step gains energy.
+TEST(PaperCoil, HeldInsideTheSolveSinksAtMostATenthOfTheRadiusAndNeverGainsEnergy) {
+  for (double rate : kRates) {
+    ModelParams p = PaperCoil(rate);
+    p.contacts.impact_constraints = true;
+    p.contacts.spheres_follow_material = true;
+    const FallRecord r = RecordFall(p, kSeconds);
+    EXPECT_LE(r.Deepest(), 0.10) << rate << " Hz: " << Describe(r);
+    EXPECT_LE(r.LargestGain(), 1e-9 * r.start_energy) << rate << " Hz: " << Describe(r);
+    EXPECT_GT(r.floor.back(), 0.0) << rate << " Hz: it lies on the floor";
+  }
+}
+
 // Figures for docs/benchmarks.md: VISCERA_PAPER_COIL_FIGURES=1 prints every rate.
 TEST(PaperCoil, Figures) {
   if (!std::getenv("VISCERA_PAPER_COIL_FIGURES")) GTEST_SKIP() << "set VISCERA_PAPER_COIL_FIGURES=1 to print the table";
