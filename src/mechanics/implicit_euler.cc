@@ -168,8 +168,8 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, Eigen::Ref<VecX> dv) 
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
   // barely change, so that start is most of the way (the last correction alone took 2.5
-  // iterations per 1 kHz step of the clearing gesture, its linear extrapolation 1.7; a quadratic
-  // one 2.1). It stops when the preconditioned residual is a small fraction of b's.
+  // iterations per 1 kHz step of the clearing gesture, its linear extrapolation 1.8; a quadratic
+  // one 2.1; docs/contacts.md). It stops when the preconditioned residual is a small fraction of b's.
   const double reference = b.dot(dv);  // b^T P^-1 b, with dv the band's answer
   cg_q_ = cg_correction_ - cg_previous_correction_;  // cg_q_ is free until the first product
   cg_previous_correction_ = cg_correction_;
