@@ -98,6 +98,11 @@ MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offs
     }
     faces.row(static_cast<Eigen::Index>(i)) = f[i].transpose();
   }
+  // The grid's cell is the box's largest side over the resolution: a flat-to-a-point or
+  // non-finite box has none (the fuzzer's "v 0 0 0 / v 0 0 0 / f 1 2 1" made the grid NaN wide).
+  ThrowUnless(vertices.allFinite(), path, ": a vertex is not finite");
+  const double extent = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).maxCoeff();
+  ThrowUnless(extent > 0.0, path, ": every vertex is at the same point");
   return MeshSdf(vertices, faces, resolution);
 }
 

@@ -95,5 +95,22 @@ TEST(Obstacle, MeshSdfOfAnOctahedronMatchesItsExactDistance) {
   EXPECT_THROW(MeshSdf::FromObj("/nonexistent.obj", 1.0, Vec3::Zero()), InputError);
 }
 
+TEST(Obstacle, AMeshWithNoExtentOrANonFiniteVertexIsRefusedSayingWhy) {
+  // Found by fuzz_obj_loader: every vertex at one point gave a grid cell of 0 and a NaN size.
+  const auto refused = [](const std::string& name, const std::string& text, double scale, const std::string& why) {
+    const std::string path = testing::TempDir() + name;
+    std::ofstream(path) << text;
+    try {
+      MeshSdf::FromObj(path, scale, Vec3::Zero(), 8);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  refused("point.obj", "v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n", 1.0, "every vertex is at the same point");
+  refused("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0.0, "every vertex is at the same point");
+  refused("huge.obj", "v 1e308 0 0\nv -1e308 0 0\nv 0 1 0\nf 1 2 3\n", 10.0, "not finite");
+}
+
 }  // namespace
 }  // namespace viscera::collision
