@@ -370,7 +370,7 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     GatherVelocities(*u);
     // No pair closes as fast as an impact (tools stay out of the set): no impulse, as in most
     // steps of a settled pile, without looking at each pair.
-    if (round == 0 && 2.0 * fastest_sphere_ < impact_speed_ * (1.0 - 1e-6)) return;
+    if (round == 0 && 2.0 * fastest_sphere_ < impact_speed * (1.0 - 1e-6)) return;
     bool grew = false;
     for (size_t i = 0; i < list.size(); ++i) {
       // Tools are left to their coupling: their depth is what the hand feels, and the tip is

@@ -19,6 +19,7 @@ double AddSpringForces(std::span<const Spring> springs, const Points& q, const P
     const Vec3 f = (sp.stiffness * stretch + sp.damping * relative_speed) * t;  // pulls i toward j
     F->row(sp.i) += f.transpose();
     F->row(sp.j) -= f.transpose();
+    if (!K && !(D && sp.damping > 0.0)) continue;  // forces only (RK4, energies)
     // Both blocks are symmetric: h on the two diagonal blocks, -h between them.
     const Sym3 ttT{t.x() * t.x(), t.y() * t.y(), t.z() * t.z(), t.x() * t.y(), t.x() * t.z(), t.y() * t.z()};
     if (K) {
