@@ -74,6 +74,7 @@ Interactions::Interactions(const Model& model)
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
+  end_velocity_.assign(chain_.size(), Vec3::Zero());
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
@@ -438,11 +439,23 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
     const Vec3 other = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v) : OtherVelocity(c, p.lever);
     return (SphereVelocity(c.a, v) - other).dot(p.normal);
   };
+  // The scan reads v_check's sphere velocities once per sphere, not once per pair and side: the
+  // same numbers (SphereVelocity of the same rows), a fraction of the work.
+  double fastest = 0.0;
+  for (int k = 0; k < chain_.size(); ++k) {
+    end_velocity_[k] = SphereVelocity(k, v_check);
+    fastest = std::max(fastest, end_velocity_[k].squaredNorm());
+  }
+  // No pair closes as fast as an impact (|u_n| <= |v_a| + |v_b|; tools stay out of the set):
+  // none would join, as in most sub-steps of a settled pile, without looking at each pair.
+  if (impact && 2.0 * std::sqrt(fastest) < impact_speed * (1.0 - 1e-6)) return false;
   bool grew = false;
   for (size_t i = 0; i < list.size(); ++i) {
     if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;  // tools: their coupling
+    const ContactCandidate& c = list[i];
     const Penalty& p = geometry_[i];
-    const double un = normal_speed(list[i], p, v_check);
+    const Vec3 other = c.kind == ContactKind::kSelf ? end_velocity_[c.b] : OtherVelocity(c, p.lever);
+    const double un = (end_velocity_[c.a] - other).dot(p.normal);
     if (un >= target(p) - 1e-9 || -un < impact_speed) continue;
     in_end_impact_set_[i] = 1;
     end_impact_set_.push_back(static_cast<int>(i));

@@ -188,6 +188,7 @@ class Interactions {
   std::vector<char> in_impact_set_;
   Points impact_u0_, impact_v0_;    // velocities before the impulses
   std::vector<int> end_impact_set_;  // candidates in the implicit solve's impact constraints
+  std::vector<Vec3> end_velocity_;   // GatherEndConstraints: each sphere's velocity at v_check
   std::vector<char> in_end_impact_set_;
   double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
   // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
