@@ -14,6 +14,7 @@ ImpactLimiter::ImpactLimiter(const Model& model, int spheres)
   sphere_of_.reserve(spheres);
   pending_.reserve(spheres);
   impulse_.reserve(spheres);
+  coupled_.reserve(static_cast<size_t>(spheres) * 8);
 }
 
 int ImpactLimiter::Slot(int sphere) {
@@ -54,6 +55,11 @@ void ImpactLimiter::Reset() {
   for (int sphere : sphere_of_) slot_of_[sphere] = -1;
   sphere_of_.clear();
   pending_.clear();
+  coupled_.clear();  // the columns are solved again: so are the entries
+}
+
+bool ImpactLimiter::SameGeometry(const Contact& x, const Contact& y) {
+  return x.a == y.a && x.b == y.b && (x.normal.array() == y.normal.array()).all();
 }
 
 double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collision::SphereChain& chain, Points* u, Points* v) {
@@ -65,17 +71,25 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
   }
   SolvePending(chain);
 
-  // Delassus matrix G = J M^-1 J^T: a contact's normal speed per unit impulse on another.
-  if (delassus_.rows() < c) delassus_.resize(c, c);
+  // Delassus matrix G = J M^-1 J^T: a contact's normal speed per unit impulse on another. The
+  // caller's set usually grows from round to round with its first contacts unchanged (and the
+  // spheres' columns stand until Reset): their entries are kept, only the new ones filled in.
+  if (delassus_.rows() < c) {
+    delassus_.resize(c, c);  // loses the entries
+    coupled_.clear();
+  }
   if (lambda_.size() < c) {
     lambda_.resize(c);
     speed_.resize(c);
     target_.resize(c);
   }
-  for (Eigen::Index i = 0; i < c; ++i) {
-    const Contact& ci = contacts[i];
-    for (Eigen::Index j = i; j < c; ++j) {
-      const Contact& cj = contacts[j];
+  size_t kept = 0;
+  while (kept < coupled_.size() && kept < contacts.size() && SameGeometry(coupled_[kept], contacts[kept])) ++kept;
+  coupled_.assign(contacts.begin(), contacts.end());  // grows with the high-water mark only
+  for (auto j = static_cast<Eigen::Index>(kept); j < c; ++j) {
+    const Contact& cj = contacts[j];
+    for (Eigen::Index i = 0; i <= j; ++i) {
+      const Contact& ci = contacts[i];
       const int ai = slot_of_[ci.a], bi = ci.b >= 0 ? slot_of_[ci.b] : -1;
       const int aj = slot_of_[cj.a], bj = cj.b >= 0 ? slot_of_[cj.b] : -1;
       double g = Coupling(ai, aj, chain);
@@ -86,8 +100,10 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
       delassus_(i, j) = g;
       delassus_(j, i) = g;
     }
-    speed_(i) = ci.normal_speed;
-    target_(i) = ci.target;
+  }
+  for (Eigen::Index i = 0; i < c; ++i) {
+    speed_(i) = contacts[i].normal_speed;
+    target_(i) = contacts[i].target;
   }
 
   // Impulses only push (λ ≥ 0), and only as much as the targets ask.
