@@ -67,6 +67,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   // One kind of end constraint on the velocity `base`: *delta = A^-1 J^T Λ (3N), or returns false
   // when no pair needs one.
   bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base, VecX* delta);
+  // impact_columns_ from `first` to before `end` <- ApplyBandInverse of each.
+  void ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end);
   // x (3N) <- J_i x, the normal speed of contact i.
   double ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const;
 
