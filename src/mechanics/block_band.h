@@ -65,13 +65,17 @@ class BlockBand {
   }
 
   /// y = A x (#N by 3 each).
-  void Multiply(const Points& x, Points* y) const {
-    y->setZero();
+  void Multiply(const Points& x, Points* y) const { Multiply(x.data(), y->data()); }
+  /// The same on 3N values each, ordered x0 y0 z0 x1 ... (a #N by 3 row-major Points' storage).
+  void Multiply(const double* x_data, double* y_data) const {
+    const Eigen::Map<const Points> x(x_data, n_, 3);
+    Eigen::Map<Points> y(y_data, n_, 3);
+    y.setZero();
     for (int i = 0; i < n_; ++i) {
-      y->row(i) += (block(i, 0) * x.row(i).transpose()).transpose();
+      y.row(i) += (block(i, 0) * x.row(i).transpose()).transpose();
       for (int d = 1; d < kWidth && i + d < n_; ++d) {
-        y->row(i) += (block(i, d) * x.row(i + d).transpose()).transpose();
-        y->row(i + d) += (block(i, d).transpose() * x.row(i).transpose()).transpose();
+        y.row(i) += (block(i, d) * x.row(i + d).transpose()).transpose();
+        y.row(i + d) += (block(i, d).transpose() * x.row(i).transpose()).transpose();
       }
     }
   }

@@ -27,8 +27,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   pin_rhs_.setZero(3 * num_pins_);
   pin_lambda_.setZero(3 * num_pins_);
   for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_, &cg_correction_, &cg_previous_correction_}) v->setZero(3 * n_);
-  cg_x_.setZero(n_, 3);
-  cg_y_.setZero(n_, 3);
   if (use_cholmod_) BuildPattern();
 }
 
@@ -152,11 +150,9 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
 }
 
 void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) {
-  // BlockBand::Multiply and the common modes take #N by 3 points: the same numbers, reshaped.
-  cg_x_ = Eigen::Map<const Points>(x.data(), n_, 3);
-  system_.Multiply(cg_x_, &cg_y_);
-  interactions_->AddCommonModeTerms(cg_x_, &cg_y_);
-  *y = Eigen::Map<const VecX>(cg_y_.data(), 3 * n_);
+  // The band and the common modes read 3N values as #N by 3 points: the same storage.
+  system_.Multiply(x.data(), y->data());
+  interactions_->AddCommonModeTerms(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
     *y += (rank1_w_ * u.dot(x)) * u;

@@ -92,7 +92,6 @@ class ImplicitEulerIntegrator final : public Integrator {
   Eigen::LDLT<MatX> schur_ldlt_;
   VecX pin_rhs_, pin_lambda_;
   VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
-  Points cg_x_, cg_y_;                  // a CG vector reshaped to #N by 3, and its product
   VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
   VecX cg_previous_correction_;         // the one before: the warm start extrapolates the two
   // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the

@@ -308,10 +308,8 @@ void Interactions::WeighCommonModes(double ck, double cd) {
   for (PairCoupling& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
 }
 
-void Interactions::AddCommonModeTerms(const Points& x, Points* y) const {
+void Interactions::AddCommonModeTerms(const double* xd, double* yd) const {
   // Called at every CG product: each pair carries its windows, so this reads nothing else.
-  const double* xd = x.data();
-  double* yd = y->data();
   for (const PairCoupling& pair : pairs_) {
     const double* xa = xd + 3 * pair.first_a;
     const double* xb = xd + 3 * pair.first_b;

@@ -49,7 +49,9 @@ class Interactions {
   /// y += sum over those pairs of (J_a + J_b)^T C_p (J_a + J_b) x (x, y #N by 3): what the band
   /// overstates. The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact
   /// implicit matrix is the band's M + h D + h^2 K minus this with (h^2, h).
-  void AddCommonModeTerms(const Points& x, Points* y) const;
+  void AddCommonModeTerms(const Points& x, Points* y) const { AddCommonModeTerms(x.data(), y->data()); }
+  /// The same on 3N values each, ordered x0 y0 z0 x1 ... (CG's vectors, without reshaping).
+  void AddCommonModeTerms(const double* x, double* y) const;
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
