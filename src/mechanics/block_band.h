@@ -2,6 +2,7 @@
 /// A symmetric 3N x 3N matrix made of 3x3 blocks (i, j) with |i - j| <= 3: the pattern of every
 /// force Jacobian of the Catmull-Rom chain (springs, stretching energy, attachments). Stores
 /// the upper blocks: block(i, d) = A(i, i + d).
+#include <algorithm>
 #include <array>
 #include <vector>
 
@@ -70,13 +71,14 @@ class BlockBand {
   void Multiply(const double* x_data, double* y_data) const {
     const Eigen::Map<const Points> x(x_data, n_, 3);
     Eigen::Map<Points> y(y_data, n_, 3);
-    y.setZero();
+    // Row by row, each row's terms summed from zero in the order of a pass over the upper
+    // blocks that scatters both halves (A(i - d, i)^T x_(i-d) for d = 3, 2, 1, then A(i, i + d)
+    // x_(i+d) for d = 0 .. 3): the same numbers, one store per row instead of seven updates.
     for (int i = 0; i < n_; ++i) {
-      y.row(i) += (block(i, 0) * x.row(i).transpose()).transpose();
-      for (int d = 1; d < kWidth && i + d < n_; ++d) {
-        y.row(i) += (block(i, d) * x.row(i + d).transpose()).transpose();
-        y.row(i + d) += (block(i, d).transpose() * x.row(i).transpose()).transpose();
-      }
+      Vec3 sum = Vec3::Zero();
+      for (int d = std::min(i, kWidth - 1); d >= 1; --d) sum += block(i - d, d).transpose() * x.row(i - d).transpose();
+      for (int d = 0; d < kWidth && i + d < n_; ++d) sum += block(i, d) * x.row(i + d).transpose();
+      y.row(i) = sum.transpose();
     }
   }
 
