@@ -309,24 +309,35 @@ void Interactions::WeighCommonModes(double ck, double cd) {
 }
 
 void Interactions::AddCommonModeTerms(const double* xd, double* yd) const {
-  // Called at every CG product: each pair carries its windows, so this reads nothing else.
+  // Called at every CG product: each pair carries its windows, so this reads nothing else. The
+  // x and y components go two at a time (one SSE2 register), z alone: the same products and
+  // sums in the same order per component.
+  using Pair2 = Eigen::Vector2d;
+  using In2 = Eigen::Map<const Pair2>;
+  using Out2 = Eigen::Map<Pair2>;
   for (const PairCoupling& pair : pairs_) {
     const double* xa = xd + 3 * pair.first_a;
     const double* xb = xd + 3 * pair.first_b;
-    double common[3] = {0.0, 0.0, 0.0};  // (J_a + J_b) x
+    // (J_a + J_b) x
+    Pair2 common_xy = Pair2::Zero();
+    double common_z = 0.0;
     for (int i = 0; i < 4; ++i) {
-      for (int c = 0; c < 3; ++c) common[c] += pair.w_a[i] * xa[3 * i + c] + pair.w_b[i] * xb[3 * i + c];
+      common_xy += pair.w_a[i] * In2(xa + 3 * i) + pair.w_b[i] * In2(xb + 3 * i);
+      common_z += pair.w_a[i] * xa[3 * i + 2] + pair.w_b[i] * xb[3 * i + 2];
     }
     const Mat3& m = pair.weighed;
-    double f[3];
-    for (int r = 0; r < 3; ++r) f[r] = m(r, 0) * common[0] + m(r, 1) * common[1] + m(r, 2) * common[2];
+    const double* mc = m.data();  // column-major
+    const Pair2 f_xy = (In2(mc) * common_xy(0) + In2(mc + 3) * common_xy(1)) + In2(mc + 6) * common_z;
+    const double f_z = (m(2, 0) * common_xy(0) + m(2, 1) * common_xy(1)) + m(2, 2) * common_z;
     double* ya = yd + 3 * pair.first_a;
     double* yb = yd + 3 * pair.first_b;
     for (int i = 0; i < 4; ++i) {
-      for (int c = 0; c < 3; ++c) ya[3 * i + c] += pair.w_a[i] * f[c];
+      Out2(ya + 3 * i) += pair.w_a[i] * f_xy;
+      ya[3 * i + 2] += pair.w_a[i] * f_z;
     }
     for (int i = 0; i < 4; ++i) {
-      for (int c = 0; c < 3; ++c) yb[3 * i + c] += pair.w_b[i] * f[c];
+      Out2(yb + 3 * i) += pair.w_b[i] * f_xy;
+      yb[3 * i + 2] += pair.w_b[i] * f_z;
     }
   }
 }
