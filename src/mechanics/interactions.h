@@ -156,6 +156,7 @@ class Interactions {
   bool configured_ = false, placed_ = false, gathered_ = false;
   std::vector<Penalty> geometry_;  // per candidate, valid while geometry_valid_
   bool geometry_valid_ = false;
+  double deepest_ = 0.0;           // the deepest self or environment candidate in geometry_ (m)
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
