@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -237,6 +238,45 @@ TEST(VisceraSim, WarnsWhenRk4IsBeyondItsStabilityLimit) {
   const Result r = Shell(std::string(VISCERA_SIM) + " " + scene + " --duration 0.01 2>&1 >/dev/null");
   EXPECT_NE(r.out.find("stability limit"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("substeps >="), std::string::npos) << r.out;
+}
+
+// viscera-state-digest: the check behind bit-identical performance work (docs/benchmarks.md).
+// Reruns agree line for line; a longer run shares the shorter one's digests; a change of the
+// last bit of one input (the scene's damping) changes them.
+TEST(VisceraStateDigest, RerunsAgreeAndAOneBitChangeShows) {
+  const std::string digest = std::string(VISCERA_STATE_DIGEST) + " ";
+  const std::string args = " --tool-script " + Scene("clearing.csv") + " --rate 1000 --every 50";
+  const Result a = Shell(digest + Scene("cavity.toml") + " --duration 0.2" + args + " 2>&1");
+  const Result b = Shell(digest + Scene("cavity.toml") + " --duration 0.2" + args + " 2>&1");
+  const Result longer = Shell(digest + Scene("cavity.toml") + " --duration 0.3" + args + " 2>&1");
+  ASSERT_EQ(a.exit_code, 0) << a.out;
+  EXPECT_EQ(std::count(a.out.begin(), a.out.end(), '\n'), 4) << a.out;  // steps 50, 100, 150, 200
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_EQ(longer.out.substr(0, a.out.size()), a.out);
+
+  // The same scene with its damping moved by one unit in the last place.
+  std::ifstream in(Scene("cavity.toml"));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string key = "\ndamping = ";
+  const size_t at = text.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const size_t end = text.find('\n', at + key.size());
+  const double damping = std::stod(text.substr(at + key.size(), end - at - key.size()));
+  char nudged[64];
+  std::snprintf(nudged, sizeof nudged, "%.17g", std::nextafter(damping, 1e300));
+  text.replace(at + key.size(), end - at - key.size(), nudged);
+  // The scene's meshes are found next to it: copied along.
+  const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "digest_nudged";
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(Scene("liver.obj"), dir / "liver.obj", std::filesystem::copy_options::overwrite_existing);
+  const std::string path = (dir / "cavity.toml").string();
+  {
+    std::ofstream out(path);
+    out << text;
+  }
+  const Result c = Shell(digest + path + " --duration 0.2" + args + " 2>&1");
+  ASSERT_EQ(c.exit_code, 0) << c.out;
+  EXPECT_NE(c.out.substr(c.out.rfind("digest")), a.out.substr(a.out.rfind("digest"))) << c.out;
 }
 
 }  // namespace
