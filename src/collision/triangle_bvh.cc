@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 #include "common/check.h"
 
@@ -78,7 +77,6 @@ TriangleBvh::TriangleBvh(const Points& vertices, const Triangles& triangles, Bou
 
 int TriangleBvh::Build(int first, int count, int depth) {
   VISCERA_DEMAND(depth <= kMaxDepth);
-  depth_ = std::max(depth_, depth);
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   Node node;

@@ -75,7 +75,6 @@ class TriangleBvh {
   std::vector<Corners> always_;    // (near-)degenerate triangles: outside the tree, always evaluated
   double coordinate_scale_ = 0.0;  // largest |vertex coordinate| (m)
   double rounding_slack_ = 0.0;    // sr: the two sums' rounding, added to every error
-  int depth_ = 0;
 };
 
 }  // namespace viscera::collision
