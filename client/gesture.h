@@ -10,7 +10,7 @@ namespace viscera::client {
 
 /// The clearing gesture of scenes/clearing.csv (embedded at build time), so that a client
 /// needs no file:
-/// on scenes/cavity.toml the "left" grasper comes down on a loop at the top of the pile,
+/// on scenes/cavity.toml the "right" grasper comes down on the loop lying over the lesion,
 /// grasps it, lifts it, moves it aside, lays it down, releases it and withdraws (5.5 s).
 script::ToolScript ClearingGesture();
 

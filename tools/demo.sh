@@ -10,7 +10,7 @@
 # this machine; VISCERA_DEMO_NETNS=0 uses the host's network instead, ttl=0).
 # The session's record is kept in out/records/.
 # Usage: ./tools/demo.sh [SCENE] [POSE_RATE_HZ]
-#   SCENE: a scene of scenes/ with the clearing gesture's "left" grasper (default: cavity,
+#   SCENE: a scene of scenes/ with the clearing gesture's "right" grasper (default: cavity,
 #   the 190-point intestine fanned on its mesentery in the abdominal cavity, with the lesion
 #   that scenes/clearing.csv exposes)
 set -euo pipefail
@@ -70,7 +70,7 @@ echo "== the assessment so far: handling metrics and the lesion's exposure (docs
 viscera report "$id"
 
 echo "== the haptic device bridge: a simulated hand follows the gesture's start at 1 kHz and feels the force"
-viscera haptic "$id" --tool left --device sim --script "$root/scenes/clearing.csv" --seconds 4 --quiet \
+viscera haptic "$id" --tool right --device sim --script "$root/scenes/clearing.csv" --seconds 4 --quiet \
   --log "$demo/haptic.jsonl"
 echo "   (one line per 1 ms device period in $demo/haptic.jsonl)"
 

@@ -23,7 +23,7 @@ python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).save(sys.
   "$out/clearing/frame_000001.jpg" "$repo/docs/render_clearing.png"
 # close-up of the open jaws coming down on the loop they grasp at t = 1.5 s
 "$sim" "$repo/scenes/cavity.toml" --duration 1 --tool-script "$repo/scenes/clearing.csv" --skin convolution \
-  --render "$out/grasp" --render-every 90 --camera 0.05 -0.095 0.14 0.019 -0.036 0.1 --jpeg-quality 95 >/dev/null
+  --render "$out/grasp" --render-every 90 --camera 0.15 -0.01 0.15 0.10 0.055 0.07 --jpeg-quality 95 >/dev/null
 python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).save(sys.argv[2])" \
   "$out/grasp/frame_000001.jpg" "$repo/docs/render_grasp.png"
 # the laparoscope's view (docs/rendering.md): the cavity through its [camera] scope before and

@@ -65,13 +65,12 @@ struct ContactParams {
   /// Implicit integrator: impulses inside the implicit solve (through its system matrix) stop the
   /// impacts that the step's own forces would still drive deeper than impact_depth, and push any
   /// pair back within impact_depth + (10 % - impact_depth) / 4 of the radius by a position correction
-  /// (docs/contacts.md, "Impacts"). Off by default: it changes the cavity's settled pile.
-  bool impact_constraints = false;
+  /// (docs/contacts.md, "Impacts").
+  bool impact_constraints = true;
   /// The contact spheres stay where they were first placed along the tube (material points)
   /// instead of being re-placed along its arc length at every sub-step, which slides them into
-  /// each other while an impact stretches the tube (docs/contacts.md, "Impacts"). Off by default:
-  /// it changes the cavity's settled pile.
-  bool spheres_follow_material = false;
+  /// each other while an impact stretches the tube (docs/contacts.md, "Impacts").
+  bool spheres_follow_material = true;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.

@@ -75,11 +75,13 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
   EXPECT_EQ(offline.tools, final_report.tools);
   EXPECT_EQ(offline.thresholds, final_report.thresholds);
   // the gesture did what the scene says: one grasp, a path, no traction event, the lesion exposed
-  const assessment::ToolReport& left = final_report.tools[0];
-  EXPECT_EQ(left.name, "left");
-  EXPECT_EQ(left.grasps, 1);
-  EXPECT_GT(left.path_length, 0.2);
-  EXPECT_EQ(left.traction_events, 0);
+  ASSERT_EQ(final_report.tools.size(), 2u);
+  const assessment::ToolReport& right = final_report.tools[1];  // the grasper the gesture drives
+  EXPECT_EQ(right.name, "right");
+  EXPECT_EQ(right.grasps, 1);
+  EXPECT_GT(right.path_length, 0.2);
+  EXPECT_EQ(right.traction_events, 0);
+  EXPECT_EQ(final_report.tools[0].grasps, 0);
   ASSERT_EQ(offline.targets.size(), 1u);
   ASSERT_EQ(final_report.targets.size(), 1u);
   const double offline_t = offline.targets[0].time_to_expose, live_t = final_report.targets[0].time_to_expose;

@@ -32,12 +32,19 @@ TEST(PaperCoil, TheSceneIsThePapersCoilThirtyCentimetresUp) {
   EXPECT_DOUBLE_EQ(p.rate_hz, 100.0);
 }
 
-// The bound that holds today at every rate: the impact (~0.27 s) sinks a self pair by 10-13 % of
-// R and the floor by 9-11 % (the limiter and the stiffening law, docs/contacts.md "Impacts"); the
-// pile then rests within 6 %. The goal, 10 % at every step, is the known failure below.
-TEST(PaperCoil, SinksLessThanFifteenPercentOfTheRadiusAtEveryRateAndRestsWithinTen) {
+// The limiter and the stiffening law alone (the defaults' impulses inside the implicit solve and
+// material spheres switched off, docs/contacts.md "Impacts"): the impact (~0.27 s) sinks a self
+// pair by 10-13 % of R and the floor by 9-11 %; the pile then rests within 6 %.
+ModelParams LimiterOnly(double rate_hz) {
+  ModelParams p = PaperCoil(rate_hz);
+  p.contacts.impact_constraints = false;
+  p.contacts.spheres_follow_material = false;
+  return p;
+}
+
+TEST(PaperCoil, TheLimiterAloneSinksLessThanFifteenPercentOfTheRadiusAndRestsWithinTen) {
   for (double rate : kRates) {
-    const FallRecord r = RecordFall(PaperCoil(rate), kSeconds);
+    const FallRecord r = RecordFall(LimiterOnly(rate), kSeconds);
     EXPECT_LE(r.Deepest(), 0.15) << rate << " Hz: " << Describe(r);
     EXPECT_LE(*std::max_element(r.floor.begin(), r.floor.end()), 0.15) << rate << " Hz: " << Describe(r);
     EXPECT_LE(r.depth.back(), 0.10) << rate << " Hz: " << Describe(r);
@@ -49,35 +56,22 @@ TEST(PaperCoil, SinksLessThanFifteenPercentOfTheRadiusAtEveryRateAndRestsWithinT
 // The negative control: without the impact limiter (and with the linear law) the same fall sinks
 // far beyond that bound, so the bound measures the limiter.
 TEST(PaperCoil, WithoutTheLimiterItSinksBeyondTheBound) {
-  ModelParams p = PaperCoil(100.0);
+  ModelParams p = LimiterOnly(100.0);
   p.contacts.impact_depth = 0.0;
   const FallRecord r = RecordFall(p, 0.5);
-  EXPECT_GT(r.Deepest(), 0.30) << Describe(r);  // twice the bound (47 % R today)
+  EXPECT_GT(r.Deepest(), 0.30) << Describe(r);  // twice the bound (47 % R)
 }
 
-// Issue 10's goal: at most a tenth of the radius at every step and every rate, and no step gains
-// energy. Fails today: 10.1-13.0 % R at the impact, and 500 Hz gains 12 mJ in one step (impulses
-// inside the implicit solve are missing: docs/contacts.md, "Impacts").
-TEST(PaperCoilKnownFailure, SinksAtMostATenthOfTheRadiusAtEveryStepAndRateAndNeverGainsEnergy) {
+// Issue 10's goal, with the defaults (impulses inside the implicit solve and spheres that follow
+// the material): at most a tenth of the radius at every step and every rate (6.3-6.8 %), and no
+// step gains energy; the limiter alone reaches 10.1-13.0 % and 500 Hz gains 12 mJ in one step.
+TEST(PaperCoil, SinksAtMostATenthOfTheRadiusAtEveryStepAndRateAndNeverGainsEnergy) {
   for (double rate : kRates) {
     const FallRecord r = RecordFall(PaperCoil(rate), kSeconds);
     EXPECT_LE(r.Deepest(), 0.10) << rate << " Hz: " << Describe(r);
     EXPECT_LE(r.LargestGain(), 1e-9 * r.start_energy) << rate << " Hz: " << Describe(r);
-  }
-}
-
-// The goal met with the impulses inside the implicit solve and spheres that follow the material
-// ([contacts] impact_constraints, spheres = "material"; off by default, docs/contacts.md,
-// "Impacts"): 6.3-6.8 % R at every rate, and no step gains energy.
-TEST(PaperCoil, HeldInsideTheSolveSinksAtMostATenthOfTheRadiusAndNeverGainsEnergy) {
-  for (double rate : kRates) {
-    ModelParams p = PaperCoil(rate);
-    p.contacts.impact_constraints = true;
-    p.contacts.spheres_follow_material = true;
-    const FallRecord r = RecordFall(p, kSeconds);
-    EXPECT_LE(r.Deepest(), 0.10) << rate << " Hz: " << Describe(r);
-    EXPECT_LE(r.LargestGain(), 1e-9 * r.start_energy) << rate << " Hz: " << Describe(r);
     EXPECT_GT(r.floor.back(), 0.0) << rate << " Hz: it lies on the floor";
+    EXPECT_LT(r.energy.back(), 0.2 * r.start_energy) << rate << " Hz: the impact dissipated";
   }
 }
 
@@ -85,7 +79,8 @@ TEST(PaperCoil, HeldInsideTheSolveSinksAtMostATenthOfTheRadiusAndNeverGainsEnerg
 TEST(PaperCoil, Figures) {
   if (!std::getenv("VISCERA_PAPER_COIL_FIGURES")) GTEST_SKIP() << "set VISCERA_PAPER_COIL_FIGURES=1 to print the table";
   for (double rate : kRates) {
-    std::printf("%5.0f Hz: %s\n", rate, Describe(RecordFall(PaperCoil(rate), kSeconds)).c_str());
+    std::printf("%5.0f Hz defaults:     %s\n", rate, Describe(RecordFall(PaperCoil(rate), kSeconds)).c_str());
+    std::printf("%5.0f Hz limiter only: %s\n", rate, Describe(RecordFall(LimiterOnly(rate), kSeconds)).c_str());
   }
 }
 
