@@ -4,7 +4,7 @@
 /// distance and the solid angle of the whole mesh. Both answer what the brute-force loop over
 /// every triangle answers, by bounds that are proven rather than tuned:
 ///  - the nearest squared distance is the very same double: a subtree is skipped only when its
-///    padded box is farther than the best distance so far by more than the rounding of
+///    box is farther than the best distance so far by more than the rounding of
 ///    ClosestOnTriangle can account for;
 ///  - the solid angle comes with an error bound: near triangles are summed exactly
 ///    (SolidAngle), far subtrees by a second-order multipole expansion whose Taylor remainder is
@@ -36,7 +36,7 @@ class TriangleBvh {
 
   struct SolidAngleEstimate {
     double value = 0.0;  ///< sr
-    double error = 0.0;  ///< sr: |value - the brute-force sum of SolidAngle in triangle order|
+    double error = 0.0;  ///< sr: bounds |value - the brute-force sum of SolidAngle in triangle order|
   };
   /// The solid angle of the whole mesh seen from `p` (4 pi times its winding number).
   SolidAngleEstimate MeshSolidAngle(const Vec3& p) const;
