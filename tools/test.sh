@@ -60,10 +60,10 @@ if [[ "${VISCERA_SANITIZERS:-1}" != 0 ]]; then
                 fuzz_record_reader fuzz_http_request)
   asan_tests=(test_common_rate_window_test test_common_pacer_test test_bus_lcm_bus_test
               test_bus_message_auth_test test_bus_replay_guard_test test_bus_wire_counts_test
-              test_scene_scene_test test_collision_obstacle_test test_session_inbox_test
-              test_server_security_test test_server_heartbeat_source_test test_server_frame_schedule_test
-              test_client_frame_receiver_test test_client_http_request_test test_client_token_store_test
-              test_client_server_directory_test)
+              test_scene_scene_test test_collision_obstacle_test test_collision_triangle_bvh_test
+              test_session_inbox_test test_server_security_test test_server_heartbeat_source_test
+              test_server_frame_schedule_test test_client_frame_receiver_test test_client_http_request_test
+              test_client_token_store_test test_client_server_directory_test)
   timed "asan+ubsan build" bash -c "CC=clang CXX=clang++ cmake -S '$root' -B '$asan' -G Ninja -DCMAKE_BUILD_TYPE=None \
       '-DCMAKE_C_FLAGS=$flags' '-DCMAKE_CXX_FLAGS=$flags' -DVISCERA_SANITIZE=ON -DVISCERA_FUZZ=ON ${launcher[*]} >/dev/null &&
     cmake --build '$asan' --parallel $jobs --target ${fuzz_targets[*]} ${asan_tests[*]}"

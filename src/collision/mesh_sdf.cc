@@ -13,40 +13,6 @@
 namespace viscera::collision {
 namespace {
 
-// Closest point on triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 ClosestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-// Solid angle of triangle (a, b, c) seen from p (Van Oosterom & Strackee 1983).
-double SolidAngle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 x = a - p, y = b - p, z = c - p;
-  const double lx = x.norm(), ly = y.norm(), lz = z.norm();
-  const double numerator = x.dot(y.cross(z));
-  const double denominator = lx * ly * lz + x.dot(y) * lz + y.dot(z) * lx + z.dot(x) * ly;
-  return 2.0 * std::atan2(numerator, denominator);
-}
-
-}  // namespace
-
-namespace {
-
 // The vertex index of an OBJ face token ("7", "7/1", "-2//3"), or InputError: std::stoi threw
 // std::invalid_argument and std::out_of_range instead (found by fuzz/fuzz_obj_loader).
 int FaceIndex(const std::string& token, const std::string& path, int line_no) {
@@ -108,39 +74,16 @@ MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offs
 
 MeshSdf::MeshSdf(const Points& vertices, const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
                  int resolution)
-    : vertices_(vertices), faces_(faces) {
-  const Vec3 lo = vertices.colwise().minCoeff().transpose(), hi = vertices.colwise().maxCoeff().transpose();
-  cell_ = (hi - lo).maxCoeff() / resolution;
-  const double pad = 3.0 * cell_;
-  origin_ = lo - Vec3::Constant(pad);
-  const Vec3 size = hi - lo + Vec3::Constant(2.0 * pad);
-  nx_ = static_cast<int>(std::ceil(size.x() / cell_)) + 1;
-  ny_ = static_cast<int>(std::ceil(size.y() / cell_)) + 1;
-  nz_ = static_cast<int>(std::ceil(size.z() / cell_)) + 1;
-  values_.resize(static_cast<size_t>(nx_) * ny_ * nz_);
-  for (int k = 0; k < nz_; ++k) {
-    for (int j = 0; j < ny_; ++j) {
-      for (int i = 0; i < nx_; ++i) {
-        const Vec3 p = origin_ + cell_ * Vec3(i, j, k);
-        double best = std::numeric_limits<double>::infinity(), winding = 0.0;
-        for (Eigen::Index t = 0; t < faces_.rows(); ++t) {
-          const Vec3 a = vertices_.row(faces_(t, 0)), b = vertices_.row(faces_(t, 1)), c = vertices_.row(faces_(t, 2));
-          best = std::min(best, (ClosestOnTriangle(p, a, b, c) - p).squaredNorm());
-          winding += SolidAngle(p, a, b, c);
-        }
-        // Winding number ~1 inside a closed, outward-oriented mesh, ~0 outside.
-        const bool inside = std::abs(winding) / (4.0 * M_PI) > 0.5;
-        values_[(static_cast<size_t>(k) * ny_ + j) * nx_ + i] = (inside ? -1.0 : 1.0) * std::sqrt(best);
-      }
-    }
-  }
-}
+    : vertices_(vertices),
+      faces_(faces),
+      grid_(GridAround(vertices, resolution)),
+      values_(SampleWithHierarchy(vertices_, faces_, grid_)) {}
 
 double MeshSdf::Interpolate(const Vec3& p) const {
-  const Vec3 g = (p - origin_) / cell_;
-  const int i = std::clamp(static_cast<int>(std::floor(g.x())), 0, nx_ - 2);
-  const int j = std::clamp(static_cast<int>(std::floor(g.y())), 0, ny_ - 2);
-  const int k = std::clamp(static_cast<int>(std::floor(g.z())), 0, nz_ - 2);
+  const Vec3 g = (p - grid_.origin) / grid_.cell;
+  const int i = std::clamp(static_cast<int>(std::floor(g.x())), 0, grid_.nx - 2);
+  const int j = std::clamp(static_cast<int>(std::floor(g.y())), 0, grid_.ny - 2);
+  const int k = std::clamp(static_cast<int>(std::floor(g.z())), 0, grid_.nz - 2);
   const double fx = std::clamp(g.x() - i, 0.0, 1.0), fy = std::clamp(g.y() - j, 0.0, 1.0),
                fz = std::clamp(g.z() - k, 0.0, 1.0);
   auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
@@ -152,17 +95,17 @@ double MeshSdf::Interpolate(const Vec3& p) const {
 }
 
 double MeshSdf::Distance(const Vec3& p) const {
-  const Vec3 hi = origin_ + cell_ * Vec3(nx_ - 1, ny_ - 1, nz_ - 1);
-  const Vec3 clamped = p.cwiseMax(origin_).cwiseMin(hi);
+  const Vec3 hi = grid_.Point(grid_.nx - 1, grid_.ny - 1, grid_.nz - 1);
+  const Vec3 clamped = p.cwiseMax(grid_.origin).cwiseMin(hi);
   return Interpolate(clamped) + (p - clamped).norm();
 }
 
 double MeshSdf::Distance(const Vec3& p, Vec3* normal) const {
   // Outside the grid box, add the distance to the box (the field is valid on the box surface).
-  const Vec3 hi = origin_ + cell_ * Vec3(nx_ - 1, ny_ - 1, nz_ - 1);
-  const Vec3 clamped = p.cwiseMax(origin_).cwiseMin(hi);
+  const Vec3 hi = grid_.Point(grid_.nx - 1, grid_.ny - 1, grid_.nz - 1);
+  const Vec3 clamped = p.cwiseMax(grid_.origin).cwiseMin(hi);
   const double extra = (p - clamped).norm();
-  const double h = 0.5 * cell_;
+  const double h = 0.5 * grid_.cell;
   Vec3 grad(Interpolate(clamped + Vec3(h, 0, 0)) - Interpolate(clamped - Vec3(h, 0, 0)),
             Interpolate(clamped + Vec3(0, h, 0)) - Interpolate(clamped - Vec3(0, h, 0)),
             Interpolate(clamped + Vec3(0, 0, h)) - Interpolate(clamped - Vec3(0, 0, h)));

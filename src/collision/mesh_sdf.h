@@ -1,10 +1,11 @@
 #pragma once
 /// A closed triangle mesh (OBJ) turned into a signed distance field at load time: distances on a
 /// regular grid around the mesh (point-triangle distance; sign from the generalized winding
-/// number, robust to small holes), trilinearly interpolated at query time.
+/// number, robust to small holes; collision/sdf_sampling.h), trilinearly interpolated at query time.
 #include <string>
 #include <vector>
 
+#include "collision/sdf_sampling.h"
 #include "common/types.h"
 
 namespace viscera::collision {
@@ -31,16 +32,19 @@ class MeshSdf {
   const Points& vertices() const { return vertices_; }
   /// Its triangles (#F by 3 indices into vertices()), as read (polygons fanned).
   const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces() const { return faces_; }
+  /// The sampling grid and its signed distances (m), x fastest.
+  const SdfGrid& grid() const { return grid_; }
+  const std::vector<double>& samples() const { return values_; }
 
  private:
-  double Sample(int i, int j, int k) const { return values_[(static_cast<size_t>(k) * ny_ + j) * nx_ + i]; }
+  double Sample(int i, int j, int k) const {
+    return values_[(static_cast<size_t>(k) * grid_.ny + j) * grid_.nx + i];
+  }
   double Interpolate(const Vec3& p) const;
 
   Points vertices_;
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces_;
-  Vec3 origin_ = Vec3::Zero();
-  double cell_ = 0.0;
-  int nx_ = 0, ny_ = 0, nz_ = 0;
+  SdfGrid grid_;
   std::vector<double> values_;
 };
 
