@@ -374,13 +374,15 @@ void Session::ApplyCommands() {
           L.outbox->Push(L.record);
         }
         break;
+      // the state and the figures at the moment it changed, in one status: a client that sees
+      // "paused" reads the figures of the last step taken
       case Command::Kind::kPause:
         L.paused = true;
-        state_ = session_status_t::kPaused;
+        PublishStatus(MonotonicNanos(), /*summarize=*/false, session_status_t::kPaused);
         break;
       case Command::Kind::kResume:
         L.paused = false;
-        state_ = session_status_t::kRunning;
+        PublishStatus(MonotonicNanos(), /*summarize=*/false, session_status_t::kRunning);
         break;
     }
   }
@@ -432,7 +434,7 @@ void Session::PublishSkeleton() {
   L.outbox->Push(k);
 }
 
-void Session::PublishStatus(int64_t now_ns, bool summarize) {
+void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
   LoopState* L = loop_.get();
   session_status_t s = Status();
   s.header = bus::MakeHeader(config_.id, s.header.seq + 1);
@@ -464,6 +466,10 @@ void Session::PublishStatus(int64_t now_ns, bool summarize) {
   }
   {
     std::lock_guard<std::mutex> lock(status_mutex_);
+    if (new_state >= 0) {
+      state_ = new_state;
+      s.state = new_state;
+    }
     status_ = s;
   }
   if (L != nullptr && L->outbox != nullptr) {

@@ -139,7 +139,9 @@ class Session {
   void ApplyCommands();
   void PublishForces(int64_t now_ns);
   void PublishSkeleton();
-  void PublishStatus(int64_t now_ns, bool summarize);
+  /// Publishes the status; `new_state` (>= 0) becomes the session's state in the same critical
+  /// section as the figures, so no reader sees the new state with figures from before it.
+  void PublishStatus(int64_t now_ns, bool summarize, int8_t new_state = -1);
   // The assessment of the mechanics thread's metrics and the latest exposures, into status_.
   void FillAssessment(viscera_proto::session_status_t* status);
   void WriteAssessment();
