@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 #include <utility>
 #include <vector>
@@ -56,6 +57,38 @@ TEST(BlockBand, MultiplyAndSolveMatchTheDenseMatrix) {
   chol.SolveInPlace(solved.data());
   const VecX expected = dense.ldlt().solve(b);
   EXPECT_LT((solved - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+}
+
+// y = A x as the band product was first written: a pass over the upper blocks that scatters
+// both halves into y. Multiply sums each row in registers in the same order; the numbers must
+// not move.
+Points ScatterMultiply(const BlockBand& a, const Points& x) {
+  Points y = Points::Zero(a.n(), 3);
+  for (int i = 0; i < a.n(); ++i) {
+    y.row(i) += (a.block(i, 0) * x.row(i).transpose()).transpose();
+    for (int d = 1; d < BlockBand::kWidth && i + d < a.n(); ++d) {
+      y.row(i) += (a.block(i, d) * x.row(i + d).transpose()).transpose();
+      y.row(i + d) += (a.block(i, d).transpose() * x.row(i).transpose()).transpose();
+    }
+  }
+  return y;
+}
+
+TEST(BlockBand, MultiplyIsTheScatterPassBitForBit) {
+  for (const int n : {1, 2, 3, 4, 5, 7, 40}) {
+    SCOPED_TRACE(n);
+    MatX dense;
+    const BlockBand a = RandomSpdBand(n, 10 + n, &dense);
+    const VecX b = RandomVector(3 * n, 20 + n);
+    const Points x = Eigen::Map<const Points>(b.data(), n, 3);
+    const Points expected = ScatterMultiply(a, x);
+    Points y(n, 3);
+    a.Multiply(x, &y);
+    EXPECT_EQ(std::memcmp(y.data(), expected.data(), sizeof(double) * 3 * n), 0);
+    Points raw = Points::Constant(n, 3, 1e300);  // the pointer form overwrites every entry
+    a.Multiply(x.data(), raw.data());
+    EXPECT_EQ(std::memcmp(raw.data(), expected.data(), sizeof(double) * 3 * n), 0);
+  }
 }
 
 TEST(BlockBand, TwoColumnsInOnePassAreBitForBitTwoSolves) {
