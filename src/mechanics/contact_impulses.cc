@@ -10,10 +10,13 @@ constexpr double kSpeedTolerance = 1e-6;  // m/s: a contact's speed this close t
 
 // s[j] += change[k] * G(j, column[k]) for every j, k = 0 .. pending - 1 in that order (each
 // speed gets the changes in the order they were made). Products and sums only, never fused:
-// the AVX clone (four speeds at a time, no FMA) gives the baseline one's numbers bit for bit.
-// GCC on x86-64 only, not under the sanitizers (their builds need no speed).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
-    !defined(__SANITIZE_THREAD__)
+// the AVX clone (four speeds at a time, no FMA) gives the baseline one's numbers bit for bit,
+// and the library is compiled with -ffp-contract=off (src/mechanics/CMakeLists.txt) so that no
+// target with FMA (-march=native, aarch64) fuses them either. The clone needs GCC on x86-64
+// with ELF and glibc (ifunc dispatch), and is left out under every sanitizer (their builds need
+// no speed; VISCERA_SANITIZED is CMake's mark of an ASan/UBSan or TSan build).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__ELF__) && defined(__GLIBC__) && \
+    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__) && !defined(VISCERA_SANITIZED)
 #define VISCERA_AVX_CLONE __attribute__((target_clones("avx", "default")))
 #else
 #define VISCERA_AVX_CLONE
