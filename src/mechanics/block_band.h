@@ -65,9 +65,16 @@ class BlockBand {
     b[8] += zz;
   }
 
-  /// y = A x (#N by 3 each).
-  void Multiply(const Points& x, Points* y) const { Multiply(x.data(), y->data()); }
+  /// y = A x (#N by 3 each; y is sized here).
+  /// @pre y is not x.
+  void Multiply(const Points& x, Points* y) const {
+    VISCERA_ASSERT(x.rows() == n_ && y != &x);
+    y->resize(n_, 3);
+    Multiply(x.data(), y->data());
+  }
   /// The same on 3N values each, ordered x0 y0 z0 x1 ... (a #N by 3 row-major Points' storage).
+  /// @pre x_data and y_data each hold 3N values, and do not overlap (y is written row by row
+  /// while later rows still read x).
   void Multiply(const double* x_data, double* y_data) const {
     const Eigen::Map<const Points> x(x_data, n_, 3);
     Eigen::Map<Points> y(y_data, n_, 3);

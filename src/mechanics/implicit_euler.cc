@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "common/check.h"
 #include "mechanics/interactions.h"
 #include "mechanics/mass_solver.h"
 
@@ -151,6 +152,8 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
 
 void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) {
   // The band and the common modes read 3N values as #N by 3 points: the same storage.
+  VISCERA_ASSERT(x.size() == 3 * n_ && x.data() != y->data());
+  y->resize(3 * n_);
   system_.Multiply(x.data(), y->data());
   interactions_->AddCommonModeTerms(x.data(), y->data());
   if (rank1_w_ > 0.0) {

@@ -10,6 +10,7 @@
 #include "collision/contact_detector.h"
 #include "collision/sphere_chain.h"
 #include "collision/verlet_list.h"
+#include "common/check.h"
 #include "mechanics/block_band.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
@@ -49,8 +50,14 @@ class Interactions {
   /// y += sum over those pairs of (J_a + J_b)^T C_p (J_a + J_b) x (x, y #N by 3): what the band
   /// overstates. The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact
   /// implicit matrix is the band's M + h D + h^2 K minus this with (h^2, h).
-  void AddCommonModeTerms(const Points& x, Points* y) const { AddCommonModeTerms(x.data(), y->data()); }
+  /// @pre y has x's size and is not x.
+  void AddCommonModeTerms(const Points& x, Points* y) const {
+    VISCERA_ASSERT(x.cols() == 3 && y->rows() == x.rows() && y->cols() == 3 && y != &x);
+    AddCommonModeTerms(x.data(), y->data());
+  }
   /// The same on 3N values each, ordered x0 y0 z0 x1 ... (CG's vectors, without reshaping).
+  /// @pre x and y each hold the chain's 3N values, and do not overlap (y is added to pair by
+  /// pair while later pairs still read x).
   void AddCommonModeTerms(const double* x, double* y) const;
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
