@@ -43,6 +43,17 @@ TEST(DropEnergy, FiftyFiveCentimetreDropNeverGainsEnergyAtAnyRate) {
   for (double rate : {100.0, 250.0, 500.0, 1000.0}) ExpectNoStepGains(rate, true);
 }
 
+// The limiter and the stiffening law alone (no impulses inside the solve, spheres not following
+// the material) still never gain up to 500 Hz: that path stays selectable from a scene
+// (impact_constraints = false). 500 Hz holds only since the CG warm start of 256e214 (it gained
+// 1.5 mJ in one step before): whether an impact gains is sensitive to the solve's round-off.
+TEST(DropEnergy, TheLimiterAloneNeverGainsEnergyAt100To500Hz) {
+  for (double rate : {100.0, 250.0, 500.0}) ExpectNoStepGains(rate, false);
+}
+
+// A known defect of the limiter-only path, asserted so that the check above is seen to catch a
+// real gain (and so that the day the path stops gaining is noticed): if that path is fixed,
+// replace this with ExpectNoStepGains(1000.0, false) and show the check failing another way.
 // The safeguard, shown by switching it off: the limiter and the law alone gain at 1 kHz (four
 // steps, the worst 22 mJ, +1.6 % of the step before, at the impact, mostly elastic, while a self
 // pair is 15 % of R deep in the law's stiffening range, linearized once per sub-step). So the
