@@ -245,7 +245,8 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
   c.impact_depth = NonNegative(r, "impact_depth", c.impact_depth);
   c.impact_constraints = r.Bool("impact_constraints", c.impact_constraints);
-  c.spheres_follow_material = r.Choice<bool>("spheres", {{"material", true}, {"arc_length", false}});
+  c.spheres_follow_material =
+      r.Choice<bool>("spheres", {{"material", true}, {"arc_length", false}}, c.spheres_follow_material);
   r.Finish();
 }
 

@@ -34,7 +34,20 @@ class TomlReader {
   /// @throws InputError naming the key, the value and the accepted names.
   template <typename E>
   E Choice(const std::string& key, std::initializer_list<std::pair<const char*, E>> choices) const {
-    const std::string value = String(key, choices.begin()->first);
+    return Choice(key, choices, choices.begin()->second);
+  }
+  /// The same, with `fallback` when the key is absent: a default kept in the params themselves,
+  /// not in the list's order. @pre fallback is one of the choices.
+  template <typename E>
+  E Choice(const std::string& key, std::initializer_list<std::pair<const char*, E>> choices, E fallback) const {
+    const char* fallback_name = choices.begin()->first;
+    for (const auto& [name, e] : choices) {
+      if (e == fallback) {
+        fallback_name = name;
+        break;
+      }
+    }
+    const std::string value = String(key, fallback_name);
     std::string accepted;
     for (const auto& [name, e] : choices) {
       if (value == name) return e;
