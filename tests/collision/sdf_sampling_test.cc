@@ -11,9 +11,11 @@
 
 #include <bit>
 #include <cstdint>
+#include <memory>
 
 #include "collision/mesh_sdf.h"
 #include "common/check.h"
+#include "scene/scene.h"
 #include "tests/collision/test_meshes.h"
 
 namespace viscera::collision {
@@ -89,9 +91,18 @@ TEST(SdfSampling, TheCubesFacesHoldZerosOfBothSigns) {
   EXPECT_GT(negative, 0);
 }
 
+// scenes/cavity.toml's liver as the scene loads it (its file, scale, offset and resolution).
+std::shared_ptr<const MeshSdf> CavityLiver() {
+  const scene::Scene cavity = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
+  for (const Obstacle& o : cavity.model.obstacles) {
+    if (o.name == "liver" && o.sdf) return o.sdf;
+  }
+  Fail("scenes/cavity.toml has no mesh obstacle named liver");
+}
+
 TEST(SdfSampling, TheLiverOfTheCavityIsBuiltBitForBit) {
-  // scenes/cavity.toml's liver as the scene loads it, through MeshSdf itself
-  const MeshSdf liver = MeshSdf::FromObj(VISCERA_SOURCE_DIR "/scenes/liver.obj", 0.06, Vec3(0.07, 0.0, 0.245), 40);
+  const std::shared_ptr<const MeshSdf> cavity_liver = CavityLiver();
+  const MeshSdf& liver = *cavity_liver;
   const Comparison diff = Compare(SampleBruteForce(liver.vertices(), liver.faces(), liver.grid()), liver.samples());
   EXPECT_EQ(diff.differ, 0) << diff.first;
   EXPECT_EQ(liver.samples().size(), liver.grid().size());
@@ -100,7 +111,8 @@ TEST(SdfSampling, TheLiverOfTheCavityIsBuiltBitForBit) {
 TEST(SdfSampling, AWrongDistanceBoundChangesTheField) {
   // Negative control: claiming the subtrees' boxes are 1.5 times farther than they are prunes
   // triangles that are nearest; the comparison sees it, and only ever as larger distances.
-  const MeshSdf liver = MeshSdf::FromObj(VISCERA_SOURCE_DIR "/scenes/liver.obj", 0.06, Vec3(0.07, 0.0, 0.245), 40);
+  const std::shared_ptr<const MeshSdf> cavity_liver = CavityLiver();
+  const MeshSdf& liver = *cavity_liver;
   const std::vector<double> brute = SampleBruteForce(liver.vertices(), liver.faces(), liver.grid());
   const Comparison diff = Compare(brute, SampleWithHierarchy(liver.vertices(), liver.faces(), liver.grid(), {1.5, 1.0}));
   EXPECT_GT(diff.differ, 0);
