@@ -90,6 +90,9 @@ class Interactions {
   int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
+  // The stiffening law's goal (fraction of R): the slope reaches kStiffening k at this depth, and
+  // the held constraints bound depths short of it (interactions.cc, interactions_impacts.cc).
+  static constexpr double kDepthGoal = 0.10;
   struct Penalty {
     bool active = false;
     Vec3 force = Vec3::Zero();  // on the sphere

@@ -1,0 +1,159 @@
+// The impacts' part of Interactions: impulses that keep closing pairs within impact_depth, either
+// after the step's solve (the impact limiter) or as constraints held inside the implicit solve
+// (docs/contacts.md, "Impacts").
+#include "mechanics/interactions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace viscera::mechanics {
+
+using collision::ContactCandidate;
+using collision::ContactKind;
+
+double Interactions::ImpactSpeed() {
+  // Impacts are closing faster than the linear law stops within 2 x impact_depth (a sphere's own
+  // mass against k; 0.5 m/s with the defaults). Slower pairs (a tool pressing loops together,
+  // a pile settling) are the penalty's: with half that, the clearing gesture's 1 kHz reference
+  // carried its loop with 1 % less force, so impulses were absorbing what the hand should feel.
+  if (impact_speed_ < 0.0) {
+    const double allowed = model_.params().contacts.impact_depth * radius_;
+    const double sphere_mass = model_.params().mass * chain_.spacing() / model_.params().length;
+    impact_speed_ = 2.0 * allowed * std::sqrt(model_.params().contacts.stiffness / sphere_mass);
+  }
+  return impact_speed_;
+}
+
+void Interactions::LimitImpacts(double h, Points* u, Points* v) {
+  const double allowed = model_.params().contacts.impact_depth * radius_;
+  if (!(allowed > 0.0)) return;
+  const double impact_speed = ImpactSpeed();
+  EnsureGeometry();
+  const auto& list = candidates();
+  // The set of contacts grows until the impulses on it leave no other contact too fast: an
+  // impulse can drive a sphere into a contact that was not closing before. Each round solves
+  // the whole set again from the velocities before any impulse, so the result is the set's
+  // exact (dissipative) solution.
+  constexpr int kMaxRounds = 8;
+  impact_set_.clear();
+  in_impact_set_.assign(list.size(), 0);  // grows with the list's high-water mark only
+  impacts_.Reset();
+  for (int round = 0; round < kMaxRounds; ++round) {
+    GatherVelocities(*u);
+    // No pair closes as fast as an impact (tools stay out of the set): no impulse, as in most
+    // steps of a settled pile, without looking at each pair.
+    if (round == 0 && 2.0 * fastest_sphere_ < impact_speed * (1.0 - 1e-6)) return;
+    bool grew = false;
+    for (size_t i = 0; i < list.size(); ++i) {
+      // Tools are left to their coupling: their depth is what the hand feels, and the tip is
+      // integrated against its contacts so it cannot tunnel (docs/contacts.md, "Tools").
+      if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
+      const Penalty& p = geometry_[i];
+      const double un = (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
+      // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
+      // Slower pairs are the penalty's (the law stops them within `allowed`): a tool pressing
+      // loops together is felt through the contacts' springs, not absorbed by impulses.
+      if (un >= std::min(0.0, (p.depth - allowed) / h) - 1e-9 || -un < impact_speed) continue;
+      in_impact_set_[i] = 1;
+      impact_set_.push_back(static_cast<int>(i));
+      grew = true;
+    }
+    if (!grew) return;
+    if (round == 0) {
+      impact_u0_ = *u;  // same size after the first: no allocation
+      if (v) impact_v0_ = *v;
+    } else {
+      *u = impact_u0_;
+      if (v) *v = impact_v0_;
+      GatherVelocities(*u);
+    }
+    impact_contacts_.clear();
+    for (int i : impact_set_) {
+      const ContactCandidate& c = list[i];
+      const Penalty& p = geometry_[i];
+      const Vec3 other = OtherVelocity(c, p.lever);
+      const double un = (sphere_velocity_[c.a] - other).dot(p.normal);
+      // The velocity whose kinetic energy counts (the step's end), when it is not u itself.
+      double vn = un;
+      if (v) {
+        const Vec3 vb = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, *v) : other;
+        vn = (SphereVelocity(c.a, *v) - vb).dot(p.normal);
+      }
+      impact_contacts_.push_back({c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un,
+                                  std::min(0.0, (p.depth - allowed) / h), vn});
+    }
+    impacts_.Apply(impact_contacts_, chain_, u, v);
+  }
+}
+
+bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Points& v_check, const Points& v_base,
+                                        bool first, std::vector<ImpactLimiter::Contact>* contacts) {
+  const ContactParams& cp = model_.params().contacts;
+  const bool impact = kind == EndConstraint::kImpact;
+  if (!(cp.impact_depth > 0.0) || !cp.impact_constraints || (!impact && cp.impact_depth >= kDepthGoal)) return false;
+  // The depth bound sits a quarter of the way from impact_depth to the goal: the linearized end
+  // depth misses up to ~3.5 % of R (pairs that appear or turn within the sub-step), and a pile
+  // held where the law is 25 k stiff, not 50 k (half-way), gains no energy from its single
+  // linearization per sub-step (docs/contacts.md, "Impacts").
+  const double allowed = (impact ? cp.impact_depth : cp.impact_depth + 0.25 * (kDepthGoal - cp.impact_depth)) * radius_;
+  const double impact_speed = impact ? ImpactSpeed() : 0.0;
+  // The least normal speed that ends the sub-step within `allowed`; impacts are never pushed apart.
+  auto target = [&](const Penalty& p) { return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h; };
+  EnsureGeometry();  // the sub-step's start, as the forces saw it
+  const auto& list = candidates();
+  if (first) {
+    end_impact_set_.clear();
+    in_end_impact_set_.assign(list.size(), 0);  // grows with the list's high-water mark only
+  }
+  // Sphere velocities straight from v_check and v_base: the gathered ones are the step's.
+  auto normal_speed = [&](const ContactCandidate& c, const Penalty& p, const Points& v) {
+    const Vec3 other = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v) : OtherVelocity(c, p.lever);
+    return (SphereVelocity(c.a, v) - other).dot(p.normal);
+  };
+  // The scan reads v_check's sphere velocities once per sphere, not once per pair and side: the
+  // same numbers (SphereVelocity of the same rows), a fraction of the work.
+  double fastest = 0.0;
+  bool finite = true;
+  for (int k = 0; k < chain_.size(); ++k) {
+    end_velocity_[k] = SphereVelocity(k, v_check);
+    const double speed2 = end_velocity_[k].squaredNorm();
+    fastest = std::max(fastest, speed2);
+    finite = finite && std::isfinite(speed2);
+  }
+  // Shortcuts that skip only pairs the test below would skip, from |u_n| <= |v_a| + |v_b|
+  // <= `closing` (not with non-finite velocities, which the test lets in).
+  const double closing = 2.0 * std::sqrt(fastest);
+  // No pair closes as fast as an impact (tools stay out of the set): none would join, as in
+  // most sub-steps of a settled pile, without looking at each pair.
+  if (finite && impact && closing < impact_speed * (1.0 - 1e-6)) return false;
+  // A pair no deeper than this cannot end the sub-step beyond `allowed` at any closing speed up
+  // to `closing`: its target is below -closing by far more than the rounding (relative 1e-3,
+  // and 1e-12 m), so u_n >= target - 1e-9. Most pairs of a pile, and often all of them.
+  const double shallow = finite ? allowed - h * closing * (1.0 + 1e-3) - 1e-12 : -std::numeric_limits<double>::infinity();
+  if (deepest_ <= shallow) return false;
+  bool grew = false;
+  for (size_t i = 0; i < list.size(); ++i) {
+    if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;  // tools: their coupling
+    const ContactCandidate& c = list[i];
+    const Penalty& p = geometry_[i];
+    if (p.depth <= shallow) continue;
+    const Vec3 other = c.kind == ContactKind::kSelf ? end_velocity_[c.b] : OtherVelocity(c, p.lever);
+    const double un = (end_velocity_[c.a] - other).dot(p.normal);
+    if (un >= target(p) - 1e-9 || -un < impact_speed) continue;
+    in_end_impact_set_[i] = 1;
+    end_impact_set_.push_back(static_cast<int>(i));
+    grew = true;
+  }
+  if (!grew) return false;
+  contacts->clear();
+  for (int i : end_impact_set_) {
+    const ContactCandidate& c = list[i];
+    const Penalty& p = geometry_[i];
+    const double un = normal_speed(c, p, v_base);
+    contacts->push_back({c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un, target(p), un});
+  }
+  return true;
+}
+
+}  // namespace viscera::mechanics
