@@ -14,7 +14,7 @@ ImpactLimiter::ImpactLimiter(const Model& model, int spheres)
   sphere_of_.reserve(spheres);
   pending_.reserve(spheres);
   impulse_.reserve(spheres);
-  coupled_.reserve(static_cast<size_t>(spheres) * 8);
+  delassus_filled_.reserve(static_cast<size_t>(spheres) * 8);
 }
 
 int ImpactLimiter::Slot(int sphere) {
@@ -55,7 +55,7 @@ void ImpactLimiter::Reset() {
   for (int sphere : sphere_of_) slot_of_[sphere] = -1;
   sphere_of_.clear();
   pending_.clear();
-  coupled_.clear();  // the columns are solved again: so are the entries
+  delassus_filled_.clear();  // the columns are solved again: so are the entries
 }
 
 bool ImpactLimiter::SameGeometry(const Contact& x, const Contact& y) {
@@ -76,7 +76,7 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
   // spheres' columns stand until Reset): their entries are kept, only the new ones filled in.
   if (delassus_.rows() < c) {
     delassus_.resize(c, c);  // loses the entries
-    coupled_.clear();
+    delassus_filled_.clear();
   }
   if (lambda_.size() < c) {
     lambda_.resize(c);
@@ -84,8 +84,11 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
     target_.resize(c);
   }
   size_t kept = 0;
-  while (kept < coupled_.size() && kept < contacts.size() && SameGeometry(coupled_[kept], contacts[kept])) ++kept;
-  coupled_.assign(contacts.begin(), contacts.end());  // grows with the high-water mark only
+  while (kept < delassus_filled_.size() && kept < contacts.size() &&
+         SameGeometry(delassus_filled_[kept], contacts[kept])) {
+    ++kept;
+  }
+  delassus_filled_.assign(contacts.begin(), contacts.end());  // grows with the high-water mark only
   for (auto j = static_cast<Eigen::Index>(kept); j < c; ++j) {
     const Contact& cj = contacts[j];
     for (Eigen::Index i = 0; i <= j; ++i) {

@@ -56,7 +56,7 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
   const auto& spheres = interactions_->chain().spheres();
   const double immobile = 1e-9 / model_.segment_mass();
   Eigen::Index solved = 0;
-  Eigen::Index coupled = 0;  // contacts whose Delassus rows and columns are filled in
+  Eigen::Index filled = 0;  // contacts whose Delassus rows and columns are filled in
   bool any = false;
   for (int round = 0; round < kMaxImpactRounds; ++round) {
     if (!interactions_->GatherEndConstraints(kind, h, impact_check_, base, round == 0, &impact_set_)) break;
@@ -65,7 +65,7 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
     if (impact_delassus_.rows() < c) {
       const Eigen::Index room = std::max<Eigen::Index>(c, 2 * impact_delassus_.rows());
       impact_delassus_.resize(room, room);  // loses the entries: all are filled in again
-      coupled = 0;
+      filled = 0;
       impact_lambda_.resize(room);
       impact_speed_.resize(room);
       impact_target_.resize(room);
@@ -85,14 +85,14 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
     solved = c;
     // The new contacts' entries G(i, j) = J_i A^-1 J_j^T, i <= j; the earlier ones are the same
     // contacts and columns as the last round's, so their entries stand.
-    for (Eigen::Index j = coupled; j < c; ++j) {
+    for (Eigen::Index j = filled; j < c; ++j) {
       for (Eigen::Index i = 0; i <= j; ++i) {
         const double g = ContactSpeed(impact_set_[i], impact_columns_.col(j).data());
         impact_delassus_(i, j) = g;
         impact_delassus_(j, i) = g;
       }
     }
-    coupled = c;
+    filled = c;
     for (Eigen::Index i = 0; i < c; ++i) {
       impact_speed_(i) = impact_set_[i].normal_speed;
       impact_target_(i) = impact_set_[i].target;
