@@ -4,7 +4,7 @@
 # gesture with the viscera client while it prints the hidden lesion's exposure as the gesture
 # uncovers it, prints the force and timing figures and the assessment report, records the session's frame stream (convolution skin,
 # OSMesa, JPEG over LCM) into out/demo/clearing.mp4 and saves a few frames in out/demo/frames,
-# runs the haptic device bridge (`viscera haptic`, a simulated hand on the left grasper at 1 kHz)
+# runs the haptic device bridge (`viscera haptic`, a simulated hand on the right grasper at 1 kHz)
 # for a few seconds and prints its summary, destroys the session and stops the server.
 # Everything runs in a private network namespace holding only loopback (nothing leaves
 # this machine; VISCERA_DEMO_NETNS=0 uses the host's network instead, ttl=0).

@@ -457,6 +457,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
       s.jitter_p99_us = sum.jitter_p99_us;
       s.step_wall_max_us = sum.wall_max_us;
     }
+    if (L->paused) s.achieved_rate_hz = 0.0;  // also in the status a pause publishes at once
     s.deadline_misses = L->stats.deadline_misses();
     s.energy = mechanics::ComputeEnergies(*model_, st.q, st.qd).total();
     s.contacts = st.contacts.self + st.contacts.environment + st.contacts.tool;
