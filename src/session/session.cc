@@ -447,7 +447,6 @@ void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
       L->last_summary_ns = now_ns;
       if (L->paused) {
         L->rate_window.Clear();
-        s.achieved_rate_hz = 0.0;
       } else {
         L->rate_window.Add(now_ns, st.steps);
         s.achieved_rate_hz = L->rate_window.ready() ? L->rate_window.Rate() : sum.achieved_rate_hz;
@@ -457,7 +456,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
       s.jitter_p99_us = sum.jitter_p99_us;
       s.step_wall_max_us = sum.wall_max_us;
     }
-    if (L->paused) s.achieved_rate_hz = 0.0;  // also in the status a pause publishes at once
+    if (L->paused) s.achieved_rate_hz = 0.0;  // the periodic statuses and the one a pause publishes
     s.deadline_misses = L->stats.deadline_misses();
     s.energy = mechanics::ComputeEnergies(*model_, st.q, st.qd).total();
     s.contacts = st.contacts.self + st.contacts.environment + st.contacts.tool;
