@@ -173,8 +173,9 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   // iterations per 1 kHz step of the clearing gesture, its linear extrapolation 1.8; a quadratic
   // one 2.1; docs/contacts.md). It stops when the preconditioned residual is a small fraction of
   // b's, or of gravity's impulse over the sub-step when b is smaller: in a resting pile the
-  // forces cancel, b is nearly 0, and a fraction of it asked for velocities exact to nanometres
-  // per second (10.7 iterations per sub-step of the settled fall, 3.4 with the floor).
+  // forces nearly cancel (the cavity's median b is 0.2 % of gravity's impulse, in this norm), and
+  // a fraction of b asked for velocities exact to a tenth of a micrometre per second (settled fall:
+  // 10.7 iterations per sub-step, 3.4 with the floor; docs/contacts.md).
   const double gravity_reference = gravity_floor_ ? h * h * weight_scale_ : 0.0;  // (h W)^T M^-1 (h W) = m (h g)^2
   const double reference = std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
   cg_q_ = cg_correction_ - cg_previous_correction_;  // cg_q_ is free until the first product
