@@ -38,8 +38,8 @@ Interactions::Law Interactions::ContactLaw(double depth) const {
   const ContactParams& cp = model_.params().contacts;
   Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
   const double d1 = cp.impact_depth * radius_;
-  // Tools' contacts too: linear, a tool pressing a loop against the wall sank into it by its
-  // force over k (5 N: 80 % of R; docs/contacts.md, "Tools and haptics").
+  // Tools' contacts too: kept linear until session 8, a tool pressing a loop into the wall sank
+  // by its force over k (80 % of R at 5 N; docs/contacts.md, "Tools and haptics").
   if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
   const double s = (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
   const double e = depth - d1;
