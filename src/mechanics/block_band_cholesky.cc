@@ -1,5 +1,7 @@
 #include "mechanics/block_band_cholesky.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -35,7 +37,7 @@ Mat3 Lower(const BlockBand& a, int i, int j) { return a.block(j, i - j).transpos
 
 }  // namespace
 
-bool BlockBandCholesky::Factor(const BlockBand& a) {
+VISCERA_AVX_CLONE bool BlockBandCholesky::Factor(const BlockBand& a) {
   n_ = a.n();
   l_.resize(static_cast<size_t>(n_) * BlockBand::kWidth);
   inv_diag_.resize(n_);

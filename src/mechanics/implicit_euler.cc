@@ -1,5 +1,7 @@
 #include "mechanics/implicit_euler.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 
 #include "common/check.h"
@@ -54,7 +56,7 @@ void ImplicitEulerIntegrator::BuildPattern() {
   solver_.SetPattern(dim, col_ptr, row_index);
 }
 
-void ImplicitEulerIntegrator::AssembleSystem(double h) {
+VISCERA_AVX_CLONE void ImplicitEulerIntegrator::AssembleSystem(double h) {
   const Band& m = model_.mass_band();
   const double h2 = h * h;
   for (int i = 0; i < n_; ++i) {

@@ -1,10 +1,12 @@
 #include "mechanics/spring_forces.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 
 namespace viscera::mechanics {
 
-double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
+VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
                        BlockBand* K, BlockBand* D) {
   double energy = 0.0;
   for (const Spring& sp : springs) {

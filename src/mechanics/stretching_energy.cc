@@ -1,5 +1,7 @@
 #include "mechanics/stretching_energy.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 
 #include "spline/gauss_legendre.h"
@@ -91,7 +93,7 @@ double CurveLength(const Model& model, const Points& q, StretchScratch* scratch)
   return EvaluateNodes(model, q, scratch);
 }
 
-double AddStretchingForces(const Model& model, const Points& q, StretchScratch* s, Points* F,
+VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q, StretchScratch* s, Points* F,
                            BlockBand* K, Points* rank1_u, double* rank1_coeff) {
   const double k = model.params().continuous_stretch;
   if (rank1_coeff) *rank1_coeff = 0.0;
