@@ -11,7 +11,7 @@ namespace {
 constexpr int kBand = BlockBand::kWidth - 1;  // 3 blocks below the diagonal
 
 // Lower Cholesky factor of a 3x3 SPD block and its inverse; false if not PD.
-bool Chol3(const Mat3& s, Mat3* inv) {
+[[gnu::always_inline]] inline bool Chol3(const Mat3& s, Mat3* inv) {
   const double l00sq = s(0, 0);
   if (!(l00sq > 0.0)) return false;
   const double l00 = std::sqrt(l00sq);
