@@ -56,23 +56,72 @@ VISCERA_AVX_CLONE bool BlockBandCholesky::Factor(const BlockBand& a) {
   return true;
 }
 
+namespace {
+
+// One row's 3x3 products, in the association Eigen's Mat3 * Vec3 gave them (the x and y rows
+// as one SSE2 packet, (p0 + p1) + p2; the z row a scalar reduction, p0 + (p1 + p2)), and the
+// transposed product (three dot products, (p0 + p1) + p2): the band solve's numbers bit for bit,
+// written out so that the solve keeps its last three rows in registers rather than storing
+// each row and loading it back for the next (a store-to-load round trip on the solve's
+// row-to-row chain). Every product is kept, the triangular blocks' zeros included.
+struct Row3 {
+  double x, y, z;
+};
+
+[[gnu::always_inline]] inline Row3 Product(const double* m, const Row3& v) {  // m column-major
+  return {(m[0] * v.x + m[3] * v.y) + m[6] * v.z, (m[1] * v.x + m[4] * v.y) + m[7] * v.z,
+          m[2] * v.x + (m[5] * v.y + m[8] * v.z)};
+}
+
+[[gnu::always_inline]] inline Row3 TransposedProduct(const double* m, const Row3& v) {
+  return {(m[0] * v.x + m[1] * v.y) + m[2] * v.z, (m[3] * v.x + m[4] * v.y) + m[5] * v.z,
+          (m[6] * v.x + m[7] * v.y) + m[8] * v.z};
+}
+
+[[gnu::always_inline]] inline void Subtract(Row3* v, const Row3& p) {
+  v->x -= p.x;
+  v->y -= p.y;
+  v->z -= p.z;
+}
+
+[[gnu::always_inline]] inline Row3 Load(const double* b) { return {b[0], b[1], b[2]}; }
+
+[[gnu::always_inline]] inline void Store(const Row3& v, double* b) {
+  b[0] = v.x;
+  b[1] = v.y;
+  b[2] = v.z;
+}
+
+}  // namespace
+
 template <int kColumns>
-void BlockBandCholesky::Solve(const std::array<double*, kColumns>& columns) const {
-  using Vec = Eigen::Map<Vec3>;
-  // Forward: L y = b.
+VISCERA_AVX_CLONE void BlockBandCholesky::Solve(const std::array<double*, kColumns>& columns) const {
+  // near[c][k] holds column c's row i - 1 - k of the pass (the last three rows, newest first).
+  Row3 near[kColumns][kBand] = {};
+  // Forward: L y = b, y_i = L(i,i)^-1 (b_i - sum_d L(i, i - d) y_(i-d)), d = 1, 2, 3 in order.
   for (int i = 0; i < n_; ++i) {
-    for (double* b : columns) {
-      Vec3 v = Vec(b + 3 * i);
-      for (int d = 1; d <= std::min(i, kBand); ++d) v.noalias() -= L(i, d) * Vec(b + 3 * (i - d));
-      Vec(b + 3 * i).noalias() = inv_diag_[i] * v;
+    const int reach = std::min(i, kBand);
+    for (int c = 0; c < kColumns; ++c) {
+      Row3 v = Load(columns[c] + 3 * i);
+      for (int d = 1; d <= reach; ++d) Subtract(&v, Product(L(i, d).data(), near[c][d - 1]));
+      const Row3 y = Product(inv_diag_[i].data(), v);
+      Store(y, columns[c] + 3 * i);
+      near[c][2] = near[c][1];
+      near[c][1] = near[c][0];
+      near[c][0] = y;
     }
   }
-  // Backward: L^T x = y.
+  // Backward: L^T x = y, x_i = L(i,i)^-T (y_i - sum_d L(i + d, i)^T x_(i+d)).
   for (int i = n_ - 1; i >= 0; --i) {
-    for (double* b : columns) {
-      Vec3 v = Vec(b + 3 * i);
-      for (int d = 1; d <= std::min(n_ - 1 - i, kBand); ++d) v.noalias() -= L(i + d, d).transpose() * Vec(b + 3 * (i + d));
-      Vec(b + 3 * i).noalias() = inv_diag_[i].transpose() * v;
+    const int reach = std::min(n_ - 1 - i, kBand);
+    for (int c = 0; c < kColumns; ++c) {
+      Row3 v = Load(columns[c] + 3 * i);
+      for (int d = 1; d <= reach; ++d) Subtract(&v, TransposedProduct(L(i + d, d).data(), near[c][d - 1]));
+      const Row3 x = TransposedProduct(inv_diag_[i].data(), v);
+      Store(x, columns[c] + 3 * i);
+      near[c][2] = near[c][1];
+      near[c][1] = near[c][0];
+      near[c][0] = x;
     }
   }
 }

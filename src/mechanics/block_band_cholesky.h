@@ -23,6 +23,11 @@ class BlockBandCholesky {
   /// little more than one.
   void SolveTwoInPlace(double* b0, double* b1) const { Solve<2>({b0, b1}); }
 
+  /// The factor's blocks (tests): L(i, i - d), d = 0 .. 3, and L(i, i)^-1 (lower triangular).
+  int n() const { return n_; }
+  const Mat3& lower_block(int i, int d) const { return L(i, d); }
+  const Mat3& inverse_diagonal(int i) const { return inv_diag_[i]; }
+
  private:
   template <int kColumns>
   void Solve(const std::array<double*, kColumns>& columns) const;
