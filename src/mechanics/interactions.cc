@@ -99,6 +99,7 @@ void Interactions::Configure(const Points& q, bool place) {
   placed_ = place;
   geometry_valid_ = false;
   gathered_ = false;  // the spheres' weights may have changed
+  end_gathered_ = false;
 }
 
 void Interactions::UpdateCandidates(double margin) {
