@@ -2,6 +2,7 @@
 // true mass (no drag from its own contacts); the band-only coupling is the negative control.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -84,6 +85,40 @@ TEST(ContactCoupling, ConjugateGradientsConvergeInAFewIterationsAtOneKilohertz) 
   EXPECT_GT(integrator->cg_iterations(), 0);  // pairs were coupled
   EXPECT_EQ(integrator->cg_unconverged(), 0);
   EXPECT_LE(integrator->cg_iterations(), 100 * 10);  // warm starts: a few per step, not tens
+}
+
+// A settled pile (scenes/fall.toml after 2 s): its forces nearly cancel, so b is nearly 0 and a
+// fraction of it is no scale for CG's stop; gravity's impulse over the sub-step is. With that
+// floor the pile takes far fewer iterations and moves as with the strict stop: within
+// micrometres over half a second, while its points still slide at up to ~1.5 cm/s.
+TEST(ContactCoupling, ASettledPileStopsAtGravitysScaleAndMovesAsWithTheStrictStop) {
+  std::ifstream in(std::string(VISCERA_SOURCE_DIR) + "/scenes/fall.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  const ModelParams params = scene::ParseScene(text.str(), "fall.toml").model;
+  const Model model(params);
+  State settled = InitialState(model);
+  {
+    Workspace workspace(model);
+    for (int k = 0; k < 200; ++k) Step(model, {}, &settled, &workspace);
+  }
+  State floor_state = settled, strict_state = settled;
+  Workspace floor_workspace(model), strict_workspace(model);
+  auto* floor_cg = dynamic_cast<ImplicitEulerIntegrator*>(&floor_workspace.integrator());
+  auto* strict_cg = dynamic_cast<ImplicitEulerIntegrator*>(&strict_workspace.integrator());
+  ASSERT_TRUE(floor_cg != nullptr && strict_cg != nullptr);
+  strict_cg->set_gravity_floor(false);
+  double worst_distance = 0.0;
+  for (int k = 0; k < 50; ++k) {
+    Step(model, {}, &floor_state, &floor_workspace);
+    Step(model, {}, &strict_state, &strict_workspace);
+    worst_distance = std::max(worst_distance, (floor_state.q - strict_state.q).rowwise().norm().maxCoeff());
+  }
+  EXPECT_GT(settled.contacts.self, 100) << "the pile must be packed for the test to mean anything";
+  EXPECT_EQ(floor_cg->cg_unconverged(), 0);
+  // Measured: 158 iterations against 622, 13 micrometres apart at most (1 % of R allowed).
+  EXPECT_LT(floor_cg->cg_iterations(), strict_cg->cg_iterations() / 2);
+  EXPECT_LT(worst_distance, 0.01 * params.radius) << worst_distance << " m";
 }
 
 }  // namespace

@@ -9,12 +9,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <optional>
 #include <string>
 
-#include "mechanics/step.h"
 #include "scene/scene.h"
-#include "script/scripted_tools.h"
+#include "sim/scripted_run.h"
 
 namespace {
 
@@ -77,20 +75,12 @@ int main(int argc, char** argv) {
   scene::Scene scene = scene::LoadSceneFile(scene_path);
   if (rate_hz != 0.0) scene::ChangeRate(&scene.model, rate_hz);
   const mechanics::Model model(scene.model);
-  mechanics::State state = mechanics::InitialState(model);
-  mechanics::Workspace workspace(model);
-  mechanics::Interactions* interactions = workspace.interactions();
-  std::optional<script::ScriptedTools> scripted;
-  if (!tool_script.empty()) scripted.emplace(model, script::ToolScript::Load(tool_script), tool_script);
-  auto targets_at = [&](double t) {
-    return scripted ? scripted->At(t, interactions) : std::span<const mechanics::ToolTarget>{};
-  };
-  // As viscera-sim: the sphere chain of the start, before the first step.
-  if (interactions) interactions->BeginSubstep(targets_at(0.0), 0.0, &state);
-  const int64_t steps = std::max<int64_t>(1, std::llround(duration * model.params().rate_hz));
+  tools::ScriptedRun run(model, tool_script);
+  const mechanics::State& state = run.state();
+  const int64_t steps = run.StepsFor(duration);
   Digest digest;
   for (int64_t k = 1; k <= steps; ++k) {
-    mechanics::Step(model, {{}, targets_at(state.t + model.step_size())}, &state, &workspace);
+    run.Step(run.NextTargets());
     AddState(state, &digest);
     if (k % every == 0 || k == steps) {
       std::printf("step %lld t %.6f digest %016llx\n", static_cast<long long>(k), state.t,

@@ -23,10 +23,10 @@
 #include "render/jpeg_sequence.h"
 #include "render/port_scope.h"
 #include "scene/scene.h"
-#include "script/scripted_tools.h"
 #include "skin/skin.h"
 #include "session/replay.h"
 #include "sim/progress_bar.h"
+#include "sim/scripted_run.h"
 #include "sim/sim_assessment.h"
 #include "sim/trace_writer.h"
 
@@ -211,7 +211,9 @@ int Run(const Options& opt) {
   ThrowUnless(opt.duration > 0.0 && std::isfinite(opt.duration), "--duration ", opt.duration, ": must be > 0");
   ThrowUnless(opt.trace_every >= 1, "--trace-every ", opt.trace_every, ": must be >= 1");
 
-  State state = mechanics::InitialState(model);
+  ScriptedRun run(model, opt.tool_script);
+  const State& state = run.state();
+  mechanics::Interactions* interactions = run.interactions();
   if (model.params().integrator == mechanics::IntegratorKind::kRk4) {
     const mechanics::StabilityEstimate est = mechanics::EstimateStability(model, state);
     if (!est.stable()) {
@@ -225,28 +227,18 @@ int Run(const Options& opt) {
   std::unique_ptr<TraceWriter> trace;
   if (!opt.trace.empty()) trace = std::make_unique<TraceWriter>(opt.trace);
   const spline::CatmullRom& curve = model.curve();
-  mechanics::Workspace workspace(model);
-  mechanics::Interactions* interactions = workspace.interactions();
   auto energies = [&] { return mechanics::ComputeEnergies(model, state.q, state.qd, interactions); };
   auto record = [&](double step_us) {
     if (trace) trace->Write(model, state, interactions, curve.Length(state.q), energies(), step_us);
   };
-  // Tools the script does not name stay idle; without a script, all do.
-  std::optional<script::ScriptedTools> scripted;
-  if (!opt.tool_script.empty()) scripted.emplace(model, script::ToolScript::Load(opt.tool_script), opt.tool_script);
-  auto targets_at = [&](double t) {
-    return scripted ? scripted->At(t, interactions) : std::span<const mechanics::ToolTarget>{};
-  };
   const render::Laparoscope scope = RunScope(opt, model.params(), state.q);
   SimAssessment assessed(model, ViewOf(scope, opt));
-  // The sphere chain of the start, for the first frame.
-  if (interactions) interactions->BeginSubstep(targets_at(0.0), 0.0, &state);
 
   const Energies e0 = energies();
   const Vec3 com0 = CentreOfMass(model, state.q);
   record(0.0);
   assessed.AddStep(state);
-  const int64_t steps = std::max<int64_t>(1, std::llround(opt.duration * model.params().rate_hz));
+  const int64_t steps = run.StepsFor(opt.duration);
   std::unique_ptr<FrameWriter> frames;
   const int render_every = opt.render_every > 0 ? opt.render_every
                                                 : std::max(1, static_cast<int>(std::lround(model.params().rate_hz / 25.0)));
@@ -261,9 +253,9 @@ int Run(const Options& opt) {
   double min_clearance = std::numeric_limits<double>::infinity();
   std::vector<double> max_tool_force(model.params().tools.size(), 0.0);
   for (int64_t k = 1; k <= steps; ++k) {
-    const std::span<const mechanics::ToolTarget> targets = targets_at(state.t + model.step_size());
+    const std::span<const mechanics::ToolTarget> targets = run.NextTargets();
     const int64_t begin = ThreadCpuNanos();
-    mechanics::Step(model, {{}, targets}, &state, &workspace);
+    run.Step(targets);
     const double us = (ThreadCpuNanos() - begin) * 1e-3;
     cost_us.push_back(us);
     if (!std::isnan(state.contacts.min_clearance)) min_clearance = std::min(min_clearance, state.contacts.min_clearance);
