@@ -94,39 +94,35 @@ struct Row3 {
 
 }  // namespace
 
-template <int kColumns>
-VISCERA_AVX_CLONE void BlockBandCholesky::Solve(const std::array<double*, kColumns>& columns) const {
-  // near[c][k] holds column c's row i - 1 - k of the pass (the last three rows, newest first).
-  Row3 near[kColumns][kBand] = {};
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const {
+  // y1, y2, y3: the last three rows of the pass, newest first, in named registers (an array
+  // indexed by the band's offset went through memory and gave nothing; this takes a third off
+  // the solve).
+  Row3 y1{}, y2{}, y3{};
   // Forward: L y = b, y_i = L(i,i)^-1 (b_i - sum_d L(i, i - d) y_(i-d)), d = 1, 2, 3 in order.
   for (int i = 0; i < n_; ++i) {
-    const int reach = std::min(i, kBand);
-    for (int c = 0; c < kColumns; ++c) {
-      Row3 v = Load(columns[c] + 3 * i);
-      for (int d = 1; d <= reach; ++d) Subtract(&v, Product(L(i, d).data(), near[c][d - 1]));
-      const Row3 y = Product(inv_diag_[i].data(), v);
-      Store(y, columns[c] + 3 * i);
-      near[c][2] = near[c][1];
-      near[c][1] = near[c][0];
-      near[c][0] = y;
-    }
+    Row3 v = Load(b + 3 * i);
+    if (i >= 1) Subtract(&v, Product(L(i, 1).data(), y1));
+    if (i >= 2) Subtract(&v, Product(L(i, 2).data(), y2));
+    if (i >= 3) Subtract(&v, Product(L(i, 3).data(), y3));
+    const Row3 y = Product(inv_diag_[i].data(), v);
+    Store(y, b + 3 * i);
+    y3 = y2;
+    y2 = y1;
+    y1 = y;
   }
   // Backward: L^T x = y, x_i = L(i,i)^-T (y_i - sum_d L(i + d, i)^T x_(i+d)).
   for (int i = n_ - 1; i >= 0; --i) {
-    const int reach = std::min(n_ - 1 - i, kBand);
-    for (int c = 0; c < kColumns; ++c) {
-      Row3 v = Load(columns[c] + 3 * i);
-      for (int d = 1; d <= reach; ++d) Subtract(&v, TransposedProduct(L(i + d, d).data(), near[c][d - 1]));
-      const Row3 x = TransposedProduct(inv_diag_[i].data(), v);
-      Store(x, columns[c] + 3 * i);
-      near[c][2] = near[c][1];
-      near[c][1] = near[c][0];
-      near[c][0] = x;
-    }
+    Row3 v = Load(b + 3 * i);
+    if (i + 1 < n_) Subtract(&v, TransposedProduct(L(i + 1, 1).data(), y1));
+    if (i + 2 < n_) Subtract(&v, TransposedProduct(L(i + 2, 2).data(), y2));
+    if (i + 3 < n_) Subtract(&v, TransposedProduct(L(i + 3, 3).data(), y3));
+    const Row3 x = TransposedProduct(inv_diag_[i].data(), v);
+    Store(x, b + 3 * i);
+    y3 = y2;
+    y2 = y1;
+    y1 = x;
   }
 }
-
-template void BlockBandCholesky::Solve<1>(const std::array<double*, 1>&) const;
-template void BlockBandCholesky::Solve<2>(const std::array<double*, 2>&) const;
 
 }  // namespace viscera::mechanics

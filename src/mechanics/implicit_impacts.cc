@@ -29,17 +29,7 @@ double ImplicitEulerIntegrator::ContactSpeed(const ImpactLimiter::Contact& c, co
 }
 
 void ImplicitEulerIntegrator::ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end) {
-  // The band solve is bound by its row-to-row latency: two columns in one pass cost little more
-  // than one, each bit for bit as alone.
-  Eigen::Index j = first;
-  if (!use_cholmod_) {
-    for (; j + 1 < end; j += 2) {
-      band_factor_.SolveTwoInPlace(impact_columns_.col(j).data(), impact_columns_.col(j + 1).data());
-      ApplyCorrections(impact_columns_.col(j).data());
-      ApplyCorrections(impact_columns_.col(j + 1).data());
-    }
-  }
-  for (; j < end; ++j) ApplyBandInverse(impact_columns_.col(j).data());
+  for (Eigen::Index j = first; j < end; ++j) ApplyBandInverse(impact_columns_.col(j).data());
 }
 
 bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base,
