@@ -36,18 +36,23 @@ double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) 
 
 }  // namespace
 
-Interactions::Law Interactions::ContactLaw(ContactKind kind, double depth) const {
+Interactions::Law Interactions::ContactLaw(double depth) const {
   const ContactParams& cp = model_.params().contacts;
   Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
   const double d1 = cp.impact_depth * radius_;
-  // A tool's depth is the force the hand renders (docs/contacts.md, "Local stiffness"): linear.
-  if (kind == ContactKind::kTool || !(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
+  // Tools' contacts too: linear, a tool pressing a loop against the wall sank into it by its
+  // force over k (5 N: 80 % of R; docs/contacts.md, "Tools and haptics").
+  if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
   const double s = (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
   const double e = depth - d1;
   law.force += s * e * e;
   law.slope += 2.0 * s * e;
   law.energy += s * e * e * e / 3.0;
   return law;
+}
+
+double Interactions::NormalForce(double depth) const {
+  return depth > 0.0 ? ContactLaw(depth).force : model_.params().contacts.stiffness * depth;
 }
 
 bool Interactions::Needed(const Model& model) {
@@ -219,7 +224,7 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
   if (p.depth <= 0.0 && !speculative) return p;
   // Penalty spring and damping along the normal, regularized Coulomb friction.
-  const double fn = (p.depth > 0.0 ? ContactLaw(c.kind, p.depth).force : cp.stiffness * p.depth) - cp.damping * vn;
+  const double fn = NormalForce(p.depth) - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
   const Vec3 vt = relative - vn * p.normal;
   const double friction = cp.friction * std::max(fn, 0.0);
@@ -259,7 +264,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (geometry_[i].clearance > reach) continue;
     const ContactCandidate& c = list[i];
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (p.depth > 0.0) energy += ContactLaw(c.kind, p.depth).energy;
+    if (p.depth > 0.0) energy += ContactLaw(p.depth).energy;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
@@ -267,7 +272,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
-    const Mat3 kn = (p.depth > 0.0 ? ContactLaw(c.kind, p.depth).slope : cp.stiffness) * nn;
+    const Mat3 kn = (p.depth > 0.0 ? ContactLaw(p.depth).slope : cp.stiffness) * nn;
     const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
@@ -470,7 +475,7 @@ void Interactions::EndStep(State* state) {
       const ContactCandidate& c = list[i];
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
       const Penalty& p = geometry_[i];
-      if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * model_.params().contacts.stiffness) * p.normal * p.normal.transpose();
+      if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * ContactLaw(p.depth).slope) * p.normal * p.normal.transpose();
     }
     if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();
     ts.stiffness = k;

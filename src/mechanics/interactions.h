@@ -105,7 +105,9 @@ class Interactions {
   struct Law {
     double force, slope, energy;
   };
-  Law ContactLaw(collision::ContactKind kind, double depth) const;
+  Law ContactLaw(double depth) const;
+  // The normal force of a contact at `depth` (< 0: apart, a speculative pair's linear pull).
+  double NormalForce(double depth) const;
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
   Penalty Geometry(const collision::ContactCandidate& c) const;
@@ -210,8 +212,10 @@ class Interactions {
   // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
   // sub-step and the contact normal times the lever (the tip moving along it presses deeper).
   struct TipContact {
-    Vec3 force = Vec3::Zero();
-    Vec3 axis = Vec3::Zero();
+    Vec3 force = Vec3::Zero();  // on the tip at the sub-step's start
+    Vec3 axis = Vec3::Zero();   // lever n: the tip moving along it presses the contact deeper
+    double depth = 0.0;         // at the start
+    Mat3 damping = Mat3::Zero();  // on the tip's velocity: damping and friction, through the lever
   };
   std::vector<TipContact> tip_contacts_;
 };
