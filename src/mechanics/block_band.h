@@ -75,19 +75,7 @@ class BlockBand {
   /// The same on 3N values each, ordered x0 y0 z0 x1 ... (a #N by 3 row-major Points' storage).
   /// @pre x_data and y_data each hold 3N values, and do not overlap (y is written row by row
   /// while later rows still read x).
-  void Multiply(const double* x_data, double* y_data) const {
-    const Eigen::Map<const Points> x(x_data, n_, 3);
-    Eigen::Map<Points> y(y_data, n_, 3);
-    // Row by row, each row's terms summed from zero in the order of a pass over the upper
-    // blocks that scatters both halves (A(i - d, i)^T x_(i-d) for d = 3, 2, 1, then A(i, i + d)
-    // x_(i+d) for d = 0 .. 3): the same numbers, one store per row instead of seven updates.
-    for (int i = 0; i < n_; ++i) {
-      Vec3 sum = Vec3::Zero();
-      for (int d = std::min(i, kWidth - 1); d >= 1; --d) sum += block(i - d, d).transpose() * x.row(i - d).transpose();
-      for (int d = 0; d < kWidth && i + d < n_; ++d) sum += block(i, d) * x.row(i + d).transpose();
-      y.row(i) = sum.transpose();
-    }
-  }
+  void Multiply(const double* x_data, double* y_data) const;
 
  private:
   int n_ = 0;

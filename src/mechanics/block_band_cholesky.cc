@@ -1,5 +1,7 @@
 #include "mechanics/block_band_cholesky.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,7 +11,7 @@ namespace {
 constexpr int kBand = BlockBand::kWidth - 1;  // 3 blocks below the diagonal
 
 // Lower Cholesky factor of a 3x3 SPD block and its inverse; false if not PD.
-bool Chol3(const Mat3& s, Mat3* inv) {
+[[gnu::always_inline]] inline bool Chol3(const Mat3& s, Mat3* inv) {
   const double l00sq = s(0, 0);
   if (!(l00sq > 0.0)) return false;
   const double l00 = std::sqrt(l00sq);
@@ -35,7 +37,7 @@ Mat3 Lower(const BlockBand& a, int i, int j) { return a.block(j, i - j).transpos
 
 }  // namespace
 
-bool BlockBandCholesky::Factor(const BlockBand& a) {
+VISCERA_AVX_CLONE bool BlockBandCholesky::Factor(const BlockBand& a) {
   n_ = a.n();
   l_.resize(static_cast<size_t>(n_) * BlockBand::kWidth);
   inv_diag_.resize(n_);
@@ -54,28 +56,73 @@ bool BlockBandCholesky::Factor(const BlockBand& a) {
   return true;
 }
 
-template <int kColumns>
-void BlockBandCholesky::Solve(const std::array<double*, kColumns>& columns) const {
-  using Vec = Eigen::Map<Vec3>;
-  // Forward: L y = b.
-  for (int i = 0; i < n_; ++i) {
-    for (double* b : columns) {
-      Vec3 v = Vec(b + 3 * i);
-      for (int d = 1; d <= std::min(i, kBand); ++d) v.noalias() -= L(i, d) * Vec(b + 3 * (i - d));
-      Vec(b + 3 * i).noalias() = inv_diag_[i] * v;
-    }
-  }
-  // Backward: L^T x = y.
-  for (int i = n_ - 1; i >= 0; --i) {
-    for (double* b : columns) {
-      Vec3 v = Vec(b + 3 * i);
-      for (int d = 1; d <= std::min(n_ - 1 - i, kBand); ++d) v.noalias() -= L(i + d, d).transpose() * Vec(b + 3 * (i + d));
-      Vec(b + 3 * i).noalias() = inv_diag_[i].transpose() * v;
-    }
-  }
+namespace {
+
+// One row's 3x3 products, in the association Eigen's Mat3 * Vec3 gave them (the x and y rows
+// as one SSE2 packet, (p0 + p1) + p2; the z row a scalar reduction, p0 + (p1 + p2)), and the
+// transposed product (three dot products, (p0 + p1) + p2): the band solve's numbers bit for bit,
+// written out so that the solve keeps its last three rows in registers rather than storing
+// each row and loading it back for the next (a store-to-load round trip on the solve's
+// row-to-row chain). Every product is kept, the triangular blocks' zeros included.
+struct Row3 {
+  double x, y, z;
+};
+
+[[gnu::always_inline]] inline Row3 Product(const double* m, const Row3& v) {  // m column-major
+  return {(m[0] * v.x + m[3] * v.y) + m[6] * v.z, (m[1] * v.x + m[4] * v.y) + m[7] * v.z,
+          m[2] * v.x + (m[5] * v.y + m[8] * v.z)};
 }
 
-template void BlockBandCholesky::Solve<1>(const std::array<double*, 1>&) const;
-template void BlockBandCholesky::Solve<2>(const std::array<double*, 2>&) const;
+[[gnu::always_inline]] inline Row3 TransposedProduct(const double* m, const Row3& v) {
+  return {(m[0] * v.x + m[1] * v.y) + m[2] * v.z, (m[3] * v.x + m[4] * v.y) + m[5] * v.z,
+          (m[6] * v.x + m[7] * v.y) + m[8] * v.z};
+}
+
+[[gnu::always_inline]] inline void Subtract(Row3* v, const Row3& p) {
+  v->x -= p.x;
+  v->y -= p.y;
+  v->z -= p.z;
+}
+
+[[gnu::always_inline]] inline Row3 Load(const double* b) { return {b[0], b[1], b[2]}; }
+
+[[gnu::always_inline]] inline void Store(const Row3& v, double* b) {
+  b[0] = v.x;
+  b[1] = v.y;
+  b[2] = v.z;
+}
+
+}  // namespace
+
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const {
+  // y1, y2, y3: the last three rows of the pass, newest first, in named registers (an array
+  // indexed by the band's offset went through memory and gave nothing; this takes a third off
+  // the solve).
+  Row3 y1{}, y2{}, y3{};
+  // Forward: L y = b, y_i = L(i,i)^-1 (b_i - sum_d L(i, i - d) y_(i-d)), d = 1, 2, 3 in order.
+  for (int i = 0; i < n_; ++i) {
+    Row3 v = Load(b + 3 * i);
+    if (i >= 1) Subtract(&v, Product(L(i, 1).data(), y1));
+    if (i >= 2) Subtract(&v, Product(L(i, 2).data(), y2));
+    if (i >= 3) Subtract(&v, Product(L(i, 3).data(), y3));
+    const Row3 y = Product(inv_diag_[i].data(), v);
+    Store(y, b + 3 * i);
+    y3 = y2;
+    y2 = y1;
+    y1 = y;
+  }
+  // Backward: L^T x = y, x_i = L(i,i)^-T (y_i - sum_d L(i + d, i)^T x_(i+d)).
+  for (int i = n_ - 1; i >= 0; --i) {
+    Row3 v = Load(b + 3 * i);
+    if (i + 1 < n_) Subtract(&v, TransposedProduct(L(i + 1, 1).data(), y1));
+    if (i + 2 < n_) Subtract(&v, TransposedProduct(L(i + 2, 2).data(), y2));
+    if (i + 3 < n_) Subtract(&v, TransposedProduct(L(i + 3, 3).data(), y3));
+    const Row3 x = TransposedProduct(inv_diag_[i].data(), v);
+    Store(x, b + 3 * i);
+    y3 = y2;
+    y2 = y1;
+    y1 = x;
+  }
+}
 
 }  // namespace viscera::mechanics

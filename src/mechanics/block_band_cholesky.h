@@ -3,7 +3,6 @@
 /// half-bandwidth 3): the implicit integrator's M + h D + h^2 K while no contact couples distant
 /// parts of the chain. Fixed-size 3x3 block arithmetic, O(n), no allocation after the first
 /// factorization. CHOLMOD (cholmod_solver.h) handles general patterns.
-#include <array>
 #include <vector>
 
 #include "mechanics/block_band.h"
@@ -16,17 +15,14 @@ class BlockBandCholesky {
   bool Factor(const BlockBand& a);
 
   /// Solves A x = b in place; b holds 3n values ordered x0 y0 z0 x1 ...
-  void SolveInPlace(double* b) const { Solve<1>({b}); }
+  void SolveInPlace(double* b) const;
 
-  /// Two solves in one pass, each column bit for bit as SolveInPlace gives it. A solve is bound
-  /// by the latency of its row-to-row chain, not by arithmetic: two chains interleaved cost
-  /// little more than one.
-  void SolveTwoInPlace(double* b0, double* b1) const { Solve<2>({b0, b1}); }
+  /// The factor's blocks (tests): L(i, i - d), d = 0 .. 3, and L(i, i)^-1 (lower triangular).
+  int n() const { return n_; }
+  const Mat3& lower_block(int i, int d) const { return L(i, d); }
+  const Mat3& inverse_diagonal(int i) const { return inv_diag_[i]; }
 
  private:
-  template <int kColumns>
-  void Solve(const std::array<double*, kColumns>& columns) const;
-
   // l_[i * 4 + d] = L(i, i - d); inv_diag_[i] = L(i, i)^-1 (lower triangular).
   std::vector<Mat3> l_;
   std::vector<Mat3> inv_diag_;

@@ -3,24 +3,16 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mechanics/avx_clone.h"
+
 namespace viscera::mechanics {
 namespace {
 
 constexpr double kSpeedTolerance = 1e-6;  // m/s: a contact's speed this close to its target is met
 
 // s[j] += change[k] * G(j, column[k]) for every j, k = 0 .. pending - 1 in that order (each
-// speed gets the changes in the order they were made). Products and sums only, never fused:
-// the AVX clone (four speeds at a time, no FMA) gives the baseline one's numbers bit for bit,
-// and the library is compiled with -ffp-contract=off (src/mechanics/CMakeLists.txt) so that no
-// target with FMA (-march=native, aarch64) fuses them either. The clone needs GCC on x86-64
-// with ELF and glibc (ifunc dispatch), and is left out under every sanitizer (their builds need
-// no speed; VISCERA_SANITIZED is CMake's mark of an ASan/UBSan or TSan build).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__ELF__) && defined(__GLIBC__) && \
-    !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__) && !defined(VISCERA_SANITIZED)
-#define VISCERA_AVX_CLONE __attribute__((target_clones("avx", "default")))
-#else
-#define VISCERA_AVX_CLONE
-#endif
+// speed gets the changes in the order they were made). Products and sums only: the AVX clone
+// (four speeds at a time) gives the baseline one's numbers bit for bit (avx_clone.h).
 VISCERA_AVX_CLONE void AddChanges(double* s, Eigen::Index count, const double* g, Eigen::Index stride,
                                    const Eigen::Index* column, const double* change, int pending) {
   const double* c0 = g + column[0] * stride;

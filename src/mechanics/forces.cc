@@ -21,7 +21,7 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
   BlockBand* D = jac ? &jac->damping : nullptr;
   if (jac) {
     K->SetZero();
-    D->SetZero();
+    *D = model.viscous_damping();  // same size: no allocation
   }
 
   // Gravity: constant generalized force; E = -sum_i Q_i . q_i (= m g h for g along -z).
@@ -38,9 +38,6 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
       for (int d = 1; d <= kHalfBand && i + d < n; ++d) {
         F->row(i) -= gamma * m(i, d) * qd.row(i + d);
         F->row(i + d) -= gamma * m(i, d) * qd.row(i);
-      }
-      if (D) {
-        for (int d = 0; d <= kHalfBand && i + d < n; ++d) D->block(i, d) += gamma * m(i, d) * Mat3::Identity();
       }
     }
   }

@@ -14,7 +14,7 @@ ImpactLimiter::ImpactLimiter(const Model& model, int spheres)
   sphere_of_.reserve(spheres);
   pending_.reserve(spheres);
   impulse_.reserve(spheres);
-  delassus_filled_.reserve(static_cast<size_t>(spheres) * 8);
+  delassus_.Reserve(static_cast<size_t>(spheres) * 8);
 }
 
 int ImpactLimiter::Slot(int sphere) {
@@ -55,11 +55,7 @@ void ImpactLimiter::Reset() {
   for (int sphere : sphere_of_) slot_of_[sphere] = -1;
   sphere_of_.clear();
   pending_.clear();
-  delassus_filled_.clear();  // the columns are solved again: so are the entries
-}
-
-bool ImpactLimiter::SameGeometry(const Contact& x, const Contact& y) {
-  return x.a == y.a && x.b == y.b && (x.normal.array() == y.normal.array()).all();
+  delassus_.Reset();  // the columns are solved again: so are the entries
 }
 
 double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collision::SphereChain& chain, Points* u, Points* v) {
@@ -74,35 +70,21 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
   // Delassus matrix G = J M^-1 J^T: a contact's normal speed per unit impulse on another. The
   // caller's set usually grows from round to round with its first contacts unchanged (and the
   // spheres' columns stand until Reset): their entries are kept, only the new ones filled in.
-  if (delassus_.rows() < c) {
-    delassus_.resize(c, c);  // loses the entries
-    delassus_filled_.clear();
-  }
+  delassus_.Fill(contacts, [&](Eigen::Index i, Eigen::Index j) {
+    const Contact& ci = contacts[i];
+    const Contact& cj = contacts[j];
+    const int ai = slot_of_[ci.a], bi = ci.b >= 0 ? slot_of_[ci.b] : -1;
+    const int aj = slot_of_[cj.a], bj = cj.b >= 0 ? slot_of_[cj.b] : -1;
+    double g = Coupling(ai, aj, chain);
+    if (bj >= 0) g -= Coupling(ai, bj, chain);
+    if (bi >= 0) g -= Coupling(bi, aj, chain);
+    if (bi >= 0 && bj >= 0) g += Coupling(bi, bj, chain);
+    return g * ci.normal.dot(cj.normal);
+  });
   if (lambda_.size() < c) {
     lambda_.resize(c);
     speed_.resize(c);
     target_.resize(c);
-  }
-  size_t kept = 0;
-  while (kept < delassus_filled_.size() && kept < contacts.size() &&
-         SameGeometry(delassus_filled_[kept], contacts[kept])) {
-    ++kept;
-  }
-  delassus_filled_.assign(contacts.begin(), contacts.end());  // grows with the high-water mark only
-  for (auto j = static_cast<Eigen::Index>(kept); j < c; ++j) {
-    const Contact& cj = contacts[j];
-    for (Eigen::Index i = 0; i <= j; ++i) {
-      const Contact& ci = contacts[i];
-      const int ai = slot_of_[ci.a], bi = ci.b >= 0 ? slot_of_[ci.b] : -1;
-      const int aj = slot_of_[cj.a], bj = cj.b >= 0 ? slot_of_[cj.b] : -1;
-      double g = Coupling(ai, aj, chain);
-      if (bj >= 0) g -= Coupling(ai, bj, chain);
-      if (bi >= 0) g -= Coupling(bi, aj, chain);
-      if (bi >= 0 && bj >= 0) g += Coupling(bi, bj, chain);
-      g *= ci.normal.dot(cj.normal);
-      delassus_(i, j) = g;
-      delassus_(j, i) = g;
-    }
   }
   for (Eigen::Index i = 0; i < c; ++i) {
     speed_(i) = contacts[i].normal_speed;
@@ -110,7 +92,7 @@ double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collisio
   }
 
   // Impulses only push (λ ≥ 0), and only as much as the targets ask.
-  SolveContactImpulses(delassus_, c, target_, immobile_, &lambda_, &speed_);
+  SolveContactImpulses(delassus_.matrix(), c, target_, immobile_, &lambda_, &speed_);
 
   // Kinetic energy change Λ^T J v + Λ^T G Λ / 2: ≤ 0 at convergence when v is u; scaled back to
   // no gain if the iteration stopped short or v's normal speeds differ from u's.

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "collision/sphere_chain.h"
+#include "mechanics/incremental_delassus.h"
 #include "mechanics/mass_solver.h"
 #include "mechanics/model.h"
 
@@ -48,8 +49,6 @@ class ImpactLimiter {
   void SolvePending(const collision::SphereChain& chain);
   // w_s^T M^-1 w_t for two spheres with slots.
   double Coupling(int s, int t, const collision::SphereChain& chain) const;
-  // The same pair and normal: the same Delassus entries while the columns stand.
-  static bool SameGeometry(const Contact& x, const Contact& y);
 
   const Model& model_;
   MassSolver mass_;
@@ -59,8 +58,7 @@ class ImpactLimiter {
   std::vector<int> slot_of_;         // per sphere, -1 when not involved
   std::vector<int> sphere_of_;       // per slot
   std::vector<int> pending_;         // slots not solved yet
-  MatX delassus_;                    // contacts square
-  std::vector<Contact> delassus_filled_;  // the contacts whose entries delassus_ holds, since Reset
+  IncrementalDelassus<Contact> delassus_;  // kept while the spheres' columns stand (until Reset)
   VecX lambda_, speed_, target_;
   std::vector<Vec3> impulse_;        // per slot
 };

@@ -1,5 +1,7 @@
 #include "mechanics/implicit_euler.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 
 #include "common/check.h"
@@ -57,7 +59,7 @@ void ImplicitEulerIntegrator::BuildPattern() {
   solver_.SetPattern(dim, col_ptr, row_index);
 }
 
-void ImplicitEulerIntegrator::AssembleSystem(double h) {
+VISCERA_AVX_CLONE void ImplicitEulerIntegrator::AssembleSystem(double h) {
   const Band& m = model_.mass_band();
   const double h2 = h * h;
   for (int i = 0; i < n_; ++i) {
@@ -85,8 +87,7 @@ bool ImplicitEulerIntegrator::FactorSystem() {
 }
 
 void ImplicitEulerIntegrator::SolveColumns() {
-  // Column 0 (b) always; column 1 (u) only with a rank-one term; then the pins' columns. On the
-  // band, columns 0 and 1 share one pass.
+  // Column 0 (b) always; column 1 (u) only with a rank-one term; then the pins' columns.
   const bool rank1 = rank1_w_ > 0.0;
   if (use_cholmod_) {
     solver_.SolveInPlace(rhs_.col(0).data(), 1, &solve_one_work_);
@@ -95,11 +96,8 @@ void ImplicitEulerIntegrator::SolveColumns() {
     if (cols > 0) solver_.SolveInPlace(rhs_.col(first).data(), cols, &solve_work_);
     return;
   }
-  if (rank1) {
-    band_factor_.SolveTwoInPlace(rhs_.col(0).data(), rhs_.col(1).data());
-  } else {
-    band_factor_.SolveInPlace(rhs_.col(0).data());
-  }
+  band_factor_.SolveInPlace(rhs_.col(0).data());
+  if (rank1) band_factor_.SolveInPlace(rhs_.col(1).data());
   for (Eigen::Index k = 2; k < rhs_.cols(); ++k) band_factor_.SolveInPlace(rhs_.col(k).data());
 }
 

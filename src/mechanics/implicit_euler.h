@@ -101,7 +101,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
   // band system), their Delassus matrix and impulses.
   std::vector<ImpactLimiter::Contact> impact_set_;
-  MatX impact_columns_, impact_delassus_;
+  MatX impact_columns_;
+  IncrementalDelassus<ImpactLimiter::Contact> impact_delassus_;
   VecX impact_lambda_, impact_speed_, impact_target_, impact_dv_, depth_dq_;
   Points impact_v_, impact_check_;
   int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;

@@ -29,17 +29,7 @@ double ImplicitEulerIntegrator::ContactSpeed(const ImpactLimiter::Contact& c, co
 }
 
 void ImplicitEulerIntegrator::ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end) {
-  // The band solve is bound by its row-to-row latency: two columns in one pass cost little more
-  // than one, each bit for bit as alone.
-  Eigen::Index j = first;
-  if (!use_cholmod_) {
-    for (; j + 1 < end; j += 2) {
-      band_factor_.SolveTwoInPlace(impact_columns_.col(j).data(), impact_columns_.col(j + 1).data());
-      ApplyCorrections(impact_columns_.col(j).data());
-      ApplyCorrections(impact_columns_.col(j + 1).data());
-    }
-  }
-  for (; j < end; ++j) ApplyBandInverse(impact_columns_.col(j).data());
+  for (Eigen::Index j = first; j < end; ++j) ApplyBandInverse(impact_columns_.col(j).data());
 }
 
 bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base,
@@ -56,16 +46,14 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
   const auto& spheres = interactions_->chain().spheres();
   const double immobile = 1e-9 / model_.segment_mass();
   Eigen::Index solved = 0;
-  Eigen::Index filled = 0;  // contacts whose Delassus rows and columns are filled in
+  impact_delassus_.Reset();  // the columns are solved again below
   bool any = false;
   for (int round = 0; round < kMaxImpactRounds; ++round) {
     if (!interactions_->GatherEndConstraints(kind, h, impact_check_, base, round == 0, &impact_set_)) break;
     const auto c = static_cast<Eigen::Index>(impact_set_.size());
     if (impact_columns_.cols() < c) impact_columns_.conservativeResize(3 * n_, std::max<Eigen::Index>(c, 2 * impact_columns_.cols()));
-    if (impact_delassus_.rows() < c) {
-      const Eigen::Index room = std::max<Eigen::Index>(c, 2 * impact_delassus_.rows());
-      impact_delassus_.resize(room, room);  // loses the entries: all are filled in again
-      filled = 0;
+    if (impact_lambda_.size() < c) {
+      const Eigen::Index room = std::max<Eigen::Index>(c, 2 * impact_lambda_.size());
       impact_lambda_.resize(room);
       impact_speed_.resize(room);
       impact_target_.resize(room);
@@ -85,19 +73,14 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
     solved = c;
     // The new contacts' entries G(i, j) = J_i A^-1 J_j^T, i <= j; the earlier ones are the same
     // contacts and columns as the last round's, so their entries stand.
-    for (Eigen::Index j = filled; j < c; ++j) {
-      for (Eigen::Index i = 0; i <= j; ++i) {
-        const double g = ContactSpeed(impact_set_[i], impact_columns_.col(j).data());
-        impact_delassus_(i, j) = g;
-        impact_delassus_(j, i) = g;
-      }
-    }
-    filled = c;
+    impact_delassus_.Fill(impact_set_, [&](Eigen::Index i, Eigen::Index j) {
+      return ContactSpeed(impact_set_[i], impact_columns_.col(j).data());
+    });
     for (Eigen::Index i = 0; i < c; ++i) {
       impact_speed_(i) = impact_set_[i].normal_speed;
       impact_target_(i) = impact_set_[i].target;
     }
-    SolveContactImpulses(impact_delassus_, c, impact_target_, immobile, &impact_lambda_, &impact_speed_);
+    SolveContactImpulses(impact_delassus_.matrix(), c, impact_target_, immobile, &impact_lambda_, &impact_speed_);
     delta->noalias() = impact_columns_.leftCols(c) * impact_lambda_.head(c);
     impact_check_ = base + Eigen::Map<const Points>(delta->data(), n_, 3);
     any = true;

@@ -1,5 +1,7 @@
 #include "mechanics/interactions.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -102,6 +104,7 @@ void Interactions::Configure(const Points& q, bool place) {
   placed_ = place;
   geometry_valid_ = false;
   gathered_ = false;  // the spheres' weights may have changed
+  end_gathered_ = false;
 }
 
 void Interactions::UpdateCandidates(double margin) {
@@ -142,7 +145,7 @@ void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
   for (int a = 0; a < 4; ++a) F->row(sp.first + a) += sp.w[a] * f.transpose();
 }
 
-void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
+VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
                                   BlockBand* K, BlockBand* D) const {
   // The window's 10 upper blocks, K's and D's in one pass, by their symmetric entries.
   const Sym3 k = ToSym3(hk);

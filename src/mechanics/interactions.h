@@ -204,6 +204,9 @@ class Interactions {
   Points impact_u0_, impact_v0_;    // velocities before the impulses
   std::vector<int> end_impact_set_;  // candidates in the implicit solve's impact constraints
   std::vector<Vec3> end_velocity_;   // GatherEndConstraints: each sphere's velocity at v_check
+  Points end_checked_;               // that v_check, and the largest squared speed; valid while
+  double end_fastest_ = 0.0;         // end_gathered_ (the chain's configuration unchanged)
+  bool end_finite_ = true, end_gathered_ = false;
   std::vector<char> in_end_impact_set_;
   double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
   // A tool's contacts as its tip cycles see them: the force on the tool at the start of the

@@ -113,17 +113,27 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   };
   // The scan reads v_check's sphere velocities once per sphere, not once per pair and side: the
   // same numbers (SphereVelocity of the same rows), a fraction of the work.
-  double fastest = 0.0;
-  bool finite = true;
-  for (int k = 0; k < chain_.size(); ++k) {
-    end_velocity_[k] = SphereVelocity(k, v_check);
-    const double speed2 = end_velocity_[k].squaredNorm();
-    fastest = std::max(fastest, speed2);
-    finite = finite && std::isfinite(speed2);
+  // They stand while v_check and the chain are the last scan's (the depth scan after an impact
+  // scan that added no impulse reads the same velocities).
+  const bool same = end_gathered_ && v_check.rows() == end_checked_.rows() && (v_check.array() == end_checked_.array()).all();
+  if (!same) {
+    double fastest = 0.0;
+    bool finite = true;
+    for (int k = 0; k < chain_.size(); ++k) {
+      end_velocity_[k] = SphereVelocity(k, v_check);
+      const double speed2 = end_velocity_[k].squaredNorm();
+      fastest = std::max(fastest, speed2);
+      finite = finite && std::isfinite(speed2);
+    }
+    end_fastest_ = fastest;
+    end_finite_ = finite;
+    end_checked_ = v_check;  // same size after the first: no allocation
+    end_gathered_ = true;
   }
+  const bool finite = end_finite_;
   // Shortcuts that skip only pairs the test below would skip, from |u_n| <= |v_a| + |v_b|
   // <= `closing` (not with non-finite velocities, which the test lets in).
-  const double closing = 2.0 * std::sqrt(fastest);
+  const double closing = 2.0 * std::sqrt(end_fastest_);
   // No pair closes as fast as an impact (tools stay out of the set): none would join, as in
   // most sub-steps of a settled pile, without looking at each pair.
   if (finite && impact && closing < impact_speed * (1.0 - 1e-6)) return false;

@@ -78,6 +78,16 @@ Model::Model(ModelParams params)
     : params_((Validate(params), std::move(params))), curve_(static_cast<int>(params_.initial_q.rows())) {
   mass_band_ = BuildMassBand(curve_, params_.mass);
   mass_factor_.Factor(mass_band_);
+  viscous_damping_.Resize(num_points());
+  if (params_.damping > 0.0) {
+    // As ComputeForces added it to a zeroed band at every evaluation: the same numbers.
+    const double gamma = params_.damping;
+    for (int i = 0; i < num_points(); ++i) {
+      for (int d = 0; d <= kHalfBand && i + d < num_points(); ++d) {
+        viscous_damping_.block(i, d) += gamma * mass_band_(i, d) * Mat3::Identity();
+      }
+    }
+  }
   const VecX row_sums = MassRowSums(mass_band_);
   gravity_force_.resize(num_points(), 3);
   for (int i = 0; i < num_points(); ++i) gravity_force_.row(i) = row_sums(i) * params_.gravity.transpose();

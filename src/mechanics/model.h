@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mechanics/banded_cholesky.h"
+#include "mechanics/block_band.h"
 #include "mechanics/model_params.h"
 #include "spline/catmull_rom.h"
 
@@ -66,6 +67,9 @@ class Model {
   double segment_mass() const { return params_.mass / num_segments(); }
 
   const Band& mass_band() const { return mass_band_; }
+  /// -dF/dqd of the viscous friction, gamma M on each axis: every sub-step's damping Jacobian
+  /// starts from it.
+  const BlockBand& viscous_damping() const { return viscous_damping_; }
   const BandedCholesky& mass_factor() const { return mass_factor_; }
   /// Generalized gravity force, constant: row i = (m integral b_i ds) g. #N by 3.
   const Points& gravity_force() const { return gravity_force_; }
@@ -101,6 +105,7 @@ class Model {
   ModelParams params_;
   spline::CatmullRom curve_;
   Band mass_band_;
+  BlockBand viscous_damping_;
   BandedCholesky mass_factor_;
   Points gravity_force_;
   std::vector<Spring> stretch_springs_, bend_springs_;

@@ -1,5 +1,7 @@
 #include "mechanics/stretching_energy.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 
 #include "spline/gauss_legendre.h"
@@ -10,7 +12,7 @@ namespace {
 using Rule = spline::GaussLegendre<4>;
 
 // Fills the node tangents and speeds of every segment; returns the per-segment lengths' sum.
-double EvaluateNodes(const Model& model, const Points& q, StretchScratch* s) {
+[[gnu::always_inline]] inline double EvaluateNodes(const Model& model, const Points& q, StretchScratch* s) {
   double total = 0.0;
   for (int j = 0; j < model.num_segments(); ++j) {
     const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
@@ -36,7 +38,7 @@ double SegmentLengthFromNodes(const StretchScratch& s, int j) {
 }
 
 // Adds coeff * dl_j/dq to out (#N by 3).
-void AddSegmentGradient(const Model& model, const StretchScratch& s, int j, double coeff, Points* out) {
+[[gnu::always_inline]] inline void AddSegmentGradient(const Model& model, const StretchScratch& s, int j, double coeff, Points* out) {
   const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
   const int f = model.curve().FirstIndex(j);
   for (int g = 0; g < 4; ++g) {
@@ -47,7 +49,7 @@ void AddSegmentGradient(const Model& model, const StretchScratch& s, int j, doub
 
 // K += coeff * d^2 l_j / dq^2 = coeff * sum_g w_g b'_a b'_b (I - t t^T) / |P'|, summed over the
 // segment's nodes before its 10 blocks are written.
-void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j, double coeff,
+[[gnu::always_inline]] inline void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j, double coeff,
                              BlockBand* K) {
   const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
   const int f = model.curve().FirstIndex(j);
@@ -91,7 +93,7 @@ double CurveLength(const Model& model, const Points& q, StretchScratch* scratch)
   return EvaluateNodes(model, q, scratch);
 }
 
-double AddStretchingForces(const Model& model, const Points& q, StretchScratch* s, Points* F,
+VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q, StretchScratch* s, Points* F,
                            BlockBand* K, Points* rank1_u, double* rank1_coeff) {
   const double k = model.params().continuous_stretch;
   if (rank1_coeff) *rank1_coeff = 0.0;
