@@ -38,8 +38,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Sub-steps whose CG stopped at kMaxCgIterations before reaching kCgTolerance.
   int64_t cg_unconverged() const { return cg_unconverged_; }
   /// CG stops when the preconditioned residual norm falls below this fraction of b's, or of the
-  /// sub-step's gravity impulse h W when that is larger (docs/contacts.md: 1e-3 keeps a moving
-  /// block's mass within 0.1 %, in ~1-3 iterations at 1 kHz).
+  /// sub-step's gravity impulse h W (in M^-1's norm, m (h g)^2: an RMS over the tube's mass) when
+  /// that is larger (docs/contacts.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~1-3
+  /// iterations at 1 kHz).
   static constexpr double kCgTolerance = 1e-3;
   static constexpr int kMaxCgIterations = 60;
   /// Whether CG's stop also accepts a residual below kCgTolerance of the gravity impulse (on by

@@ -209,13 +209,13 @@ class Interactions {
   bool end_finite_ = true, end_gathered_ = false;
   std::vector<char> in_end_impact_set_;
   double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
-  // A tool's contacts as its tip cycles see them: the force on the tool at the start of the
-  // sub-step and the contact normal times the lever (the tip moving along it presses deeper).
+  // A tool's contacts as its tip cycles see them: each cycle evaluates the contact law again from
+  // the sub-step start's geometry and speeds, moved by the tip's own motion since.
   struct TipContact {
-    Vec3 force = Vec3::Zero();  // on the tip at the sub-step's start
-    Vec3 axis = Vec3::Zero();   // lever n: the tip moving along it presses the contact deeper
-    double depth = 0.0;         // at the start
-    Mat3 damping = Mat3::Zero();  // on the tip's velocity: damping and friction, through the lever
+    Vec3 normal = Vec3::Zero();    // from the shaft to the sphere
+    double lever = 0.0;            // where on the shaft, from the port (0) to the tip (1)
+    double depth = 0.0;            // at the sub-step's start
+    Vec3 relative = Vec3::Zero();  // the sphere's velocity minus the shaft point's, at the start
   };
   std::vector<TipContact> tip_contacts_;
 };

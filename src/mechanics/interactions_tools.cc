@@ -77,12 +77,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c, geometry_[i]);
     if (!p.active) continue;
-    // Its damping and friction's viscous slope (as the tube's matrix holds them, AddForces) act
-    // on the tip through the lever twice: once on the speed, once on the force.
-    const Mat3 nn = p.normal * p.normal.transpose();
-    const double fn = std::max(0.0, p.force.dot(p.normal));
-    const Mat3 damping = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
-    tip_contacts_.push_back({-p.lever * p.force, p.lever * p.normal, p.depth, p.lever * p.lever * damping});
+    tip_contacts_.push_back({p.normal, p.lever, p.depth, sphere_velocity_[c.a] - OtherVelocity(c, p.lever)});
     ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
   }
   Vec3 grasp_force = Vec3::Zero();
@@ -123,17 +118,25 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     Mat3 stiffness = grasp_k * Mat3::Identity();
     Mat3 contact_damping = Mat3::Zero();
     for (const TipContact& tc : tip_contacts_) {
-      // The contact law at this cycle's depth and its damping and friction at this cycle's
-      // speed, not the sub-step start's: beyond 5 % of R the law stiffens 100-fold within a
-      // millimetre, and friction's slope (30 f_n N s/m) held from the start over a 5 ms
-      // sub-step made the 50 g tip ring along the tube at 1 cm/s.
-      const double depth = tc.depth + tc.axis.dot(moved);
-      const Vec3 f = tc.force - (NormalForce(depth) - NormalForce(tc.depth)) * tc.axis -
-                     tc.damping * (ts->tip_velocity - tip_velocity0);
-      if (f.dot(tc.axis) >= 0.0) continue;  // it would pull: the tube does not hold the tool
-      tissue += f;
-      stiffness += (depth > 0.0 ? ContactLaw(depth).slope : cp.stiffness) * tc.axis * tc.axis.transpose();
-      contact_damping += tc.damping;
+      // The whole contact law at this cycle's depth and speed (Evaluate's, with the tube held
+      // where it was at the sub-step's start), not the start's linearization: beyond 5 % of R
+      // the law stiffens 100-fold within a millimetre; friction's slope (30 f_n N s/m) held
+      // from the start made the 50 g tip ring along the tube at 1 cm/s on the stiffer contact,
+      // and extrapolated linearly it exceeded the Coulomb limit by up to 8 N within a sub-step.
+      // The tip moving along lever n presses the contact deeper; it slows the pair's closing.
+      const Vec3 axis = tc.lever * tc.normal;
+      const double depth = tc.depth + axis.dot(moved);
+      const Vec3 relative = tc.relative - tc.lever * (ts->tip_velocity - tip_velocity0);
+      const double vn = relative.dot(tc.normal);
+      const double fn = NormalForce(depth) - cp.damping * vn;
+      if (!(fn > 0.0) || tc.lever <= 0.0) continue;  // it would pull: the tube does not hold the tool
+      const Vec3 vt = relative - vn * tc.normal;
+      const double slip_slope = cp.friction * fn / kFrictionSlip;  // the viscous slope, as AddForces
+      const Vec3 on_sphere = fn * tc.normal - (cp.friction * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
+      tissue -= tc.lever * on_sphere;  // on the tool, moved to the tip by the lever rule
+      const Mat3 nn = tc.normal * tc.normal.transpose();
+      stiffness += (depth > 0.0 ? ContactLaw(depth).slope : cp.stiffness) * (axis * axis.transpose());
+      contact_damping += (tc.lever * tc.lever) * (cp.damping * nn + slip_slope * (Mat3::Identity() - nn));
     }
     Vec3 spring = Vec3::Zero();
     if (coupled) spring = kc * (from + (static_cast<double>(i) / cycles) * (to - from) - ts->tip);
