@@ -123,7 +123,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       // the law stiffens 100-fold within a millimetre; friction's slope (30 f_n N s/m) held
       // from the start made the 50 g tip ring along the tube at 1 cm/s on the stiffer contact,
       // and extrapolated linearly it exceeded the Coulomb limit by up to 8 N within a sub-step.
-      // The tip moving along lever n presses the contact deeper; it slows the pair's closing.
+      // The tip moving along lever n (n from the shaft to the sphere) presses the contact deeper.
       const Vec3 axis = tc.lever * tc.normal;
       const double depth = tc.depth + axis.dot(moved);
       const Vec3 relative = tc.relative - tc.lever * (ts->tip_velocity - tip_velocity0);
