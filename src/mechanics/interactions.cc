@@ -51,10 +51,6 @@ Interactions::Law Interactions::ContactLaw(double depth) const {
   return law;
 }
 
-double Interactions::NormalForce(double depth) const {
-  return depth > 0.0 ? ContactLaw(depth).force : model_.params().contacts.stiffness * depth;
-}
-
 bool Interactions::Needed(const Model& model) {
   const ModelParams& p = model.params();
   return p.contacts.self || !p.obstacles.empty() || !p.tools.empty();
@@ -224,7 +220,7 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
   if (p.depth <= 0.0 && !speculative) return p;
   // Penalty spring and damping along the normal, regularized Coulomb friction.
-  const double fn = NormalForce(p.depth) - cp.damping * vn;
+  const double fn = ContactLaw(p.depth).force - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
   const Vec3 vt = relative - vn * p.normal;
   const double friction = cp.friction * std::max(fn, 0.0);
@@ -264,7 +260,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (geometry_[i].clearance > reach) continue;
     const ContactCandidate& c = list[i];
     const Penalty p = Evaluate(c, geometry_[i]);
-    if (p.depth > 0.0) energy += ContactLaw(p.depth).energy;
+    const Law law = ContactLaw(p.depth);
+    if (p.depth > 0.0) energy += law.energy;
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
@@ -272,7 +269,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
-    const Mat3 kn = (p.depth > 0.0 ? ContactLaw(p.depth).slope : cp.stiffness) * nn;
+    const Mat3 kn = law.slope * nn;
     const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an

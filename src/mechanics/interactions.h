@@ -105,9 +105,9 @@ class Interactions {
   struct Law {
     double force, slope, energy;
   };
+  // At `depth` (m); linear (k) at any depth up to impact_depth, apart (depth < 0) included: a
+  // speculative pair's force k depth and slope k.
   Law ContactLaw(double depth) const;
-  // The normal force of a contact at `depth` (< 0: apart, a speculative pair's linear pull).
-  double NormalForce(double depth) const;
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
   Penalty Geometry(const collision::ContactCandidate& c) const;

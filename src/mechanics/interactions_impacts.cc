@@ -46,8 +46,9 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     if (round == 0 && 2.0 * fastest_sphere_ < impact_speed * (1.0 - 1e-6)) return;
     bool grew = false;
     for (size_t i = 0; i < list.size(); ++i) {
-      // Tools are left to their coupling: their depth is what the hand feels, and the tip is
-      // integrated against its contacts so it cannot tunnel (docs/contacts.md, "Tools").
+      // Tools are left to their coupling and the contact law (an impulse shoved the tube out
+      // from under a pressing tool); the tip is integrated against its contacts so it cannot
+      // tunnel (docs/contacts.md, "Tools and haptics").
       if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
       const Penalty& p = geometry_[i];
       const double un = (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);

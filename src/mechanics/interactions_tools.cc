@@ -128,14 +128,15 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       const double depth = tc.depth + axis.dot(moved);
       const Vec3 relative = tc.relative - tc.lever * (ts->tip_velocity - tip_velocity0);
       const double vn = relative.dot(tc.normal);
-      const double fn = NormalForce(depth) - cp.damping * vn;
+      const Law law = ContactLaw(depth);
+      const double fn = law.force - cp.damping * vn;
       if (!(fn > 0.0) || tc.lever <= 0.0) continue;  // it would pull: the tube does not hold the tool
       const Vec3 vt = relative - vn * tc.normal;
       const double slip_slope = cp.friction * fn / kFrictionSlip;  // the viscous slope, as AddForces
       const Vec3 on_sphere = fn * tc.normal - (cp.friction * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
       tissue -= tc.lever * on_sphere;  // on the tool, moved to the tip by the lever rule
       const Mat3 nn = tc.normal * tc.normal.transpose();
-      stiffness += (depth > 0.0 ? ContactLaw(depth).slope : cp.stiffness) * (axis * axis.transpose());
+      stiffness += law.slope * (axis * axis.transpose());
       contact_damping += (tc.lever * tc.lever) * (cp.damping * nn + slip_slope * (Mat3::Identity() - nn));
     }
     Vec3 spring = Vec3::Zero();
