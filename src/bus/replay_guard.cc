@@ -61,7 +61,8 @@ std::string ReplayGuard::Explain(Verdict verdict, int64_t seq, int64_t utime, in
       return Cat("replayed: sequence ", seq, " of this sender was already seen (or is older than the last ",
                  kWindow, ")");
     case Verdict::kStale:
-      return Cat("stale: sent ", static_cast<double>(now_us - utime) * 1e-6,
+      // in double: a hostile utime (INT64_MIN) overflows the difference of the integers
+      return Cat("stale: sent ", (static_cast<double>(now_us) - static_cast<double>(utime)) * 1e-6,
                  " s before the server's clock (bound ", static_cast<double>(max_skew_us_) * 1e-6,
                  " s; are the clocks synchronised?)");
     case Verdict::kNoSender:
