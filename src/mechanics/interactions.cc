@@ -64,6 +64,8 @@ Interactions::Interactions(const Model& model)
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)),
                   kVerletSkin * radius_),
       impacts_(model, chain_.size()) {
+  obstacles_.reserve(model.params().obstacles.size());
+  for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
@@ -181,7 +183,7 @@ Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const
       break;
     }
     case ContactKind::kEnvironment:
-      distance = collision::SignedDistance(model_.params().obstacles[c.b], sa.centre, &p.normal);
+      distance = obstacles_[c.b].SignedDistance(sa.centre, &p.normal);
       break;
     case ContactKind::kTool: {
       const collision::ToolCapsule& cap = capsules_[c.b];

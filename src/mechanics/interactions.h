@@ -162,6 +162,8 @@ class Interactions {
   // are along their way across the step.
   int substep_ = 0, substeps_ = 1;
 
+  // The model's obstacles (immutable), prepared once for the narrow phase's queries.
+  std::vector<collision::PreparedObstacle> obstacles_;
   collision::SphereChain chain_;
   collision::VerletList candidates_;
   Points configured_q_, gathered_qd_;
