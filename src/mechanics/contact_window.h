@@ -1,8 +1,7 @@
 #pragma once
-/// The contacts' additions onto a sphere's window of 4 control points (Interactions::AddForces):
-/// its force onto F's 4 rows, its 3x3 stiffness and damping onto K's and D's 10 window blocks,
-/// and the per-contact blocks n n^T, k n n^T, d n n^T + c (I - n n^T). Whole rows and blocks go
-/// 4 entries per vector (GCC's vector extension: SSE2 pairs in the baseline code, one AVX
+/// A contact sphere's window of 4 control points (Interactions::AddForces): its force onto F's
+/// 4 rows and its 3x3 stiffness and damping onto K's and D's 10 window blocks. Whole rows and
+/// blocks go 4 entries per vector (GCC's vector extension: SSE2 pairs in the baseline code, one AVX
 /// register in an AVX clone, avx_clone.h); each entry gets the products and sums the scalar code
 /// gave it, in its order (no FMA: -ffp-contract=off; no reassociation), so the numbers are the
 /// scalar code's bit for bit (tests/mechanics/contact_window_test.cc holds them to it).
@@ -11,8 +10,8 @@
 #include "common/types.h"
 #include "mechanics/block_band.h"
 
-// Returning a 32-byte vector without AVX "changes the ABI": never at a call, all is inlined.
-#pragma GCC diagnostic push
+// Returning a 32-byte vector without AVX "changes the ABI": never at a call, all is inlined
+// (GCC reports it at the end of the including file, so it stays off there).
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace viscera::mechanics::contact_window {
@@ -33,14 +32,6 @@ struct Block9 {
   double last;
 };
 
-[[gnu::always_inline]] inline Block9 Load9(const Mat3& m) {
-  return {Load4(m.data()), Load4(m.data() + 4), m.data()[8]};
-}
-[[gnu::always_inline]] inline void Store9(const Block9& b, Mat3* m) {
-  Store4(m->data(), b.lo);
-  Store4(m->data() + 4, b.mid);
-  m->data()[8] = b.last;
-}
 [[gnu::always_inline]] inline void AddTo(const Block9& b, double* m) {
   Store4(m, Load4(m) + b.lo);
   Store4(m + 4, Load4(m + 4) + b.mid);
@@ -80,27 +71,5 @@ struct Block9 {
   }
 }
 
-/// A contact's blocks along its unit normal n: nn = n n^T, kn = slope nn, and
-/// dn = damping nn + slip (I - nn) (friction's slope across the normal).
-struct NormalBlocks {
-  Block9 kn, dn;
-};
-[[gnu::always_inline]] inline NormalBlocks ContactBlocks(const Vec3& n, double slope, double damping, double slip) {
-  const double x = n.x(), y = n.y(), z = n.z();
-  const Block9 nn{V4{x, y, z, x} * V4{x, x, x, y}, V4{y, z, x, y} * V4{y, y, z, z}, z * z};
-  const V4 identity_lo{1.0, 0.0, 0.0, 0.0}, identity_mid{1.0, 0.0, 0.0, 0.0};
-  const V4 sl = Splat(slope), dm = Splat(damping), sp = Splat(slip);
-  return {{sl * nn.lo, sl * nn.mid, slope * nn.last},
-          {dm * nn.lo + sp * (identity_lo - nn.lo), dm * nn.mid + sp * (identity_mid - nn.mid),
-           damping * nn.last + slip * (1.0 - nn.last)}};
-}
-
-/// m += scale b, entry by entry (scale b first).
-[[gnu::always_inline]] inline void AddScaled(double scale, const Block9& b, Mat3* m) {
-  const V4 s = Splat(scale);
-  AddTo({s * b.lo, s * b.mid, scale * b.last}, m->data());
-}
-
 }  // namespace viscera::mechanics::contact_window
 
-#pragma GCC diagnostic pop

@@ -41,11 +41,6 @@ class ContactWindow : public ::testing::Test {
     }
     return band;
   }
-  Vec3 RandomUnit() {
-    std::normal_distribution<double> normal;
-    Vec3 n(normal(rng_), normal(rng_), normal(rng_));
-    return n.normalized();
-  }
 
   std::mt19937 rng_{20261124};
   std::uniform_real_distribution<double> u_{-1.0, 1.0};
@@ -89,36 +84,6 @@ TEST_F(ContactWindow, AddForceGivesTheRowSumsBits) {
     Points got = f0;
     contact_window::AddForce(got.data(), first, w, f);
     ASSERT_TRUE(SameBits(got.data(), ref.data(), ref.size())) << "trial " << trial;
-  }
-}
-
-TEST_F(ContactWindow, ContactBlocksAndAddScaledGiveTheMat3ExpressionsBits) {
-  for (int trial = 0; trial < 4000; ++trial) {
-    const Vec3 n = RandomUnit();
-    const double slope = std::abs(Random()), damping = std::abs(Random());
-    // A contact without friction force (slip 0) too: I - nn's zeros must stay +0.
-    const double slip = trial % 4 == 0 ? 0.0 : std::abs(Random());
-    const double scale = trial % 2 == 0 ? 2.0 : Random();
-    const Mat3 k0 = RandomMat(), d0 = RandomMat();
-    // The scalar code (Interactions::AddForces before the lanes).
-    const Mat3 nn = n * n.transpose();
-    const Mat3 kn = slope * nn;
-    const Mat3 dn = damping * nn + slip * (Mat3::Identity() - nn);
-    Mat3 k_ref = k0, d_ref = d0;
-    k_ref += scale * kn;
-    d_ref += scale * dn;
-
-    const contact_window::NormalBlocks blocks = contact_window::ContactBlocks(n, slope, damping, slip);
-    Mat3 kn_got, dn_got;
-    contact_window::Store9(blocks.kn, &kn_got);
-    contact_window::Store9(blocks.dn, &dn_got);
-    ASSERT_TRUE(SameBits(kn_got.data(), kn.data(), 9)) << "trial " << trial;
-    ASSERT_TRUE(SameBits(dn_got.data(), dn.data(), 9)) << "trial " << trial;
-    Mat3 k = k0, d = d0;
-    contact_window::AddScaled(scale, blocks.kn, &k);
-    contact_window::AddScaled(scale, blocks.dn, &d);
-    ASSERT_TRUE(SameBits(k.data(), k_ref.data(), 9)) << "trial " << trial;
-    ASSERT_TRUE(SameBits(d.data(), d_ref.data(), 9)) << "trial " << trial;
   }
 }
 
