@@ -39,6 +39,7 @@ struct Block9 {
 }
 
 /// F's rows first to first + 3 += w[a] f^T (F: a row-major #N by 3 matrix's storage).
+/// @pre 0 <= first and first + 3 < N.
 [[gnu::always_inline]] inline void AddForce(double* F, int first, const std::array<double, 4>& w, const Vec3& f) {
   double* r = F + 3 * first;  // the window's 12 values, contiguous
   const double x = f.x(), y = f.y(), z = f.z();
@@ -54,6 +55,7 @@ struct Block9 {
 
 /// K += (w w^T) (x) k on the window's 10 upper blocks from `first`, and D the same with d if
 /// given: BlockBand::AddSymmetric(first + a, first + b, w[a] * w[b], k) for a <= b, entry by entry.
+/// @pre 0 <= first and first + 3 < K's n (and D's, with d).
 [[gnu::always_inline]] inline void AddOuter(int first, const std::array<double, 4>& w, const Sym3& k, const Sym3* d,
                                             BlockBand* K, BlockBand* D) {
   const Block9 kf = Full(k);
