@@ -43,6 +43,9 @@ struct Block9 {
   return {V4{x, y, z, x} * V4{x, x, x, y}, V4{y, z, x, y} * V4{y, y, z, z}, z * z};
 }
 
+/// s h, entry by entry.
+[[gnu::always_inline]] inline Block9 Scaled(double s, const Block9& h) { return {Splat(s) * h.lo, Splat(s) * h.mid, s * h.last}; }
+
 /// The identity's column-major entries, as Block9's lanes.
 inline constexpr V4 kIdentityLo{1.0, 0.0, 0.0, 0.0};
 inline constexpr V4 kIdentityMid{1.0, 0.0, 0.0, 0.0};

@@ -1,10 +1,14 @@
 #include "mechanics/spring_forces.h"
 
 #include "mechanics/avx_clone.h"
+#include "mechanics/simd_lanes.h"
 
 #include <algorithm>
 
 namespace viscera::mechanics {
+
+using lanes::Splat;
+using lanes::V4;
 
 VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
                        BlockBand* K, BlockBand* D) {
@@ -22,25 +26,26 @@ VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const 
     F->row(sp.i) += f.transpose();
     F->row(sp.j) -= f.transpose();
     if (!K && !(D && sp.damping > 0.0)) continue;  // forces only (RK4, energies)
-    // Both blocks are symmetric: h on the two diagonal blocks, -h between them.
-    const Sym3 ttT{t.x() * t.x(), t.y() * t.y(), t.z() * t.z(), t.x() * t.y(), t.x() * t.z(), t.y() * t.z()};
+    // Both blocks are symmetric: h on the two diagonal blocks, -h between them. t t^T by its 9
+    // column-major entries (the mirrored ones are the same products), 4 per vector.
+    const lanes::Block9 tt = lanes::OuterSelf(t.x(), t.y(), t.z());
     if (K) {
-      // k (t t^T + g (I - t t^T)), g the geometric part.
+      // k (t t^T + g (I - t t^T)), g the geometric part. Off the diagonal tt + g (0 - tt) is
+      // tt - g tt bit for bit (0 - tt is -tt, signed zeros included; a + (-b) is a - b).
       const double geometric = std::max(0.0, 1.0 - sp.rest * inv_l);
-      const double k = sp.stiffness, g = geometric;
-      const Sym3 h{k * (ttT[0] + g * (1.0 - ttT[0])), k * (ttT[1] + g * (1.0 - ttT[1])), k * (ttT[2] + g * (1.0 - ttT[2])),
-                   k * (ttT[3] - g * ttT[3]),         k * (ttT[4] - g * ttT[4]),         k * (ttT[5] - g * ttT[5])};
-      K->AddSymmetric(sp.i, sp.i, 1.0, h);
-      K->AddSymmetric(sp.j, sp.j, 1.0, h);
-      K->AddSymmetric(sp.i, sp.j, -1.0, h);
+      const V4 k = Splat(sp.stiffness), g = Splat(geometric);
+      const lanes::Block9 h{k * (tt.lo + g * (lanes::kIdentityLo - tt.lo)), k * (tt.mid + g * (lanes::kIdentityMid - tt.mid)),
+                            sp.stiffness * (tt.last + geometric * (1.0 - tt.last))};
+      lanes::AddBlock(K, sp.i, sp.i, h);
+      lanes::AddBlock(K, sp.j, sp.j, h);
+      lanes::AddBlock(K, sp.i, sp.j, lanes::Scaled(-1.0, h));
     }
     if (D && sp.damping > 0.0) {
-      // c ttT once for the three blocks: (-c) x is -(c x) bit for bit.
-      const double c = sp.damping;
-      const Sym3 d{c * ttT[0], c * ttT[1], c * ttT[2], c * ttT[3], c * ttT[4], c * ttT[5]};
-      D->AddSymmetric(sp.i, sp.i, 1.0, d);
-      D->AddSymmetric(sp.j, sp.j, 1.0, d);
-      D->AddSymmetric(sp.i, sp.j, -1.0, d);
+      // c t t^T once for the three blocks.
+      const lanes::Block9 d = lanes::Scaled(sp.damping, tt);
+      lanes::AddBlock(D, sp.i, sp.i, d);
+      lanes::AddBlock(D, sp.j, sp.j, d);
+      lanes::AddBlock(D, sp.i, sp.j, lanes::Scaled(-1.0, d));
     }
   }
   return energy;

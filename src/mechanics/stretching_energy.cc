@@ -56,23 +56,50 @@ Eigen::RowVector3d NodeTangent(const StretchScratch& s, int node) {
   return {s.node_tangent_x[node], s.node_tangent_y[node], s.node_tangent_z[node]};
 }
 
-// Adds coeff * dl_j/dq to out (#N by 3).
+// Adds coeff * dl_j/dq to out (#N by 3): row by row, each row's 4 node terms in node order (the
+// additions into each row of a pass node by node, in their order; one load and store per row).
 [[gnu::always_inline]] inline void AddSegmentGradient(const Model& model, const StretchScratch& s, int j, double coeff, Points* out) {
   const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
   const int f = model.curve().FirstIndex(j);
-  for (int g = 0; g < 4; ++g) {
-    const Eigen::RowVector3d t = coeff * Rule::kWeights[g] * NodeTangent(s, 4 * j + g);
-    for (int a = 0; a < 4; ++a) out->row(f + a) += dw(g, a) * t;
+  Eigen::RowVector3d t[4];
+  for (int g = 0; g < 4; ++g) t[g] = coeff * Rule::kWeights[g] * NodeTangent(s, 4 * j + g);
+  for (int a = 0; a < 4; ++a) {
+    Eigen::RowVector3d row = out->row(f + a);
+    for (int g = 0; g < 4; ++g) row += dw(g, a) * t[g];
+    out->row(f + a) = row;
   }
 }
+
+// The length Hessian's node weights b'_a(u_g) b'_b(u_g) of a segment's window pairs a <= b,
+// each in all 4 lanes: one set per node-derivative matrix (the model has three: the first, the
+// interior and the last segments'), rebuilt when the segments' matrix changes.
+class PairWeights {
+ public:
+  const V4& operator()(int pair, int g) const { return w_[pair][g]; }
+  void For(const Eigen::Matrix4d& dw) {
+    if (&dw == dw_) return;
+    dw_ = &dw;
+    int pair = 0;
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a; b < 4; ++b, ++pair) {
+        for (int g = 0; g < 4; ++g) w_[pair][g] = Splat(dw(g, a) * dw(g, b));
+      }
+    }
+  }
+
+ private:
+  const Eigen::Matrix4d* dw_ = nullptr;
+  V4 w_[10][4];
+};
 
 // K += coeff * d^2 l_j / dq^2 = coeff * sum_g w_g b'_a b'_b (I - t t^T) / |P'|, summed over the
 // segment's nodes before its 10 blocks are written. Each block is built as the whole
 // column-major 3x3 that AddSymmetric(f + a, f + b, 1.0, h) adds (its mirrored entries are the
 // same products), 4 entries per vector: entries 0-3, 4-7 and 8.
 [[gnu::always_inline]] inline void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j, double coeff,
-                             BlockBand* K) {
-  const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
+                                                           PairWeights* weights, BlockBand* K) {
+  weights->For(model.NodeDerivatives(j));
+  const PairWeights& w = *weights;
   const int f = model.curve().FirstIndex(j);
   // Each node's coeff w_g / |P'| (I - t t^T).
   lanes::Block9 p[4];
@@ -86,14 +113,13 @@ Eigen::RowVector3d NodeTangent(const StretchScratch& s, int node) {
     const lanes::Block9 tt = lanes::OuterSelf(s.node_tangent_x[node], s.node_tangent_y[node], s.node_tangent_z[node]);
     p[g] = {Splat(c) * (lanes::kIdentityLo - tt.lo), Splat(c) * (lanes::kIdentityMid - tt.mid), c * (1.0 - tt.last)};
   }
+  int pair = 0;
   for (int a = 0; a < 4; ++a) {
-    for (int b = a; b < 4; ++b) {
-      const double w0 = dw(0, a) * dw(0, b), w1 = dw(1, a) * dw(1, b), w2 = dw(2, a) * dw(2, b),
-                   w3 = dw(3, a) * dw(3, b);
+    for (int b = a; b < 4; ++b, ++pair) {
       const lanes::Block9 h{
-          ((Splat(w0) * p[0].lo + Splat(w1) * p[1].lo) + Splat(w2) * p[2].lo) + Splat(w3) * p[3].lo,
-          ((Splat(w0) * p[0].mid + Splat(w1) * p[1].mid) + Splat(w2) * p[2].mid) + Splat(w3) * p[3].mid,
-          ((w0 * p[0].last + w1 * p[1].last) + w2 * p[2].last) + w3 * p[3].last};
+          ((w(pair, 0) * p[0].lo + w(pair, 1) * p[1].lo) + w(pair, 2) * p[2].lo) + w(pair, 3) * p[3].lo,
+          ((w(pair, 0) * p[0].mid + w(pair, 1) * p[1].mid) + w(pair, 2) * p[2].mid) + w(pair, 3) * p[3].mid,
+          ((w(pair, 0)[0] * p[0].last + w(pair, 1)[0] * p[1].last) + w(pair, 2)[0] * p[2].last) + w(pair, 3)[0] * p[3].last};
       lanes::AddBlock(K, f + a, f + b, h);
     }
   }
@@ -136,7 +162,8 @@ VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q
       // Positive semi-definite parts only: a compressed curve gets no negative stiffness.
       const double c = std::max(0.0, de_dl);
       if (c > 0.0) {
-        for (int j = 0; j < model.num_segments(); ++j) AddSegmentLengthHessian(model, *s, j, c, K);
+        PairWeights weights;
+        for (int j = 0; j < model.num_segments(); ++j) AddSegmentLengthHessian(model, *s, j, c, &weights, K);
       }
       if (rank1_u && rank1_coeff) {
         *rank1_u = s->length_gradient;
@@ -150,6 +177,7 @@ VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q
   const double l0 = model.rest_segment_length();
   const double kj = k / model.num_segments();
   double energy = 0.0;
+  PairWeights weights;
   for (int j = 0; j < model.num_segments(); ++j) {
     const double lambda = SegmentLengthFromNodes(*s, j) / l0;
     const double strain = lambda * lambda - 1.0;
@@ -169,7 +197,7 @@ VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q
         for (int b = a; b < 4; ++b) K->Add(f + a, f + b, d2e_dl2 * g.row(a).transpose() * g.row(b));
       }
       const double c = std::max(0.0, de_dl);
-      if (c > 0.0) AddSegmentLengthHessian(model, *s, j, c, K);
+      if (c > 0.0) AddSegmentLengthHessian(model, *s, j, c, &weights, K);
     }
   }
   return energy;

@@ -3,7 +3,9 @@
 // already holding random numbers (so that the order of the additions into them matters too).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <vector>
 #include <random>
 
 #include "mechanics/model.h"
@@ -166,6 +168,48 @@ double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Poin
 }
 
 
+// The springs' scalar code before its lanes (main 9c51277).
+double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
+                       BlockBand* K, BlockBand* D) {
+  double energy = 0.0;
+  for (const Spring& sp : springs) {
+    const Vec3 x = (q.row(sp.j) - q.row(sp.i)).transpose();
+    const double l = x.norm();
+    if (l <= 0.0) continue;  // coincident points: no direction to push along
+    const double inv_l = 1.0 / l;  // one division, not four
+    const Vec3 t = x * inv_l;
+    const double stretch = l - sp.rest;
+    energy += 0.5 * sp.stiffness * stretch * stretch;
+    const double relative_speed = (qd.row(sp.j) - qd.row(sp.i)).dot(t.transpose());
+    const Vec3 f = (sp.stiffness * stretch + sp.damping * relative_speed) * t;  // pulls i toward j
+    F->row(sp.i) += f.transpose();
+    F->row(sp.j) -= f.transpose();
+    if (!K && !(D && sp.damping > 0.0)) continue;  // forces only (RK4, energies)
+    // Both blocks are symmetric: h on the two diagonal blocks, -h between them.
+    const Sym3 ttT{t.x() * t.x(), t.y() * t.y(), t.z() * t.z(), t.x() * t.y(), t.x() * t.z(), t.y() * t.z()};
+    if (K) {
+      // k (t t^T + g (I - t t^T)), g the geometric part.
+      const double geometric = std::max(0.0, 1.0 - sp.rest * inv_l);
+      const double k = sp.stiffness, g = geometric;
+      const Sym3 h{k * (ttT[0] + g * (1.0 - ttT[0])), k * (ttT[1] + g * (1.0 - ttT[1])), k * (ttT[2] + g * (1.0 - ttT[2])),
+                   k * (ttT[3] - g * ttT[3]),         k * (ttT[4] - g * ttT[4]),         k * (ttT[5] - g * ttT[5])};
+      K->AddSymmetric(sp.i, sp.i, 1.0, h);
+      K->AddSymmetric(sp.j, sp.j, 1.0, h);
+      K->AddSymmetric(sp.i, sp.j, -1.0, h);
+    }
+    if (D && sp.damping > 0.0) {
+      // c ttT once for the three blocks: (-c) x is -(c x) bit for bit.
+      const double c = sp.damping;
+      const Sym3 d{c * ttT[0], c * ttT[1], c * ttT[2], c * ttT[3], c * ttT[4], c * ttT[5]};
+      D->AddSymmetric(sp.i, sp.i, 1.0, d);
+      D->AddSymmetric(sp.j, sp.j, 1.0, d);
+      D->AddSymmetric(sp.i, sp.j, -1.0, d);
+    }
+  }
+  return energy;
+}
+
+
 }  // namespace reference
 
 Points RandomPoints(int n, double amplitude, std::mt19937* rng) {
@@ -240,6 +284,43 @@ TEST(ForceLanes, StretchingIsTheScalarCodeBitForBit) {
         if (seed != 9) {
           EXPECT_FALSE(SameBits(k, k0));  // the Hessian was written
         }
+      }
+    }
+  }
+}
+
+TEST(ForceLanes, SpringsAreTheScalarCodeBitForBit) {
+  for (const int n : {2, 5, 30}) {
+    for (unsigned seed = 0; seed < 10; ++seed) {
+      SCOPED_TRACE(::testing::Message() << "n " << n << " seed " << seed);
+      std::mt19937 rng(77 * n + seed);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      const Points q = RandomPoints(n, 1.0, &rng), qd = RandomPoints(n, 1.0, &rng);
+      std::vector<Spring> springs;
+      for (int k = 0; k < 4 * n; ++k) {  // random pairs at most 3 apart, both orders, repeated blocks
+        const int i = std::min(n - 1, static_cast<int>(u(rng) * n));
+        const int j = std::clamp(i + static_cast<int>(u(rng) * 7) - 3, 0, n - 1);
+        if (i == j) continue;
+        Spring sp;
+        sp.i = i;
+        sp.j = j;
+        sp.rest = 2.0 * u(rng);  // some compressed (geometric part clamped), some stretched
+        sp.stiffness = 10.0 * u(rng);
+        sp.damping = k % 3 == 0 ? 0.0 : u(rng);
+        springs.push_back(sp);
+      }
+      for (const bool with_d : {false, true}) {
+        const Points f0 = RandomPoints(n, 1.0, &rng);
+        const BlockBand k0 = RandomBand(n, &rng), d0 = RandomBand(n, &rng);
+        Points f = f0, f_ref = f0;
+        BlockBand k = k0, k_ref = k0, d = d0, d_ref = d0;
+        const double e = AddSpringForces(springs, q, qd, &f, &k, with_d ? &d : nullptr);
+        const double e_ref = reference::AddSpringForces(springs, q, qd, &f_ref, &k_ref, with_d ? &d_ref : nullptr);
+        EXPECT_EQ(std::memcmp(&e, &e_ref, sizeof e), 0);
+        EXPECT_TRUE(SameBits(f, f_ref));
+        EXPECT_TRUE(SameBits(k, k_ref));
+        EXPECT_TRUE(SameBits(d, d_ref));
+        EXPECT_FALSE(SameBits(k, k0));
       }
     }
   }
