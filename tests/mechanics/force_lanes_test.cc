@@ -295,7 +295,9 @@ TEST(ForceLanes, SpringsAreTheScalarCodeBitForBit) {
       SCOPED_TRACE(::testing::Message() << "n " << n << " seed " << seed);
       std::mt19937 rng(77 * n + seed);
       std::uniform_real_distribution<double> u(0.0, 1.0);
-      const Points q = RandomPoints(n, 1.0, &rng), qd = RandomPoints(n, 1.0, &rng);
+      Points q = RandomPoints(n, 1.0, &rng);
+      const Points qd = RandomPoints(n, 1.0, &rng);
+      if (seed == 0 && n > 2) q.row(1) = q.row(0);  // coincident points: their springs are skipped
       std::vector<Spring> springs;
       for (int k = 0; k < 4 * n; ++k) {  // random pairs at most 3 apart, both orders, repeated blocks
         const int i = std::min(n - 1, static_cast<int>(u(rng) * n));
