@@ -8,6 +8,7 @@
 #include <vector>
 #include <random>
 
+#include "mechanics/forces.h"
 #include "mechanics/model.h"
 #include "mechanics/spring_forces.h"
 #include "mechanics/stretching_energy.h"
@@ -325,6 +326,40 @@ TEST(ForceLanes, SpringsAreTheScalarCodeBitForBit) {
         EXPECT_FALSE(SameBits(k, k0));
       }
     }
+  }
+}
+
+// ComputeForces' viscous friction (row by row) against the scatter pass it replaced, on random
+// velocities with every other force off; and its damping band, copied from the model's.
+TEST(ForceLanes, ViscousFrictionIsTheScatterPassBitForBit) {
+  for (const int n : {4, 5, 9, 40}) {
+    SCOPED_TRACE(n);
+    ModelParams p = testing::StraightChain(n);
+    p.damping = 1.7;
+    p.gravity = Vec3(0.3, -0.2, -9.81);
+    const Model model(p);
+    std::mt19937 rng(n);
+    const Points qd = RandomPoints(n, 1.0, &rng);
+    Points expected = model.gravity_force();
+    const Band& m = model.mass_band();
+    for (int i = 0; i < n; ++i) {
+      expected.row(i) -= p.damping * m(i, 0) * qd.row(i);
+      for (int d = 1; d <= kHalfBand && i + d < n; ++d) {
+        expected.row(i) -= p.damping * m(i, d) * qd.row(i + d);
+        expected.row(i + d) -= p.damping * m(i, d) * qd.row(i);
+      }
+    }
+    StretchScratch scratch;
+    scratch.Resize(n);
+    ForceJacobians jac;
+    jac.Resize(n);
+    jac.stiffness = RandomBand(n, &rng);
+    jac.damping = RandomBand(n, &rng);
+    Points f(n, 3);
+    ComputeForces(model, p.initial_q, qd, {}, &scratch, &f, nullptr, &jac);
+    EXPECT_TRUE(SameBits(f, expected));
+    EXPECT_TRUE(SameBits(jac.damping, model.viscous_damping()));
+    EXPECT_TRUE(SameBits(jac.stiffness, BlockBand(n)));
   }
 }
 
