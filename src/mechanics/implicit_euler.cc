@@ -151,12 +151,12 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
   dv.noalias() -= rhs_.rightCols(3 * num_pins_).lazyProduct(pin_lambda_);
 }
 
-void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) {
+void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const {
   // The band and the common modes read 3N values as #N by 3 points: the same storage.
   VISCERA_ASSERT(x.size() == 3 * n_ && x.data() != y->data());
   y->resize(3 * n_);
   system_.Multiply(x.data(), y->data());
-  interactions_->AddCommonModeTerms(x.data(), y->data());
+  if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
     *y += (rank1_w_ * u.dot(x)) * u;

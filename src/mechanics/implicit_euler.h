@@ -51,6 +51,18 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t impact_substeps() const { return impact_substeps_; }
   int64_t impact_contacts() const { return impact_contacts_total_; }
 
+  /// The last sub-step's system, read-only (bench/exact_system.h assembles it for a direct
+  /// solver): the band system P = M + h D + h^2 K with each self pair as 2 H per side; the
+  /// global stretching energy's rank-one term w u u^T (w = 0: none); the right-hand side b.
+  /// The exact matrix is P + w u u^T minus the pairs' common modes (MultiplyExact).
+  const BlockBand& band_system() const { return system_; }
+  double rank_one_weight() const { return rank1_w_; }
+  const Points& rank_one_u() const { return jac_.rank1_u; }
+  const VecX& last_rhs() const { return b_; }
+  /// y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
+  /// the common modes (as Interactions last weighed them: after Advance, with (h^2, h)).
+  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
+
  private:
   void BuildPattern();
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
@@ -61,8 +73,6 @@ class ImplicitEulerIntegrator final : public Integrator {
   void ApplyBandInverse(double* x);
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
   void ApplyCorrections(double* x);
-  // y = A x for the exact matrix: the band's system, its rank-one term, minus the common modes.
-  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
   void RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv);
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the

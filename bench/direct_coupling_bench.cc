@@ -1,0 +1,297 @@
+// Would a direct solver of the coupled pairs beat the step's CG? (issue 10, item 1; figures and
+// the command in docs/contacts.md, "Why CG and not the alternatives").
+//
+// Runs the scenes the issue's cost rows are about, sub-step by sub-step as mechanics::Step does
+// (and checks at the end that Step's own run reaches the same state bit for bit), and after every
+// implicit sub-step takes the exact matrix A = A_s + w u u^T of that sub-step (exact_system.h):
+//   sweep      every sub-step: the pairs, whether the pattern of A_s changed since the last
+//              sub-step, the step's CG iterations, and the cost of each way to solve A x = b:
+//                cg      the step's way: the band factor, its column solves (b, and u for the
+//                        rank-one term), then (iterations + 1) CG iterations (a product with A
+//                        and a band solve each; the +1 is the start's residual)
+//                direct  CHOLMOD on A_s (AMD, simplicial LL'): numeric factorization, a solve
+//                        of b and of u (Sherman-Morrison), plus the symbolic analysis whenever
+//                        the pattern changed since the last sub-step
+//              Each operation is timed as the median of 3 calls (thread CPU time), the two
+//              methods back to back on the same sub-step. The direct answer's residual in the
+//              step's own product (MultiplyExact) is checked at every sub-step.
+//   snapshots  at named moments: every ordering (natural, AMD, METIS, NESDIS) simplicial and
+//              supernodal: analysis time, nnz(L), flops, numeric factorization, solve; the
+//              band's factor and solve and one CG iteration for comparison; Woodbury's parts
+//              (one band solve per rank of the pairs, a dense factorization of that order).
+//              Rounds alternate the methods; medians over the rounds.
+// Usage: bench_direct_coupling [case ...]   (cases: cavity100 cavity1k fall coil; default all)
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "common/check.h"
+#include "common/clock.h"
+#include "common/quantile.h"
+#include "exact_system.h"
+#include "fall_scene.h"
+#include "mechanics/step.h"
+#include "scene/scene.h"
+#include "script/scripted_tools.h"
+
+namespace viscera::bench {
+namespace {
+
+using mechanics::ImplicitEulerIntegrator;
+using mechanics::Interactions;
+using mechanics::Model;
+using mechanics::State;
+
+template <class F>
+double MedianMicros(int calls, F&& f) {
+  std::vector<double> us(calls);
+  for (double& t : us) {
+    const int64_t begin = ThreadCpuNanos();
+    f();
+    t = static_cast<double>(ThreadCpuNanos() - begin) * 1e-3;
+  }
+  return Quantile(us, 0.5);
+}
+
+struct Case {
+  std::string name;
+  mechanics::ModelParams params;
+  const char* script;  // tool script, or nullptr
+  double seconds;
+  std::vector<std::pair<std::string, double>> snapshots;  // (name, simulated time)
+};
+
+mechanics::ModelParams SceneAtRate(const char* path, double rate_hz) {
+  mechanics::ModelParams params = scene::LoadSceneFile(path).model;
+  scene::ChangeRate(&params, rate_hz);
+  return params;
+}
+
+std::vector<Case> Cases() {
+  const char* cavity = VISCERA_SOURCE_DIR "/scenes/cavity.toml";
+  const char* clearing = VISCERA_SOURCE_DIR "/scenes/clearing.csv";
+  return {
+      {"cavity100", SceneAtRate(cavity, 100), clearing, 5.5, {{"cavity 100 Hz, t=1.5 s", 1.5}, {"cavity 100 Hz, t=3.5 s", 3.5}}},
+      {"cavity1k", SceneAtRate(cavity, 1000), clearing, 5.5, {{"cavity 1 kHz, t=3.5 s", 3.5}}},
+      {"fall", FallParams(250), nullptr, 3.0, {{"fall, impact t=0.3 s", 0.3}, {"fall, settled t=2.9 s", 2.9}}},
+      {"coil", SceneAtRate(VISCERA_SOURCE_DIR "/bench/scenes/paper_coil.toml", 100), nullptr, 2.0,
+       {{"coil, landing t=0.4 s", 0.4}}},
+  };
+}
+
+// After each implicit sub-step: the step's integrator and interactions, and the step's time.
+using Observer = std::function<void(ImplicitEulerIntegrator&, Interactions&, double t)>;
+
+// Steps the case as mechanics::Step does (step.cc), calling `observe` after every sub-step, then
+// runs it again through Step and demands the same end state, bit for bit.
+void Run(const Case& c, const Observer& observe) {
+  const Model model(c.params);
+  VISCERA_DEMAND(model.pins().empty());  // exact_system.h: no Schur complement for pins
+  Interactions interactions(model);
+  ImplicitEulerIntegrator integrator(model, &interactions);
+  Interactions* reference_interactions = nullptr;
+  auto run = [&](const std::function<void(const mechanics::StepInputs&, State*)>& step) {
+    std::optional<script::ScriptedTools> scripted;
+    if (c.script) scripted.emplace(model, script::ToolScript::Load(c.script));
+    State state = InitialState(model);
+    const int64_t steps = std::llround(c.seconds * model.params().rate_hz);
+    for (int64_t i = 0; i < steps; ++i) {
+      const double t = state.t + model.step_size();
+      Interactions* aiming = reference_interactions ? reference_interactions : &interactions;
+      const auto targets = scripted ? scripted->At(t, aiming) : std::span<const mechanics::ToolTarget>{};
+      step({{}, targets}, &state);
+    }
+    return state;
+  };
+  const State observed = run([&](const mechanics::StepInputs& inputs, State* state) {
+    const int substeps = interactions.RequiredSubsteps(state);
+    const double h = model.step_size() / substeps;
+    for (int k = 0; k < substeps; ++k) {
+      interactions.BeginSubstep(k == 0 ? inputs.tools : std::span<const mechanics::ToolTarget>{}, h, state);
+      integrator.Advance(inputs.loads, h, state);
+      observe(integrator, interactions, state->t + model.step_size());
+    }
+    state->substeps = substeps;
+    ++state->steps;
+    state->t = state->steps * model.step_size();
+    VISCERA_DEMAND(state->q.allFinite() && state->qd.allFinite());
+    interactions.EndStep(state);
+  });
+  mechanics::Workspace workspace(model);
+  reference_interactions = workspace.interactions();
+  const State reference = run([&](const mechanics::StepInputs& inputs, State* state) {
+    mechanics::Step(model, inputs, state, &workspace);
+  });
+  ThrowUnless(reference.q == observed.q && reference.qd == observed.qd, c.name,
+              ": the observed run left Step's trajectory");
+}
+
+// Sweep over every sub-step.
+struct Sweep {
+  int64_t substeps = 0, coupled = 0, pairs = 0, cg_iterations = 0;
+  int64_t pattern_changes = 0;  // pattern of A_s differs from the last sub-step's
+  int64_t outgrown = 0;         // not inside the last analysed pattern (analyse only then)
+  double cg_us = 0.0, direct_us = 0.0, direct_outgrown_us = 0.0, analysis_us = 0.0;
+  double worst_residual = 0.0;
+  std::vector<std::pair<int, int>> last_blocks, analysed_blocks;
+};
+
+void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interactions, Sweep* s) {
+  ++s->substeps;
+  const int pairs = interactions.coupled_pairs();
+  if (pairs == 0) {
+    s->last_blocks.clear();
+    return;
+  }
+  ++s->coupled;
+  s->pairs += pairs;
+  const int cg = integrator.last_cg_iterations();
+  s->cg_iterations += cg;
+  const SparseUpper a = AssembleExact(integrator, interactions);
+  const std::vector<std::pair<int, int>> blocks = CoupledBlocks(a);
+  const bool changed = blocks != s->last_blocks;
+  const bool outgrown = !std::includes(s->analysed_blocks.begin(), s->analysed_blocks.end(), blocks.begin(), blocks.end());
+  s->pattern_changes += changed;
+  s->outgrown += outgrown;
+  if (outgrown) s->analysed_blocks = blocks;
+  s->last_blocks = blocks;
+
+  const double w = integrator.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
+  const VecX& b = integrator.last_rhs();
+  const int columns = w > 0.0 ? 2 : 1;
+  mechanics::CholmodCommon common;
+  DirectSolver direct(&common, Ordering::kAmd, /*supernodal=*/false);
+  BandPreconditioner band(integrator);
+  mechanics::BlockBandCholesky factor;
+  VecX x = b, z(a.n), cg_x(a.n);
+  const double analysis = MedianMicros(3, [&] { direct.Analyze(a); });
+  const double numeric = MedianMicros(3, [&] { VISCERA_DEMAND(direct.Factorize(a)); });
+  const double solve = MedianMicros(3, [&] { x = b; direct.Solve(&x); });
+  const double band_factor = MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); });
+  const double band_solve = MedianMicros(3, [&] { x = b; factor.SolveInPlace(x.data()); });
+  constexpr int kTimedIterations = 8;
+  const double iteration =
+      MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, kTimedIterations, &cg_x); }) / kTimedIterations;
+  s->cg_us += band_factor + columns * band_solve + (cg + 1) * iteration;
+  s->direct_us += numeric + columns * solve + (changed ? analysis : 0.0);
+  s->direct_outgrown_us += numeric + columns * solve + (outgrown ? analysis : 0.0);
+  s->analysis_us += analysis;
+  // The direct answer solves the step's own exact system.
+  x = b;
+  direct.SolveWithRankOne(w, u, &x, &z);
+  VecX ax;
+  integrator.MultiplyExact(x, &ax);
+  s->worst_residual = std::max(s->worst_residual, (ax - b).norm() / b.norm());
+}
+
+void PrintSweep(const Case& c, const Sweep& s) {
+  const double coupled = static_cast<double>(std::max<int64_t>(1, s.coupled));
+  std::printf(
+      "%-10s sub-steps %lld, coupled %lld, pairs %.0f, CG it %.2f | pattern changed %.1f %%, outgrew the analysed "
+      "%.1f %% | per coupled sub-step: CG path %.1f us, direct %.1f us (analysis on outgrowth: %.1f us; "
+      "analysis alone %.1f us) | direct/CG %.2f | worst residual %.1e\n",
+      c.name.c_str(), static_cast<long long>(s.substeps), static_cast<long long>(s.coupled), s.pairs / coupled,
+      static_cast<double>(s.cg_iterations) / coupled, 100.0 * static_cast<double>(s.pattern_changes) / coupled,
+      100.0 * static_cast<double>(s.outgrown) / coupled, s.cg_us / coupled, s.direct_us / coupled,
+      s.direct_outgrown_us / coupled, s.analysis_us / coupled, s.direct_us / s.cg_us, s.worst_residual);
+  std::fflush(stdout);
+}
+
+// One snapshot in detail: every ordering, both factorizations, the band, Woodbury's parts.
+void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Interactions& interactions) {
+  const SparseUpper a = AssembleExact(integrator, interactions);
+  const int pairs = interactions.coupled_pairs();
+  const VecX& b = integrator.last_rhs();
+  // The assembled matrix is the step's product.
+  const double w = integrator.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
+  const VecX probe = VecX::Random(a.n);
+  VecX mine, theirs;
+  MultiplySymmetric(a, w, u, probe, &mine);
+  integrator.MultiplyExact(probe, &theirs);
+  const double mismatch = (mine - theirs).norm() / theirs.norm();
+  VISCERA_DEMAND(mismatch < 1e-12);
+  std::printf("\n%s: 3N = %d, pairs %d, CG iterations %d, nnz(A_s upper) %lld (band %d), off-band blocks %zu, "
+              "|A x - MultiplyExact x| / |.| = %.1e\n",
+              name.c_str(), a.n, pairs, integrator.last_cg_iterations(), static_cast<long long>(a.nonzeros()),
+              a.col_ptr[a.n] - static_cast<int>(9 * CoupledBlocks(a).size()), CoupledBlocks(a).size(), mismatch);
+
+  struct Row {
+    Ordering ordering;
+    bool supernodal;
+    std::vector<double> analyse, factor, solve;
+    double lnz = 0.0, flops = 0.0;
+  };
+  std::vector<Row> rows;
+  for (bool super : {false, true}) {
+    for (Ordering o : {Ordering::kNatural, Ordering::kAmd, Ordering::kMetis, Ordering::kNesdis}) rows.push_back(Row{o, super, {}, {}, {}});
+  }
+  std::vector<double> band_factor, band_solve, iteration, woodbury_dense;
+  mechanics::CholmodCommon common;
+  BandPreconditioner band(integrator);
+  mechanics::BlockBandCholesky factor;
+  VecX x(a.n), cg_x(a.n);
+  // Woodbury: A_s = P - V V^T with one column of V per rank of a pair's 3x3 (1 to 3): one band
+  // solve per column, then the capacitance I - V^T P^-1 V (order 3 x pairs at most) factored.
+  const int capacitance = 3 * pairs;
+  Eigen::MatrixXd spd = Eigen::MatrixXd::Random(capacitance, capacitance);
+  spd = spd * spd.transpose() + capacitance * Eigen::MatrixXd::Identity(capacitance, capacitance);
+  Eigen::LLT<Eigen::MatrixXd> llt(capacitance);
+  constexpr int kRounds = 5;
+  for (int round = 0; round < kRounds; ++round) {
+    for (Row& r : rows) {
+      DirectSolver direct(&common, r.ordering, r.supernodal);
+      r.analyse.push_back(MedianMicros(1, [&] { direct.Analyze(a); }));
+      r.lnz = direct.factor_nonzeros();
+      r.flops = direct.factor_flops();
+      r.factor.push_back(MedianMicros(3, [&] { VISCERA_DEMAND(direct.Factorize(a)); }));
+      r.solve.push_back(MedianMicros(3, [&] { x = b; direct.Solve(&x); }));
+    }
+    band_factor.push_back(MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); }));
+    band_solve.push_back(MedianMicros(3, [&] { x = b; factor.SolveInPlace(x.data()); }));
+    iteration.push_back(MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, 8, &cg_x); }) / 8.0);
+    woodbury_dense.push_back(MedianMicros(1, [&] { llt.compute(spd); }));
+  }
+  std::printf("  %-8s %-11s %10s %9s %10s %10s %9s\n", "ordering", "factor", "analyse_us", "nnz(L)", "Mflop",
+              "numeric_us", "solve_us");
+  for (const Row& r : rows) {
+    std::printf("  %-8s %-11s %10.1f %9.0f %10.3f %10.1f %9.1f\n", OrderingName(r.ordering),
+                r.supernodal ? "supernodal" : "simplicial", Quantile(r.analyse, 0.5), r.lnz, r.flops * 1e-6,
+                Quantile(r.factor, 0.5), Quantile(r.solve, 0.5));
+  }
+  const double bf = Quantile(band_factor, 0.5), bs = Quantile(band_solve, 0.5), it = Quantile(iteration, 0.5);
+  const int cg = integrator.last_cg_iterations(), columns = w > 0.0 ? 2 : 1;
+  std::printf("  band: factor %.1f us, solve %.1f us, CG iteration %.1f us; this sub-step's CG path %.1f us\n", bf, bs,
+              it, bf + columns * bs + (cg + 1) * it);
+  std::printf("  Woodbury (rank %d to %d): %d to %d band solves %.0f to %.0f us, + dense LLT of order %d: %.0f us\n",
+              pairs, capacitance, pairs, capacitance, pairs * bs, capacitance * bs, capacitance,
+              Quantile(woodbury_dense, 0.5));
+  std::fflush(stdout);
+}
+
+int Main(int argc, char** argv) {
+  std::vector<std::string> wanted(argv + 1, argv + argc);
+  for (const Case& c : Cases()) {
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), c.name) == wanted.end()) continue;
+    Sweep sweep;
+    size_t next_snapshot = 0;
+    Run(c, [&](ImplicitEulerIntegrator& integrator, Interactions& interactions, double t) {
+      ObserveSweep(integrator, interactions, &sweep);
+      while (next_snapshot < c.snapshots.size() && t >= c.snapshots[next_snapshot].second - 1e-9) {
+        Snapshot(c.snapshots[next_snapshot++].first, integrator, interactions);
+      }
+    });
+    PrintSweep(c, sweep);
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace viscera::bench
+
+int main(int argc, char** argv) { return viscera::bench::Main(argc, argv); }
