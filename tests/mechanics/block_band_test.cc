@@ -128,6 +128,24 @@ TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
   }
 }
 
+TEST(BlockBand, SolveTwoIsTwoSolvesBitForBit) {
+  for (const int n : {1, 2, 3, 4, 5, 7, 40}) {
+    SCOPED_TRACE(n);
+    MatX dense;
+    BlockBandCholesky chol;
+    ASSERT_TRUE(chol.Factor(RandomSpdBand(n, 50 + n, &dense)));
+    for (unsigned seed = 0; seed < 10; ++seed) {
+      const VecX a = RandomVector(3 * n, 200 * n + seed), b = RandomVector(3 * n, 300 * n + seed);
+      VecX a_one = a, b_one = b, a_two = a, b_two = b;
+      chol.SolveInPlace(a_one.data());
+      chol.SolveInPlace(b_one.data());
+      chol.SolveTwoInPlace(a_two.data(), b_two.data());
+      EXPECT_EQ(std::memcmp(a_two.data(), a_one.data(), sizeof(double) * 3 * n), 0) << seed;
+      EXPECT_EQ(std::memcmp(b_two.data(), b_one.data(), sizeof(double) * 3 * n), 0) << seed;
+    }
+  }
+}
+
 TEST(BlockBand, FactorRefusesAnIndefiniteMatrix) {
   MatX dense;
   BlockBand a = RandomSpdBand(10, 8, &dense);
