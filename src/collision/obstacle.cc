@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace viscera::collision {
 namespace {
@@ -11,8 +12,8 @@ Vec3 SafeNormalize(const Vec3& v, const Vec3& fallback) {
   return n > 1e-12 ? Vec3(v * (1.0 / n)) : fallback;
 }
 
-// Distance from p to the solid (positive outside), normal outward.
-double SolidDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
+// Distance from p to the solid (positive outside), normal outward; `f` is FrameOf(o).
+double SolidDistance(const Obstacle& o, const PreparedObstacle::Frame& f, const Vec3& p, Vec3* normal) {
   switch (o.kind) {
     case ObstacleKind::kPlane: {
       *normal = o.normal;
@@ -32,7 +33,7 @@ double SolidDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
     }
     case ObstacleKind::kBox: {
       // In the box frame: outside, distance to the nearest point; inside, to the nearest face.
-      const Mat3 r = o.orientation.toRotationMatrix();
+      const Mat3& r = f.rotation;
       const Vec3 local = r.transpose() * (p - o.centre);
       const Vec3 q = local.cwiseAbs() - o.half_extents;
       if (q.maxCoeff() > 0.0) {
@@ -51,10 +52,10 @@ double SolidDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
     case ObstacleKind::kEllipsoid: {
       // k0 = |p/r|, k1 = |p/r^2|: d ~ k0 (k0 - 1) / k1 (exact on the surface), normal along the
       // gradient p / r^2.
-      const Mat3 r = o.orientation.toRotationMatrix();
+      const Mat3& r = f.rotation;
       const Vec3 local = r.transpose() * (p - o.centre);
-      // (Every sphere of the tube queries its cavity at every step: 4 divisions, not 10.)
-      const Vec3 inv_radii = o.radii.cwiseInverse();
+      // (Every sphere of the tube queries its cavity at every step: 1 division, not 10.)
+      const Vec3& inv_radii = f.inv_radii;
       const Vec3 scaled = local.cwiseProduct(inv_radii);
       const Vec3 grad = scaled.cwiseProduct(inv_radii);
       const double k0 = scaled.norm(), k1 = grad.norm();
@@ -69,13 +70,28 @@ double SolidDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
   return 0.0;
 }
 
-}  // namespace
-
-double SignedDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
-  const double d = SolidDistance(o, p, normal);
+double Signed(const Obstacle& o, const PreparedObstacle::Frame& f, const Vec3& p, Vec3* normal) {
+  const double d = SolidDistance(o, f, p, normal);
   if (!o.inside) return d;
   *normal = -*normal;
   return -d;
+}
+
+}  // namespace
+
+PreparedObstacle::Frame PreparedObstacle::FrameOf(const Obstacle& o) {
+  Frame f;
+  if (o.kind == ObstacleKind::kBox || o.kind == ObstacleKind::kEllipsoid) f.rotation = o.orientation.toRotationMatrix();
+  if (o.kind == ObstacleKind::kEllipsoid) f.inv_radii = o.radii.cwiseInverse();
+  return f;
+}
+
+PreparedObstacle::PreparedObstacle(Obstacle obstacle) : obstacle_(std::move(obstacle)), frame_(FrameOf(obstacle_)) {}
+
+double PreparedObstacle::SignedDistance(const Vec3& p, Vec3* normal) const { return Signed(obstacle_, frame_, p, normal); }
+
+double SignedDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
+  return Signed(o, PreparedObstacle::FrameOf(o), p, normal);
 }
 
 double SignedDistance(const Obstacle& o, const Vec3& p) {

@@ -36,4 +36,29 @@ double SignedDistance(const Obstacle& o, const Vec3& p, Vec3* normal);
 /// The same distance without the normal, cheaper for a mesh (the broad phase's query).
 double SignedDistance(const Obstacle& o, const Vec3& p);
 
+/// An obstacle with what every query of its frame needs (a box's or an ellipsoid's rotation
+/// matrix, an ellipsoid's inverse radii) computed once: the narrow phase queries the cavity for
+/// every sphere at every sub-step. Holds its own copy of the obstacle, which it never changes,
+/// so the prepared values cannot go stale. Its distances are SignedDistance's, bit for bit (the
+/// same expressions on the same values).
+class PreparedObstacle {
+ public:
+  explicit PreparedObstacle(Obstacle obstacle);
+
+  const Obstacle& obstacle() const { return obstacle_; }
+  /// SignedDistance(obstacle(), p, normal).
+  double SignedDistance(const Vec3& p, Vec3* normal) const;
+
+  /// The per-query constants of an obstacle's frame (identity and zero where its kind has none).
+  struct Frame {
+    Mat3 rotation = Mat3::Identity();  ///< box, ellipsoid: orientation as a matrix
+    Vec3 inv_radii = Vec3::Zero();     ///< ellipsoid: 1 / radii
+  };
+  static Frame FrameOf(const Obstacle& o);
+
+ private:
+  Obstacle obstacle_;
+  Frame frame_;
+};
+
 }  // namespace viscera::collision

@@ -1,10 +1,11 @@
 #include "mechanics/interactions.h"
 
-#include "mechanics/avx_clone.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "collision/pair_separation.h"
+#include "mechanics/avx_clone.h"
 
 namespace viscera::mechanics {
 namespace {
@@ -64,6 +65,8 @@ Interactions::Interactions(const Model& model)
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)),
                   kVerletSkin * radius_),
       impacts_(model, chain_.size()) {
+  obstacles_.reserve(model.params().obstacles.size());
+  for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
@@ -111,14 +114,52 @@ void Interactions::EnsureGeometry() {
   if (geometry_valid_) return;
   const auto& list = candidates();
   geometry_.resize(list.size());  // grows with the list's high-water mark only
-  deepest_ = -std::numeric_limits<double>::infinity();
+  // Most candidates are self pairs (the Verlet list's skin holds far more than touch): they go
+  // four at a time (SelfGeometry), the others one by one.
+  std::array<int, 4> batch;
+  int batched = 0;
   for (size_t i = 0; i < list.size(); ++i) {
-    geometry_[i] = Geometry(list[i]);
+    if (list[i].kind != ContactKind::kSelf) {
+      geometry_[i] = Geometry(list[i]);
+      continue;
+    }
+    batch[batched++] = static_cast<int>(i);
+    if (batched == 4) {
+      SelfGeometry(batch, batched);
+      batched = 0;
+    }
+  }
+  if (batched > 0) SelfGeometry(batch, batched);
+  // In a local: a member would be stored and loaded again at every candidate (the compiler
+  // cannot tell it from the geometry's doubles), a chain through memory as long as the list.
+  double deepest = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < list.size(); ++i) {
     // NaN (a blown-up step) counts as deepest: nothing is skipped on it.
     const double depth = std::isnan(geometry_[i].depth) ? std::numeric_limits<double>::infinity() : geometry_[i].depth;
-    if (list[i].kind != ContactKind::kTool) deepest_ = std::max(deepest_, depth);
+    if (list[i].kind != ContactKind::kTool) deepest = std::max(deepest, depth);
   }
+  deepest_ = deepest;
   geometry_valid_ = true;
+}
+
+void Interactions::SelfGeometry(const std::array<int, 4>& batch, int count) {
+  const auto& list = candidates();
+  const auto& spheres = chain_.spheres();
+  std::array<const Vec3*, 4> a, b;
+  for (int l = 0; l < count; ++l) {
+    a[l] = &spheres[list[batch[l]].a].centre;
+    b[l] = &spheres[list[batch[l]].b].centre;
+  }
+  std::array<collision::PairSeparation, 4> separation;
+  collision::Separations(a, b, count, separation.data());
+  for (int l = 0; l < count; ++l) {
+    // RawGeometry's self case.
+    Penalty& p = geometry_[batch[l]];
+    p = Penalty();
+    p.normal = separation[l].normal;
+    p.clearance = separation[l].distance - 2.0 * radius_;
+    p.depth = -p.clearance;
+  }
 }
 
 void Interactions::RefreshToolGeometry() {
@@ -173,15 +214,15 @@ Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const
   double reach = radius_;
   double distance = 0.0;
   switch (c.kind) {
-    case ContactKind::kSelf: {
-      const Vec3 d = sa.centre - chain_.spheres()[c.b].centre;
-      distance = d.norm();
-      p.normal = distance > 1e-12 ? Vec3(d * (1.0 / distance)) : Vec3::UnitZ();  // one division
+    case ContactKind::kSelf: {  // (EnsureGeometry does these four at a time: SelfGeometry)
+      const collision::PairSeparation separation = collision::Separation(sa.centre, chain_.spheres()[c.b].centre);
+      distance = separation.distance;
+      p.normal = separation.normal;
       reach = 2.0 * radius_;
       break;
     }
     case ContactKind::kEnvironment:
-      distance = collision::SignedDistance(model_.params().obstacles[c.b], sa.centre, &p.normal);
+      distance = obstacles_[c.b].SignedDistance(sa.centre, &p.normal);
       break;
     case ContactKind::kTool: {
       const collision::ToolCapsule& cap = capsules_[c.b];

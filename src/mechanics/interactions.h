@@ -4,6 +4,7 @@
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. Owned by the stepping thread's
 /// Workspace; allocates nothing in steady state.
+#include <array>
 #include <span>
 #include <vector>
 
@@ -132,6 +133,8 @@ class Interactions {
   // the tools' advance, the force evaluations and EndStep all read it (and EndStep's serves the
   // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
   void EnsureGeometry();
+  // RawGeometry of `count` (1 to 4) self candidates, by index in the list, into geometry_.
+  void SelfGeometry(const std::array<int, 4>& batch, int count);
   void RefreshToolGeometry();
   // Inelastic impulses on the pairs that would end the next h deeper than
   // contacts.impact_depth moving at u (docs/contacts.md, "Impacts"): u changes, and so does v
@@ -162,6 +165,8 @@ class Interactions {
   // are along their way across the step.
   int substep_ = 0, substeps_ = 1;
 
+  // The model's obstacles (immutable), prepared once for the narrow phase's queries.
+  std::vector<collision::PreparedObstacle> obstacles_;
   collision::SphereChain chain_;
   collision::VerletList candidates_;
   Points configured_q_, gathered_qd_;

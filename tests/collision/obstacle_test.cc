@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
 #include <fstream>
 
 #include "common/check.h"
@@ -62,6 +66,77 @@ TEST(Obstacle, EllipsoidIsExactOnItsSurfaceAndSignedInside) {
   }
   EXPECT_LT(D(e, Vec3(0.1, 0, 0)), 0.0);
   EXPECT_NEAR(D(e, Vec3(0, 0, 0.15)), 0.05, 1e-12);  // along a principal axis it is exact
+}
+
+// The ellipsoid's distance as main computed it before PreparedObstacle (its frame built at every
+// query): the prepared one must give these bits.
+double EllipsoidAsBefore(const Obstacle& o, const Vec3& p, Vec3* normal) {
+  const Mat3 r = o.orientation.toRotationMatrix();
+  const Vec3 local = r.transpose() * (p - o.centre);
+  const Vec3 inv_radii = o.radii.cwiseInverse();
+  const Vec3 scaled = local.cwiseProduct(inv_radii);
+  const Vec3 grad = scaled.cwiseProduct(inv_radii);
+  const double k0 = scaled.norm(), k1 = grad.norm();
+  const double inv_k1 = 1.0 / k1;
+  *normal = k1 > 1e-12 ? Vec3(r * (grad * inv_k1)) : Vec3(r * Vec3::UnitZ());
+  const double d = k1 < 1e-12 ? -o.radii.minCoeff() : k0 * (k0 - 1.0) * inv_k1;
+  if (!o.inside) return d;
+  *normal = -*normal;
+  return -d;
+}
+
+TEST(Obstacle, APreparedObstacleGivesThePlainQuerysBitsForEveryKind) {
+  const Eigen::Quaterniond turned(Eigen::AngleAxisd(0.7, Vec3(1, -2, 0.5).normalized()));
+  std::vector<Obstacle> all(5);
+  all[0].normal = Vec3(0.3, 0.1, 1).normalized();
+  all[0].point = Vec3(0.01, 0, -0.02);
+  all[1].kind = ObstacleKind::kSphere;
+  all[1].centre = Vec3(0.02, -0.01, 0.03);
+  all[1].radius = 0.07;
+  all[2].kind = ObstacleKind::kCapsule;
+  all[2].a = Vec3(-0.1, 0.02, 0);
+  all[2].b = Vec3(0.1, -0.03, 0.02);
+  all[2].radius = 0.02;
+  all[3].kind = ObstacleKind::kBox;
+  all[3].centre = Vec3(0.01, 0.02, -0.01);
+  all[3].half_extents = Vec3(0.05, 0.08, 0.03);
+  all[3].orientation = turned;
+  all[4].kind = ObstacleKind::kEllipsoid;
+  all[4].centre = Vec3(0, 0, 0.13);
+  all[4].radii = Vec3(0.20, 0.16, 0.13);
+  all[4].orientation = turned;
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<double> u(-0.25, 0.25);
+  int compared = 0;
+  for (bool inside : {false, true}) {
+    for (Obstacle o : all) {
+      o.inside = inside;
+      const PreparedObstacle prepared(o);
+      for (int i = 0; i < 2000; ++i) {
+        const Vec3 p = all[4].centre + Vec3(u(rng), u(rng), u(rng));
+        Vec3 n_plain, n_prepared;
+        const double plain = SignedDistance(o, p, &n_plain);
+        const double d = prepared.SignedDistance(p, &n_prepared);
+        ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(plain)) << static_cast<int>(o.kind) << " " << i;
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_plain(k)));
+        if (o.kind == ObstacleKind::kEllipsoid) {
+          Vec3 n_before;
+          const double before = EllipsoidAsBefore(o, p, &n_before);
+          ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(before)) << i;
+          for (int k = 0; k < 3; ++k) ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_before(k)));
+        }
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 2 * 5 * 2000);
+  // The prepared copy is the obstacle's: moving the original afterwards changes neither.
+  Obstacle moved = all[4];
+  const PreparedObstacle prepared(moved);
+  moved.centre += Vec3(0.05, 0, 0);
+  EXPECT_EQ(prepared.obstacle().centre, all[4].centre);
+  Vec3 n;
+  EXPECT_NE(prepared.SignedDistance(Vec3(0.19, 0, 0.13), &n), SignedDistance(moved, Vec3(0.19, 0, 0.13), &n));
 }
 
 TEST(Obstacle, InsideFlipsTheSideOfFreeSpace) {
