@@ -4,6 +4,7 @@
 /// the upper blocks: block(i, d) = A(i, i + d).
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <vector>
 
 #include "common/check.h"
@@ -28,8 +29,15 @@ class BlockBand {
     n_ = n;
     blocks_.assign(static_cast<size_t>(n) * kWidth, Mat3::Zero());
   }
-  void SetZero() {
-    for (Mat3& b : blocks_) b.setZero();
+  /// Every entry +0.0 (all bits zero), by one memset: the blocks are contiguous doubles.
+  void SetZero() { std::memset(Entries(), 0, sizeof(double) * 9 * blocks_.size()); }
+  /// *this = other; by one memcpy when the sizes agree (no allocation).
+  void Assign(const BlockBand& other) {
+    if (other.n_ != n_) {
+      *this = other;
+      return;
+    }
+    std::memcpy(Entries(), other.blocks_.data()->data(), sizeof(double) * 9 * blocks_.size());
   }
   int n() const { return n_; }
 
@@ -78,6 +86,9 @@ class BlockBand {
   void Multiply(const double* x_data, double* y_data) const;
 
  private:
+  static_assert(sizeof(Mat3) == 9 * sizeof(double), "a block is 9 contiguous doubles");
+  double* Entries() { return blocks_.data()->data(); }
+
   int n_ = 0;
   std::vector<Mat3> blocks_;
 };

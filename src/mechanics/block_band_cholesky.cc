@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace viscera::mechanics {
 namespace {
@@ -64,65 +65,112 @@ namespace {
 // written out so that the solve keeps its last three rows in registers rather than storing
 // each row and loading it back for the next (a store-to-load round trip on the solve's
 // row-to-row chain). Every product is kept, the triangular blocks' zeros included.
+// T is double (one right-hand side) or a pair of doubles, two right-hand sides in the lanes of
+// one SSE2 register: each lane then does the one-column arithmetic, with the factor's entries
+// loaded once for both.
+typedef double Pair __attribute__((vector_size(16)));
+
+template <class T>
 struct Row3 {
-  double x, y, z;
+  T x, y, z;
 };
 
-[[gnu::always_inline]] inline Row3 Product(const double* m, const Row3& v) {  // m column-major
-  return {(m[0] * v.x + m[3] * v.y) + m[6] * v.z, (m[1] * v.x + m[4] * v.y) + m[7] * v.z,
-          m[2] * v.x + (m[5] * v.y + m[8] * v.z)};
+template <class T>
+[[gnu::always_inline]] inline T Splat(double v) {
+  if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else {
+    return T{v, v};
+  }
 }
 
-[[gnu::always_inline]] inline Row3 TransposedProduct(const double* m, const Row3& v) {
-  return {(m[0] * v.x + m[1] * v.y) + m[2] * v.z, (m[3] * v.x + m[4] * v.y) + m[5] * v.z,
-          (m[6] * v.x + m[7] * v.y) + m[8] * v.z};
+template <class T>
+[[gnu::always_inline]] inline Row3<T> Product(const double* m, const Row3<T>& v) {  // m column-major
+  return {(Splat<T>(m[0]) * v.x + Splat<T>(m[3]) * v.y) + Splat<T>(m[6]) * v.z,
+          (Splat<T>(m[1]) * v.x + Splat<T>(m[4]) * v.y) + Splat<T>(m[7]) * v.z,
+          Splat<T>(m[2]) * v.x + (Splat<T>(m[5]) * v.y + Splat<T>(m[8]) * v.z)};
 }
 
-[[gnu::always_inline]] inline void Subtract(Row3* v, const Row3& p) {
+template <class T>
+[[gnu::always_inline]] inline Row3<T> TransposedProduct(const double* m, const Row3<T>& v) {
+  return {(Splat<T>(m[0]) * v.x + Splat<T>(m[1]) * v.y) + Splat<T>(m[2]) * v.z,
+          (Splat<T>(m[3]) * v.x + Splat<T>(m[4]) * v.y) + Splat<T>(m[5]) * v.z,
+          (Splat<T>(m[6]) * v.x + Splat<T>(m[7]) * v.y) + Splat<T>(m[8]) * v.z};
+}
+
+template <class T>
+[[gnu::always_inline]] inline void Subtract(Row3<T>* v, const Row3<T>& p) {
   v->x -= p.x;
   v->y -= p.y;
   v->z -= p.z;
 }
 
-[[gnu::always_inline]] inline Row3 Load(const double* b) { return {b[0], b[1], b[2]}; }
+// Row i of one right-hand side.
+struct OneColumn {
+  double* b;
+  Row3<double> Load(int i) const { return {b[3 * i], b[3 * i + 1], b[3 * i + 2]}; }
+  void Store(int i, const Row3<double>& v) const {
+    b[3 * i] = v.x;
+    b[3 * i + 1] = v.y;
+    b[3 * i + 2] = v.z;
+  }
+};
 
-[[gnu::always_inline]] inline void Store(const Row3& v, double* b) {
-  b[0] = v.x;
-  b[1] = v.y;
-  b[2] = v.z;
-}
+// Row i of two right-hand sides, one per lane.
+struct TwoColumns {
+  double* a;
+  double* b;
+  Row3<Pair> Load(int i) const {
+    return {Pair{a[3 * i], b[3 * i]}, Pair{a[3 * i + 1], b[3 * i + 1]}, Pair{a[3 * i + 2], b[3 * i + 2]}};
+  }
+  void Store(int i, const Row3<Pair>& v) const {
+    a[3 * i] = v.x[0];
+    b[3 * i] = v.x[1];
+    a[3 * i + 1] = v.y[0];
+    b[3 * i + 1] = v.y[1];
+    a[3 * i + 2] = v.z[0];
+    b[3 * i + 2] = v.z[1];
+  }
+};
 
 }  // namespace
 
-VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const {
+template <class T, class Rows>
+[[gnu::always_inline]] inline void BlockBandCholesky::Solve(const Rows& rows) const {
   // y1, y2, y3: the last three rows of the pass, newest first, in named registers (an array
   // indexed by the band's offset went through memory and gave nothing; this takes a third off
   // the solve).
-  Row3 y1{}, y2{}, y3{};
+  Row3<T> y1{}, y2{}, y3{};
   // Forward: L y = b, y_i = L(i,i)^-1 (b_i - sum_d L(i, i - d) y_(i-d)), d = 1, 2, 3 in order.
   for (int i = 0; i < n_; ++i) {
-    Row3 v = Load(b + 3 * i);
+    Row3<T> v = rows.Load(i);
     if (i >= 1) Subtract(&v, Product(L(i, 1).data(), y1));
     if (i >= 2) Subtract(&v, Product(L(i, 2).data(), y2));
     if (i >= 3) Subtract(&v, Product(L(i, 3).data(), y3));
-    const Row3 y = Product(inv_diag_[i].data(), v);
-    Store(y, b + 3 * i);
+    const Row3<T> y = Product(inv_diag_[i].data(), v);
+    rows.Store(i, y);
     y3 = y2;
     y2 = y1;
     y1 = y;
   }
   // Backward: L^T x = y, x_i = L(i,i)^-T (y_i - sum_d L(i + d, i)^T x_(i+d)).
   for (int i = n_ - 1; i >= 0; --i) {
-    Row3 v = Load(b + 3 * i);
+    Row3<T> v = rows.Load(i);
     if (i + 1 < n_) Subtract(&v, TransposedProduct(L(i + 1, 1).data(), y1));
     if (i + 2 < n_) Subtract(&v, TransposedProduct(L(i + 2, 2).data(), y2));
     if (i + 3 < n_) Subtract(&v, TransposedProduct(L(i + 3, 3).data(), y3));
-    const Row3 x = TransposedProduct(inv_diag_[i].data(), v);
-    Store(x, b + 3 * i);
+    const Row3<T> x = TransposedProduct(inv_diag_[i].data(), v);
+    rows.Store(i, x);
     y3 = y2;
     y2 = y1;
     y1 = x;
   }
+}
+
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const { Solve<double>(OneColumn{b}); }
+
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveTwoInPlace(double* a, double* b) const {
+  Solve<Pair>(TwoColumns{a, b});
 }
 
 }  // namespace viscera::mechanics

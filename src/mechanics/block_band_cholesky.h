@@ -16,6 +16,10 @@ class BlockBandCholesky {
 
   /// Solves A x = b in place; b holds 3n values ordered x0 y0 z0 x1 ...
   void SolveInPlace(double* b) const;
+  /// Solves A x = a and A x = b in place in one pass (each column's numbers exactly
+  /// SolveInPlace's; the factor is read once for both).
+  /// @pre a and b do not overlap.
+  void SolveTwoInPlace(double* a, double* b) const;
 
   /// The factor's blocks (tests): L(i, i - d), d = 0 .. 3, and L(i, i)^-1 (lower triangular).
   int n() const { return n_; }
@@ -27,6 +31,8 @@ class BlockBandCholesky {
   std::vector<Mat3> l_;
   std::vector<Mat3> inv_diag_;
   int n_ = 0;
+  template <class T, class Rows>
+  void Solve(const Rows& rows) const;
   const Mat3& L(int i, int d) const { return l_[static_cast<size_t>(i) * BlockBand::kWidth + d]; }
   Mat3& L(int i, int d) { return l_[static_cast<size_t>(i) * BlockBand::kWidth + d]; }
 };

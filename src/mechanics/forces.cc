@@ -1,5 +1,7 @@
 #include "mechanics/forces.h"
 
+#include <algorithm>
+
 #include "mechanics/attachment_forces.h"
 #include "mechanics/interactions.h"
 #include "mechanics/mesentery_forces.h"
@@ -21,24 +23,26 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
   BlockBand* D = jac ? &jac->damping : nullptr;
   if (jac) {
     K->SetZero();
-    *D = model.viscous_damping();  // same size: no allocation
+    D->Assign(model.viscous_damping());  // same size: one copy
   }
 
   // Gravity: constant generalized force; E = -sum_i Q_i . q_i (= m g h for g along -z).
   *F = model.gravity_force();
   if (energies) energies->gravity = -(model.gravity_force().array() * q.array()).sum();
 
-  // Viscous friction: force density -gamma rho dP/dt, i.e. Q = -gamma M qd.
+  // Viscous friction: force density -gamma rho dP/dt, i.e. Q = -gamma M qd. Row by row, each
+  // row's terms subtracted in the order of a pass over the band's upper entries that scatters
+  // both halves (M(r - d, d) qd_(r-d) for d = 3, 2, 1, then M(r, d) qd_(r+d) for d = 0 .. 3):
+  // the same numbers, one load and store per row.
   const double gamma = model.params().damping;
   if (gamma > 0.0) {
     const Band& m = model.mass_band();
     const int n = model.num_points();
-    for (int i = 0; i < n; ++i) {
-      F->row(i) -= gamma * m(i, 0) * qd.row(i);
-      for (int d = 1; d <= kHalfBand && i + d < n; ++d) {
-        F->row(i) -= gamma * m(i, d) * qd.row(i + d);
-        F->row(i + d) -= gamma * m(i, d) * qd.row(i);
-      }
+    for (int r = 0; r < n; ++r) {
+      Eigen::RowVector3d row = F->row(r);
+      for (int d = std::min(r, kHalfBand); d >= 1; --d) row -= gamma * m(r - d, d) * qd.row(r - d);
+      for (int d = 0; d <= kHalfBand && r + d < n; ++d) row -= gamma * m(r, d) * qd.row(r + d);
+      F->row(r) = row;
     }
   }
 

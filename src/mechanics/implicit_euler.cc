@@ -96,9 +96,18 @@ void ImplicitEulerIntegrator::SolveColumns() {
     if (cols > 0) solver_.SolveInPlace(rhs_.col(first).data(), cols, &solve_work_);
     return;
   }
-  band_factor_.SolveInPlace(rhs_.col(0).data());
-  if (rank1) band_factor_.SolveInPlace(rhs_.col(1).data());
-  for (Eigen::Index k = 2; k < rhs_.cols(); ++k) band_factor_.SolveInPlace(rhs_.col(k).data());
+  // Two columns per pass where there are two (each column's numbers are the one-column solve's).
+  Eigen::Index pending = -1;
+  for (Eigen::Index k = 0; k < rhs_.cols(); ++k) {
+    if (k == 1 && !rank1) continue;
+    if (pending < 0) {
+      pending = k;
+    } else {
+      band_factor_.SolveTwoInPlace(rhs_.col(pending).data(), rhs_.col(k).data());
+      pending = -1;
+    }
+  }
+  if (pending >= 0) band_factor_.SolveInPlace(rhs_.col(pending).data());
 }
 
 void ImplicitEulerIntegrator::PrepareConstraints() {

@@ -14,9 +14,11 @@ namespace viscera::mechanics {
 
 /// Scratch reused between evaluations.
 struct StretchScratch {
-  Points node_tangent;  ///< unit tangents at the Gauss nodes, #segments*4 by 3
-  VecX node_speed;      ///< |P'(u_g)|, #segments*4
-  VecX node_inv_speed;  ///< 1 / |P'(u_g)| (0 where the speed is 0), #segments*4
+  // By node (4 per segment, side by side): the unit tangents' coordinates, the speeds |P'(u_g)|
+  // and their inverses (0 where the speed is 0).
+  VecX node_tangent_x, node_tangent_y, node_tangent_z;
+  VecX node_speed;
+  VecX node_inv_speed;
   Points length_gradient;  ///< dl/dq (global scope), #N by 3
   void Resize(int num_points);
 };

@@ -112,6 +112,8 @@ void EigenSolve(const BlockBandCholesky& chol, double* b) {
   }
 }
 
+// The one-column solve against Eigen's row-by-row solve, and the two-column solve (one column
+// per lane) against it, bit for bit.
 TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
   for (const int n : {1, 2, 3, 4, 5, 7, 40}) {
     SCOPED_TRACE(n);
@@ -119,11 +121,15 @@ TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
     BlockBandCholesky chol;
     ASSERT_TRUE(chol.Factor(RandomSpdBand(n, 30 + n, &dense)));
     for (unsigned seed = 0; seed < 20; ++seed) {
-      const VecX b = RandomVector(3 * n, 100 * n + seed);
-      VecX expected = b, solved = b;
+      const VecX b = RandomVector(3 * n, 100 * n + seed), c = RandomVector(3 * n, 300 * n + seed);
+      VecX expected = b, solved = b, expected_c = c, b_two = b, c_two = c;
       EigenSolve(chol, expected.data());
+      EigenSolve(chol, expected_c.data());
       chol.SolveInPlace(solved.data());
+      chol.SolveTwoInPlace(b_two.data(), c_two.data());
       EXPECT_EQ(std::memcmp(solved.data(), expected.data(), sizeof(double) * 3 * n), 0) << seed;
+      EXPECT_EQ(std::memcmp(b_two.data(), expected.data(), sizeof(double) * 3 * n), 0) << seed;
+      EXPECT_EQ(std::memcmp(c_two.data(), expected_c.data(), sizeof(double) * 3 * n), 0) << seed;
     }
   }
 }
