@@ -4,7 +4,10 @@
 /// AVX register in an AVX clone (avx_clone.h). Each lane does what the scalar code did, product
 /// by product and sum by sum in its order (no FMA: -ffp-contract=off; no reassociation), so
 /// the numbers are the scalar code's bit for bit.
+#include <cmath>
+#if defined(__SSE2__)
 #include <emmintrin.h>
+#endif
 
 #include "mechanics/block_band.h"
 
@@ -27,9 +30,13 @@ typedef double V2 __attribute__((vector_size(16)));
 
 /// Correctly rounded as std::sqrt; sqrtpd, with no errno path (for sums of squares).
 [[gnu::always_inline]] inline V4 Sqrt(V4 v) {
+#if !defined(__SSE2__)
+  return V4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};  // elsewhere than x86
+#else
   const V2 lo = (V2)_mm_sqrt_pd((__m128d)V2{v[0], v[1]});
   const V2 hi = (V2)_mm_sqrt_pd((__m128d)V2{v[2], v[3]});
   return V4{lo[0], lo[1], hi[0], hi[1]};
+#endif
 }
 
 /// A 3x3 block's 9 column-major entries: 0-3, 4-7 and 8.
