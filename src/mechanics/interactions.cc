@@ -6,6 +6,7 @@
 
 #include "collision/pair_separation.h"
 #include "mechanics/avx_clone.h"
+#include "mechanics/contact_window.h"
 
 namespace viscera::mechanics {
 namespace {
@@ -179,7 +180,7 @@ Vec3 Interactions::SphereVelocity(int sphere, const Points& qd) const {
 
 void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
   const collision::Sphere& sp = chain_.spheres()[sphere];
-  for (int a = 0; a < 4; ++a) F->row(sp.first + a) += sp.w[a] * f.transpose();
+  contact_window::AddForce(F->data(), sp.first, sp.w, f);
 }
 
 VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
@@ -187,13 +188,7 @@ VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<
   // The window's 10 upper blocks, K's and D's in one pass, by their symmetric entries.
   const Sym3 k = ToSym3(hk);
   const Sym3 d = hd ? ToSym3(*hd) : Sym3{};
-  for (int a = 0; a < 4; ++a) {
-    for (int b = a; b < 4; ++b) {
-      const double wab = w[a] * w[b];
-      K->AddSymmetric(first + a, first + b, wab, k);
-      if (hd) D->AddSymmetric(first + a, first + b, wab, d);
-    }
-  }
+  contact_window::AddOuter(first, w, k, hd ? &d : nullptr, K, D);
 }
 
 bool Interactions::Held(const ContactCandidate& c) const {
