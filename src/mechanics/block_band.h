@@ -30,14 +30,16 @@ class BlockBand {
     blocks_.assign(static_cast<size_t>(n) * kWidth, Mat3::Zero());
   }
   /// Every entry +0.0 (all bits zero), by one memset: the blocks are contiguous doubles.
-  void SetZero() { std::memset(Entries(), 0, sizeof(double) * 9 * blocks_.size()); }
+  void SetZero() {
+    if (!blocks_.empty()) std::memset(Entries(), 0, sizeof(double) * 9 * blocks_.size());  // null when empty
+  }
   /// *this = other; by one memcpy when the sizes agree (no allocation).
   void Assign(const BlockBand& other) {
     if (other.n_ != n_) {
       *this = other;
       return;
     }
-    std::memcpy(Entries(), other.blocks_.data()->data(), sizeof(double) * 9 * blocks_.size());
+    if (!blocks_.empty()) std::memcpy(Entries(), other.blocks_.data()->data(), sizeof(double) * 9 * blocks_.size());
   }
   int n() const { return n_; }
 
@@ -87,7 +89,7 @@ class BlockBand {
 
  private:
   static_assert(sizeof(Mat3) == 9 * sizeof(double), "a block is 9 contiguous doubles");
-  double* Entries() { return blocks_.data()->data(); }
+  double* Entries() { return blocks_.data()->data(); }  // @pre not empty
 
   int n_ = 0;
   std::vector<Mat3> blocks_;

@@ -12,6 +12,8 @@
 #include "mechanics/block_band.h"
 
 // Returning a 32-byte vector without AVX "changes the ABI": never at a call, all is inlined.
+// Left off for the rest of each file that includes this one, on purpose: its own inline lane
+// helpers (contact_window.h, stretching_energy.cc) pass V4 by value too.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace viscera::mechanics::lanes {
@@ -61,6 +63,7 @@ inline constexpr V4 kIdentityMid{1.0, 0.0, 0.0, 0.0};
 /// BlockBand::AddSymmetric(i, j, 1.0, h's Sym3) adds, entry by entry.
 /// @pre |i - j| <= 3.
 [[gnu::always_inline]] inline void AddBlock(BlockBand* band, int i, int j, const Block9& h) {
+  VISCERA_ASSERT(std::abs(i - j) < BlockBand::kWidth);
   double* b = (i <= j ? band->block(i, j - i) : band->block(j, i - j)).data();
   Store4(b, Load4(b) + h.lo);
   Store4(b + 4, Load4(b + 4) + h.mid);

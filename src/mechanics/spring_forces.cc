@@ -49,7 +49,8 @@ VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const 
       const lanes::Block9 tt = lanes::OuterSelf(t.x(), t.y(), t.z());
       if (K) {
         // k (t t^T + g (I - t t^T)), g the geometric part. Off the diagonal tt + g (0 - tt) is
-        // tt - g tt bit for bit (0 - tt is -tt, signed zeros included; a + (-b) is a - b).
+        // tt - g tt bit for bit: 0 - tt is -tt but for tt = +0, where both forms give +0, and
+        // a + (-b) is a - b.
         const double geometric = std::max(0.0, 1.0 - sp.rest * inv_l);
         const V4 stiffness = Splat(sp.stiffness), g = Splat(geometric);
         const lanes::Block9 h{stiffness * (tt.lo + g * (lanes::kIdentityLo - tt.lo)),

@@ -255,6 +255,9 @@ Model ChainModel(int n, ContinuousScope scope, unsigned seed) {
 }
 
 TEST(ForceLanes, StretchingIsTheScalarCodeBitForBit) {
+#if defined(__AVX__)
+  GTEST_SKIP() << "the reference sums as Eigen's SSE2 code does; built for AVX (VISCERA_NATIVE=ON), Eigen sums otherwise";
+#endif
   for (const ContinuousScope scope : {ContinuousScope::kGlobal, ContinuousScope::kSegment}) {
     for (const int n : {4, 5, 6, 7, 12, 41}) {
       for (unsigned seed = 0; seed < 10; ++seed) {
@@ -263,7 +266,7 @@ TEST(ForceLanes, StretchingIsTheScalarCodeBitForBit) {
         std::mt19937 rng(1000 * n + seed);
         Points q = model.params().initial_q + RandomPoints(n, 0.2 / n, &rng);
         if (seed == 9 && n >= 7) {
-          for (int i = 3; i < 7; ++i) q.row(i) = q.row(2);  // a segment of zero speed
+          for (int i = 2; i < 7; ++i) q.row(i).setZero();  // segments of exactly zero speed (not 1e-17)
         }
         const Points f0 = RandomPoints(n, 1.0, &rng);
         const BlockBand k0 = RandomBand(n, &rng);
