@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "collision/pair_separation.h"
 #include "mechanics/avx_clone.h"
 #include "mechanics/contact_window.h"
 
@@ -153,14 +152,15 @@ void Interactions::SelfGeometry(const std::array<int, 4>& batch, int count) {
   }
   std::array<collision::PairSeparation, 4> separation;
   collision::Separations(a, b, count, separation.data());
-  for (int l = 0; l < count; ++l) {
-    // RawGeometry's self case.
-    Penalty& p = geometry_[batch[l]];
-    p = Penalty();
-    p.normal = separation[l].normal;
-    p.clearance = separation[l].distance - 2.0 * radius_;
-    p.depth = -p.clearance;
-  }
+  for (int l = 0; l < count; ++l) geometry_[batch[l]] = SelfPenalty(separation[l]);
+}
+
+Interactions::Penalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
+  Penalty p;
+  p.normal = separation.normal;
+  p.clearance = separation.distance - 2.0 * radius_;
+  p.depth = -p.clearance;
+  return p;
 }
 
 void Interactions::RefreshToolGeometry() {
@@ -209,13 +209,8 @@ Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const
   double reach = radius_;
   double distance = 0.0;
   switch (c.kind) {
-    case ContactKind::kSelf: {  // (EnsureGeometry does these four at a time: SelfGeometry)
-      const collision::PairSeparation separation = collision::Separation(sa.centre, chain_.spheres()[c.b].centre);
-      distance = separation.distance;
-      p.normal = separation.normal;
-      reach = 2.0 * radius_;
-      break;
-    }
+    case ContactKind::kSelf:  // (EnsureGeometry does these four at a time: SelfGeometry)
+      return SelfPenalty(collision::Separation(sa.centre, chain_.spheres()[c.b].centre));
     case ContactKind::kEnvironment:
       distance = obstacles_[c.b].SignedDistance(sa.centre, &p.normal);
       break;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "collision/contact_detector.h"
+#include "collision/pair_separation.h"
 #include "collision/sphere_chain.h"
 #include "collision/verlet_list.h"
 #include "common/check.h"
@@ -113,6 +114,8 @@ class Interactions {
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
   Penalty Geometry(const collision::ContactCandidate& c) const;
   Penalty RawGeometry(const collision::ContactCandidate& c) const;
+  // A self pair's penalty from its centres' separation (RawGeometry's and SelfGeometry's).
+  Penalty SelfPenalty(const collision::PairSeparation& separation) const;
   bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres();

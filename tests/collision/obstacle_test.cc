@@ -85,6 +85,30 @@ double EllipsoidAsBefore(const Obstacle& o, const Vec3& p, Vec3* normal) {
   return -d;
 }
 
+// The box's distance as main computed it before PreparedObstacle, likewise.
+double BoxAsBefore(const Obstacle& o, const Vec3& p, Vec3* normal) {
+  const Mat3 r = o.orientation.toRotationMatrix();
+  const Vec3 local = r.transpose() * (p - o.centre);
+  const Vec3 q = local.cwiseAbs() - o.half_extents;
+  double d;
+  if (q.maxCoeff() > 0.0) {
+    const Vec3 outside = q.cwiseMax(0.0);
+    const Vec3 n_local = outside.cwiseProduct(local.cwiseSign());
+    const double n = n_local.norm();
+    *normal = r * (n > 1e-12 ? Vec3(n_local * (1.0 / n)) : Vec3::UnitZ());
+    d = outside.norm();
+  } else {
+    int axis;
+    d = q.maxCoeff(&axis);
+    Vec3 n_local = Vec3::Zero();
+    n_local(axis) = local(axis) >= 0.0 ? 1.0 : -1.0;
+    *normal = r * n_local;
+  }
+  if (!o.inside) return d;
+  *normal = -*normal;
+  return -d;
+}
+
 TEST(Obstacle, APreparedObstacleGivesThePlainQuerysBitsForEveryKind) {
   const Eigen::Quaterniond turned(Eigen::AngleAxisd(0.7, Vec3(1, -2, 0.5).normalized()));
   std::vector<Obstacle> all(5);
@@ -119,9 +143,9 @@ TEST(Obstacle, APreparedObstacleGivesThePlainQuerysBitsForEveryKind) {
         const double d = prepared.SignedDistance(p, &n_prepared);
         ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(plain)) << static_cast<int>(o.kind) << " " << i;
         for (int k = 0; k < 3; ++k) ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_plain(k)));
-        if (o.kind == ObstacleKind::kEllipsoid) {
+        if (o.kind == ObstacleKind::kEllipsoid || o.kind == ObstacleKind::kBox) {
           Vec3 n_before;
-          const double before = EllipsoidAsBefore(o, p, &n_before);
+          const double before = o.kind == ObstacleKind::kBox ? BoxAsBefore(o, p, &n_before) : EllipsoidAsBefore(o, p, &n_before);
           ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(before)) << i;
           for (int k = 0; k < 3; ++k) ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_before(k)));
         }
