@@ -57,6 +57,8 @@
 namespace viscera::mechanics {
 namespace {
 
+using bench::SceneAtRate;
+
 // Simulated seconds of one whole-fall iteration, and of the warm-up before the settled runs.
 constexpr double kFallSeconds = 3.0;
 constexpr double kWarmupSeconds = 3.0;
@@ -93,12 +95,6 @@ struct Tally {
 };
 
 // A scene file's model at `rate_hz`, with the scene's sub-step length.
-ModelParams SceneAtRate(const char* path, double rate_hz) {
-  ModelParams params = scene::LoadSceneFile(path).model;
-  scene::ChangeRate(&params, rate_hz);
-  return params;
-}
-
 // Counters (CPU time; "per step" means per 10 ms step of the scene's 100 Hz):
 //   n, spheres       control points, spheres of the chain
 //   us_per_step      CPU microseconds per step

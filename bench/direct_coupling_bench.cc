@@ -65,12 +65,6 @@ struct Case {
   std::vector<std::pair<std::string, double>> snapshots;  // (name, simulated time)
 };
 
-mechanics::ModelParams SceneAtRate(const char* path, double rate_hz) {
-  mechanics::ModelParams params = scene::LoadSceneFile(path).model;
-  scene::ChangeRate(&params, rate_hz);
-  return params;
-}
-
 std::vector<Case> Cases() {
   const char* cavity = VISCERA_SOURCE_DIR "/scenes/cavity.toml";
   const char* clearing = VISCERA_SOURCE_DIR "/scenes/clearing.csv";

@@ -1,5 +1,6 @@
 #pragma once
-// scenes/fall.toml resampled to any number of control points, for the benchmarks.
+// The benchmarks' scenes: scenes/fall.toml resampled to any number of control points, and any
+// scene file at another rate.
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -25,6 +26,13 @@ inline mechanics::ModelParams FallParams(int n) {
                                                  std::regex_constants::format_first_only);
   mechanics::ModelParams params = scene::ParseScene(resized, "fall.toml, " + std::to_string(n) + " points").model;
   VISCERA_DEMAND(params.initial_q.rows() == n);
+  return params;
+}
+
+/// The scene file at `path`, run at `rate_hz` (its sub-step length kept: scene::ChangeRate).
+inline mechanics::ModelParams SceneAtRate(const char* path, double rate_hz) {
+  mechanics::ModelParams params = scene::LoadSceneFile(path).model;
+  scene::ChangeRate(&params, rate_hz);
   return params;
 }
 

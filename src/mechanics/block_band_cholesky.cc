@@ -1,6 +1,7 @@
 #include "mechanics/block_band_cholesky.h"
 
 #include "mechanics/avx_clone.h"
+#include "mechanics/simd_lanes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -68,7 +69,7 @@ namespace {
 // T is double (one right-hand side) or a pair of doubles, two right-hand sides in the lanes of
 // one SSE2 register: each lane then does the one-column arithmetic, with the factor's entries
 // loaded once for both.
-typedef double Pair __attribute__((vector_size(16)));
+using Pair = lanes::V2;
 
 template <class T>
 struct Row3 {
