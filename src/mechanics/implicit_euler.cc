@@ -3,6 +3,7 @@
 #include "mechanics/avx_clone.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/check.h"
 #include "mechanics/interactions.h"
@@ -17,6 +18,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       n_(model.num_points()),
       num_pins_(static_cast<int>(model.pins().size())),
       use_cholmod_(model.params().linear_solver == LinearSolverKind::kCholmod),
+      guard_(model.params().linearization_guard),
       system_(model.num_points()),
       solver_(&common_),
       solve_work_(&common_),
@@ -25,6 +27,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   jac_.Resize(n_);
   force_.setZero(n_, 3);
   kv_.setZero(n_, 3);
+  step_dq_.setZero(n_, 3);
   rhs_.setZero(3 * n_, 2 + 3 * num_pins_);
   schur_.setZero(3 * num_pins_, 3 * num_pins_);
   pin_rhs_.setZero(3 * num_pins_);
@@ -217,7 +220,27 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   cg_iterations_ += it;
 }
 
+bool ImplicitEulerIntegrator::UnseenStretchWithin(const Points& q, const Points& dq, double limit) {
+  // Per segment e of the control polygon: |e + Δe| <= |e| + ê·Δe + limit |e|, the right side
+  // being its length to first order plus the allowance. The left is never below the first-order
+  // length (|e + Δe| >= ê·(e + Δe)); for a turn it exceeds it by ~|Δe_⊥|² / 2|e|. One root per
+  // segment: the left side is compared squared.
+  for (Eigen::Index i = 0; i + 1 < q.rows(); ++i) {
+    const Vec3 e = (q.row(i + 1) - q.row(i)).transpose();
+    const Vec3 moved = e + (dq.row(i + 1) - dq.row(i)).transpose();
+    const double length = std::sqrt(e.squaredNorm());
+    if (!(length > 0.0)) continue;
+    const double allowed = (1.0 + limit) * length + e.dot(moved - e) / length;
+    if (allowed < 0.0 || moved.squaredNorm() > allowed * allowed) return false;
+  }
+  return true;
+}
+
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
+  AdvanceHalving(loads, h, 0, state);
+}
+
+void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, State* state) {
   Points& q = state->q;
   Points& v = state->qd;
   ++substeps_;
@@ -274,6 +297,21 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
   }
   const bool correct_depth = ResolveImpacts(h, v, dv);
 
+  // The step is one linearization: a segment turned far within it stretches by what the linear
+  // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order),
+  // and that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
+  if (guard_ && halvings < kMaxHalvings) {
+    step_dq_ = v;
+    Eigen::Map<VecX>(step_dq_.data(), 3 * n_) += dv;
+    step_dq_ *= h;
+    if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
+    if (!UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch)) {
+      ++halved_substeps_;
+      AdvanceHalving(loads, 0.5 * h, halvings + 1, state);
+      AdvanceHalving(loads, 0.5 * h, halvings + 1, state);
+      return;
+    }
+  }
   Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
   q += h * v;
   if (correct_depth) q += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);

@@ -46,6 +46,17 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Whether CG's stop also accepts a residual below kCgTolerance of the gravity impulse (on by
   /// default; off only to compare against the stricter stop, in tests and benchmarks).
   void set_gravity_floor(bool on) { gravity_floor_ = on; }
+  /// The largest stretch a sub-step may leave unseen by its linearization, as a fraction of a
+  /// segment of the control polygon (UnseenStretchWithin); a sub-step past it is done again as two
+  /// halves, at most kMaxHalvings deep (docs/mechanics.md, "One linearization per sub-step").
+  static constexpr double kMaxUnseenStretch = 0.05;
+  static constexpr int kMaxHalvings = 5;
+  /// Sub-steps done again as two halves, in all.
+  int64_t halved_substeps() const { return halved_substeps_; }
+  /// Whether no segment e = q_i+1 - q_i of the control polygon, moved by dq, ends longer than its
+  /// first-order length |e| + ê·Δe by more than `limit` |e| (the stretch the step's single
+  /// linearization cannot see; a segment turned by θ gets about θ²/2).
+  static bool UnseenStretchWithin(const Points& q, const Points& dq, double limit);
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/contacts.md, "Impacts").
   int64_t impact_substeps() const { return impact_substeps_; }
@@ -64,6 +75,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
 
  private:
+  // Advance, done again as two halves (recursively) when the sub-step turns a segment too far.
+  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, State* state);
   void BuildPattern();
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();
@@ -92,6 +105,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int n_;                        // control points
   int num_pins_;
   bool use_cholmod_;
+  bool guard_;                   // params().linearization_guard
   BlockBand system_;
   BlockBandCholesky band_factor_;
   CholmodCommon common_;
@@ -102,6 +116,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   StretchScratch scratch_;
   ForceJacobians jac_;
   Points force_, kv_;
+  Points step_dq_;               // the sub-step's motion, checked before it is accepted
   MatX rhs_;                     // 3N by (2 + 3 #pins): [r, u, G^T columns], solved in place
   MatX schur_;                   // 3 #pins square
   Eigen::LDLT<MatX> schur_ldlt_;
@@ -123,7 +138,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
   int last_cg_iterations_ = 0;
-  int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0;
+  int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
 };
 
 }  // namespace viscera::mechanics

@@ -83,6 +83,10 @@ struct ModelParams {
   IntegratorKind integrator = IntegratorKind::kRk4;
   MassSolverKind mass_solver = MassSolverKind::kBanded;
   LinearSolverKind linear_solver = LinearSolverKind::kBlockBand;
+  /// Implicit integrator: a sub-step that turns a segment so far that its linearization misses
+  /// more than ImplicitEulerIntegrator::kMaxUnseenStretch of its length is done again as two
+  /// halves (docs/mechanics.md, "One linearization per sub-step").
+  bool linearization_guard = true;
   Vec3 gravity{0.0, 0.0, -9.81};  ///< m/s^2
 
   // [intestine]

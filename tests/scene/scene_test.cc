@@ -68,6 +68,8 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
   EXPECT_EQ(calls[0].second, 1.0);      // the straight start
   EXPECT_TRUE(calls[1].first);
   EXPECT_LT(calls[1].second, 0.99);     // it fell while settling
+  // The settle runs without the linearization guard (scene.cc, Settle); what runs has it back.
+  EXPECT_TRUE(ParseScene("[simulation]\nsettle = 0.2\n" + kIntestine).model.linearization_guard);
   calls.clear();
   ParseScene(kIntestine, "test.toml", limits);  // no settle: one call, on what runs
   ASSERT_EQ(calls.size(), 1u);
@@ -76,8 +78,11 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
 
 TEST(Scene, ReadsEverySimulationKey) {
   const Scene s = ParseScene("[simulation]\nrate_hz = 500\nsubsteps = 3\nintegrator = \"implicit\"\n"
-                             "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\n" + kIntestine);
+                             "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\nlinearization_guard = false\n" +
+                             kIntestine);
   EXPECT_EQ(s.model.rate_hz, 500.0);
+  EXPECT_FALSE(s.model.linearization_guard);
+  EXPECT_TRUE(ParseScene(kIntestine).model.linearization_guard);  // on by default
   EXPECT_EQ(s.model.substeps, 3);
   EXPECT_EQ(s.model.integrator, mechanics::IntegratorKind::kImplicitEuler);
   EXPECT_EQ(s.model.mass_solver, mechanics::MassSolverKind::kCholmod);
@@ -95,6 +100,7 @@ TEST(Scene, WrongTypesAreNamedWithTheirValue) {
   ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 4.5"), {"intestine.control_points", "4.5", "integer"});
   ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, 1.0]"), {"intestine.shape.start", "[x, y, z]"});
   ExpectError("[simulation]\nintegrator = \"euler\"\n" + kIntestine, {"simulation.integrator", "euler", "rk4"});
+  ExpectError("[simulation]\nlinearization_guard = 1\n" + kIntestine, {"simulation.linearization_guard"});
 }
 
 TEST(Scene, NonFiniteAndOutOfRangeValuesAreRejected) {

@@ -69,6 +69,7 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
   }
   line_ += "},\"step_us\":";
   Number(&line_, step_us);
+  line_ += ",\"substeps\":" + std::to_string(state.substeps);
   if (interactions) {
     const auto& spheres = interactions->chain().spheres();
     centres_.resize(static_cast<Eigen::Index>(spheres.size()), 3);
