@@ -53,9 +53,11 @@ class ImplicitEulerIntegrator final : public Integrator {
   static constexpr int kMaxHalvings = 5;
   /// Sub-steps done again as two halves, in all.
   int64_t halved_substeps() const { return halved_substeps_; }
-  /// Whether no segment e = q_i+1 - q_i of the control polygon, moved by dq, ends longer than its
-  /// first-order length |e| + ê·Δe by more than `limit` |e| (the stretch the step's single
-  /// linearization cannot see; a segment turned by θ gets about θ²/2).
+  /// Whether, for every segment e = q_i+1 - q_i of the control polygon moved by dq, the stretch
+  /// the step's single linearization cannot see, |Δe_⊥|² / 2 (|e| + ê·Δe) (the sideways motion's
+  /// second-order lengthening over the first-order length; sin²θ / 2 cos θ ≈ θ²/2 of |e| for a
+  /// segment turned by θ), is at most `limit` |e|, and no segment is turned inside out
+  /// (|e| + ê·Δe <= 0). Coincident points are skipped.
   static bool UnseenStretchWithin(const Points& q, const Points& dq, double limit);
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/contacts.md, "Impacts").
