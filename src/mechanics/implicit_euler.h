@@ -48,7 +48,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   void set_gravity_floor(bool on) { gravity_floor_ = on; }
   /// The largest stretch a sub-step may leave unseen by its linearization, as a fraction of a
   /// segment of the control polygon (UnseenStretchWithin); a sub-step past it is done again as two
-  /// halves, at most kMaxHalvings deep (docs/mechanics.md, "One linearization per sub-step").
+  /// halves, at most kMaxHalvings deep, and a half again only while halving at least halves it
+  /// (docs/mechanics.md, "One linearization per sub-step").
   static constexpr double kMaxUnseenStretch = 0.05;
   static constexpr int kMaxHalvings = 5;
   /// Sub-steps done again as two halves, in all.
@@ -59,6 +60,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// segment turned by θ), is at most `limit` |e|, and no segment is turned inside out
   /// (|e| + ê·Δe <= 0). Coincident points are skipped.
   static bool UnseenStretchWithin(const Points& q, const Points& dq, double limit);
+  /// The largest of that unseen stretch over the segments, as a fraction of each (infinite if a
+  /// segment turns inside out): what a halving must at least halve to be tried again.
+  static double UnseenStretch(const Points& q, const Points& dq);
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/contacts.md, "Impacts").
   int64_t impact_substeps() const { return impact_substeps_; }
@@ -77,8 +81,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
 
  private:
-  // Advance, done again as two halves (recursively) when the sub-step turns a segment too far.
-  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, State* state);
+  // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
+  // parent_unseen: the unseen stretch of the sub-step these are halves of (infinite at the top).
+  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, double parent_unseen, State* state);
   void BuildPattern();
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();

@@ -284,12 +284,7 @@ void ReadTools(const toml::table& root, ModelParams* p) {
 // two thirds of the time (its slack starts long enough for every tether, and shrinks to the
 // scene's in kTighten stages): pulled taut at once, the far tethers would drag the tube through
 // itself.
-// The settle runs without the linearization guard: it is how the scene reaches its start, not
-// time anyone feels, and the shipped piles (on which the training task's gesture was designed,
-// docs/training.md) are the plain step's.
 void Settle(double seconds, ModelParams* p) {
-  const bool guard = p->linearization_guard;
-  p->linearization_guard = false;
   const mechanics::Model before(*p);
   for (size_t i = 0; i < p->attachments.size(); ++i) p->attachments[i].point = before.attachments()[i].anchor;
   double excess = 0.0;
@@ -309,7 +304,6 @@ void Settle(double seconds, ModelParams* p) {
     const int end = stage + 1 < stages ? (stage + 1) * total_steps * 2 / (3 * kTighten) : total_steps;
     for (int k = begin; k < end; ++k) mechanics::Step(model, {}, &state, &workspace);
   }
-  p->linearization_guard = guard;
   ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
   p->initial_q = state.q;
 }
@@ -339,8 +333,14 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
            &scene.model);
   scene.model.scope = ReadCamera(root);
   if (settle > 0.0) {
+    // The settle runs without the linearization guard, and is vetted so: it is how the scene
+    // reaches its start, not time anyone feels, and the shipped piles (on which the training
+    // task's gesture was designed, docs/training.md) are the plain step's.
+    const bool guard = scene.model.linearization_guard;
+    scene.model.linearization_guard = false;
     if (limits.vet) limits.vet(scene.model, false);
     Settle(settle, &scene.model);
+    scene.model.linearization_guard = guard;
   }
   if (limits.vet) limits.vet(scene.model, true);
   return scene;

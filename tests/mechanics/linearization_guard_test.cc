@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -30,6 +31,13 @@ TEST(LinearizationGuard, ATurnOfThetaLeavesAboutHalfThetaSquaredUnseen) {
   const Vec3 turned = Vec3(1.0 + std::cos(theta), std::sin(theta), 0.0) - Vec3(2.0, 0.0, 0.0);
   EXPECT_TRUE(Within(turned, 0.04571));
   EXPECT_FALSE(Within(turned, 0.04570));
+  Points q3(3, 3);
+  q3 << 0, 0, 0, 1, 0, 0, 2, 0, 0;
+  Points dq3 = Points::Zero(3, 3);
+  dq3.row(2) = turned.transpose();
+  EXPECT_NEAR(ImplicitEulerIntegrator::UnseenStretch(q3, dq3), std::pow(std::sin(theta), 2) / (2.0 * std::cos(theta)), 1e-15);
+  dq3.row(2) << -2.0, 0.0, 0.0;
+  EXPECT_EQ(ImplicitEulerIntegrator::UnseenStretch(q3, dq3), std::numeric_limits<double>::infinity());
   // Stretching along the segment and moving everything alike are seen exactly.
   EXPECT_TRUE(Within(Vec3(0.5, 0.0, 0.0), 1e-12));
   EXPECT_TRUE(Within(Vec3(-0.5, 0.0, 0.0), 1e-12));
