@@ -37,7 +37,7 @@ int64_t WarmingUp(int64_t cycle) {
 // A few hundred kB of noise, repeating every 7 cycles.
 int64_t Noise(int64_t cycle) { return (cycle % 7) * 60; }
 
-constexpr int64_t kWarmCycles = 6 * kCadencePeriod;  // viscera-soak's default
+constexpr int64_t kWarmCycles = 6 * kCadencePeriod;  // six blow-ups, as the series above needs
 constexpr double kBoundMb = 16.0;
 
 GrowthPolicy Policy(double run_seconds) {
