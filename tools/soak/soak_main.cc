@@ -133,6 +133,7 @@ int Run(const Options& o) {
 
   int64_t cycles = 0, created = 0, destroyed = 0, drivers_killed = 0, poses_flooded = 0, malformed = 0,
           oversize_answered = 0, scenes_refused = 0, blowups = 0, blowups_recovered = 0, rate_samples = 0,
+          creates_unanswered = 0,
           rate_ok = 0;
   double min_rate = 1e9;
   viscera::soak::ProcessFigures peak{0, 0};
@@ -171,6 +172,8 @@ int Run(const Options& o) {
       Sleep(0.3);
       if (driver > 0 && kill(driver, SIGKILL) == 0) ++drivers_killed;
       if (driver > 0) waitpid(driver, nullptr, 0);
+    } else {
+      ++creates_unanswered;
     }
     malformed += viscera::soak::SendMalformed(client.bus(), s.id != 0 ? s.id : witness.id, static_cast<uint32_t>(cycles));
     if (!viscera::soak::SendOversize(client, "soak", 65536).empty()) ++oversize_answered;
@@ -188,6 +191,8 @@ int Run(const Options& o) {
           }
         }
         if (viscera::soak::DestroySession(client, bad)) ++destroyed;
+      } else {
+        ++creates_unanswered;
       }
     }
     // sessions live about two cycles
@@ -251,7 +256,11 @@ int Run(const Options& o) {
   // Mesa starts one shader-cache thread ("disk$0") with the first frame and keeps it
   const bool threads_ok = after.threads >= 0 && after.threads <= idle.threads + 1;
   const bool rate_kept = rate_samples > 0 && rate_ok >= (rate_samples * 95 + 99) / 100;
-  const bool records_ok = records_total == created + blowups + 1 && records_exact == records_total &&
+  // A create whose reply was lost (UDP, a loaded machine) may still have made a session, which
+  // the server records when its lease ends: up to one record more per create left unanswered.
+  const int64_t records_expected = created + blowups + 1;
+  const bool records_ok = records_total >= records_expected && records_total <= records_expected + creates_unanswered &&
+                          records_exact == records_total &&
                           records_stopped == records_total;
   // a reply may be lost on a loaded machine (UDP): most oversize creates must be answered
   const bool faults_ok = drivers_killed > 0 && oversize_answered * 10 >= cycles * 9 && blowups_recovered == blowups;
@@ -259,6 +268,7 @@ int Run(const Options& o) {
   report["seconds_soaked"] = soaked_seconds;
   report["cycles"] = cycles;
   report["sessions_created"] = created + blowups + 1;
+  report["creates_unanswered"] = creates_unanswered;
   report["sessions_destroyed"] = destroyed;
   report["faults"] = {{"clients_killed", drivers_killed}, {"poses_flooded", poses_flooded},
                       {"malformed_datagrams", malformed}, {"oversize_answered", oversize_answered},
