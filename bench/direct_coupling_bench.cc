@@ -380,6 +380,9 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
               pairs, capacitance, pairs, capacitance, pairs * bs, capacitance * bs, capacitance,
               Quantile(woodbury_dense, 0.5));
   // IC in place of the band preconditioner, from the step's start to its stop.
+  const double level_zero = LevelZeroMultiplyAdds(a, false), band_part = LevelZeroMultiplyAdds(a, true);
+  std::printf("  level-0 IC, chain's order: %.0f multiply-adds, %.0f of them the band's (the band factor's: %.1f us)\n",
+              level_zero, band_part, bf);
   const VecX start = CgWarmStart(band, b, extrapolated);
   VecX start_r;
   integrator.MultiplyExact(start, &start_r);

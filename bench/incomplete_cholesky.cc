@@ -103,4 +103,31 @@ void IncompleteCholeskyPreconditioner::Apply(VecX* x) const {
   if (w_ > 0.0) *x -= (w_ * u_.dot(*x) / denominator_) * z_;
 }
 
+double LevelZeroMultiplyAdds(const SparseUpper& a, bool band_only) {
+  auto kept = [&](int row, int col) { return !band_only || col / 3 - row / 3 < mechanics::BlockBand::kWidth; };
+  // below[k]: the rows under the diagonal of L's column k (A_s's upper triangle by rows).
+  std::vector<std::vector<int>> below(a.n);
+  for (int col = 0; col < a.n; ++col) {
+    for (int e = a.col_ptr[col]; e < a.col_ptr[col + 1]; ++e) {
+      if (a.row[e] < col && kept(a.row[e], col)) below[a.row[e]].push_back(col);
+    }
+  }
+  // Left-looking: column j takes L(i, k) L(j, k) from each column k < j with L(j, k), for the
+  // rows i >= j that column j holds.
+  std::vector<char> held(a.n, 0);
+  double updates = 0.0;
+  for (int j = 0; j < a.n; ++j) {
+    held[j] = 1;
+    for (const int i : below[j]) held[i] = 1;
+    for (int e = a.col_ptr[j]; e < a.col_ptr[j + 1]; ++e) {
+      const int k = a.row[e];
+      if (k >= j || !kept(k, j)) continue;
+      for (const int i : below[k]) updates += i >= j && held[i];
+    }
+    held[j] = 0;
+    for (const int i : below[j]) held[i] = 0;
+  }
+  return updates;
+}
+
 }  // namespace viscera::bench

@@ -50,4 +50,10 @@ class IncompleteCholeskyPreconditioner final : public Preconditioner {
   mutable VecX scratch_;
 };
 
+/// Multiply-adds of a level-0 incomplete Cholesky of A_s in the chain's order (L holds exactly
+/// A_s's pattern: only the updates that land in it are done), counted, not done; with
+/// `band_only`, of the band's part alone (the band factor's own count: no fill falls outside it).
+/// A floor for any IC of this pattern that sees the pairs.
+double LevelZeroMultiplyAdds(const SparseUpper& a, bool band_only);
+
 }  // namespace viscera::bench
