@@ -174,8 +174,19 @@ struct IcRun {
   double nonzeros = 0.0, flops = 0.0, factor_us = 0.0, iteration_us = 0.0, band_residual = 0.0;
 };
 
+// The step's CG start on this sub-step and its residual b - A x.
+struct CgStart {
+  VecX x, r;
+};
+CgStart StepStart(const ImplicitEulerIntegrator& integrator, const BandPreconditioner& band, const VecX& extrapolated) {
+  CgStart start{CgWarmStart(band, integrator.last_rhs(), extrapolated), {}};
+  integrator.MultiplyExact(start.x, &start.r);
+  start.r = integrator.last_rhs() - start.r;
+  return start;
+}
+
 IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const SparseUpper& a,
-            const BandPreconditioner& band, const VecX& start, const VecX& start_r) {
+            const BandPreconditioner& band, const CgStart& start) {
   const double w = integrator.rank_one_weight();
   const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
   IncompleteCholeskyPreconditioner ic(v.ordering, v.fill);
@@ -184,7 +195,7 @@ IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const
   if (!run.factored) return run;
   run.nonzeros = static_cast<double>(ic.factor_nonzeros());
   run.flops = ic.factor_flops();
-  VecX x = start, r = start_r;
+  VecX x = start.x, r = start.r;
   run.iterations = ContinueCg(integrator, ic, integrator.last_cg_stop(), 0.0, kIcMaxIterations, &x, &r);
   VecX z = r;
   band.Apply(&z);
@@ -249,12 +260,9 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   s->worst_residual = std::max(s->worst_residual, (ax - b).norm() / b.norm());
 
   // The step's start, checked by rerunning the step's CG from it; then each IC from it.
-  const VecX start = CgWarmStart(band, b, s->extrapolated);
-  VecX start_r;
-  integrator.MultiplyExact(start, &start_r);
-  start_r = b - start_r;
+  const CgStart start = StepStart(integrator, band, s->extrapolated);
   {
-    VecX x_again = start, r_again = start_r;
+    VecX x_again = start.x, r_again = start.r;
     const int again = ContinueCg(integrator, band, integrator.last_cg_stop(), 0.0,
                                  ImplicitEulerIntegrator::kMaxCgIterations, &x_again, &r_again);
     s->start_mismatches += again != cg;
@@ -263,7 +271,7 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
     for (const IcVariant& v : kIcVariants) s->ic.push_back({IncompleteCholeskyPreconditioner(v.ordering, v.fill).name()});
   }
   for (size_t i = 0; i < std::size(kIcVariants); ++i) {
-    const IcRun run = RunIc(kIcVariants[i], integrator, a, band, start, start_r);
+    const IcRun run = RunIc(kIcVariants[i], integrator, a, band, start);
     IcSweep& ic = s->ic[i];
     if (!run.factored) {
       ++ic.failures;
@@ -383,12 +391,9 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
   const double level_zero = LevelZeroMultiplyAdds(a, false), band_part = LevelZeroMultiplyAdds(a, true);
   std::printf("  level-0 IC, chain's order: %.0f multiply-adds, %.0f of them the band's (the band factor's: %.1f us)\n",
               level_zero, band_part, bf);
-  const VecX start = CgWarmStart(band, b, extrapolated);
-  VecX start_r;
-  integrator.MultiplyExact(start, &start_r);
-  start_r = b - start_r;
+  const CgStart start = StepStart(integrator, band, extrapolated);
   for (const IcVariant& v : kIcVariants) {
-    const IcRun run = RunIc(v, integrator, a, band, start, start_r);
+    const IcRun run = RunIc(v, integrator, a, band, start);
     const std::string name = IncompleteCholeskyPreconditioner(v.ordering, v.fill).name();
     if (!run.factored) {
       std::printf("  %s: the factorization failed\n", name.c_str());

@@ -12,6 +12,8 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
+#include <string>
+
 #include "exact_system.h"
 
 namespace viscera::bench {
