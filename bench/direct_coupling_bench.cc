@@ -12,17 +12,28 @@
 //                direct  CHOLMOD on A_s (AMD, simplicial LL'): numeric factorization, a solve
 //                        of b and of u (Sherman-Morrison), plus the symbolic analysis whenever
 //                        the pattern changed since the last sub-step
-//              Each operation is timed as the median of 3 calls (thread CPU time), the two
+//                IC      incomplete Cholesky of A_s (incomplete_cholesky.h: Eigen's ICT, natural
+//                        or AMD order, 0/5/20 entries of fill per column) as CG's preconditioner
+//                        in place of the band's: CG on the step's own product, from the step's
+//                        own warm start (the band's answer plus the extrapolated correction) and
+//                        to the step's own stop (on r^T M^-1 r, M now the IC); its cost is the
+//                        factorization (ordering, factor, the solve of u) and (iterations + 1)
+//                        iterations (a product and the IC's solves each). The warm start's band
+//                        solve is not charged to it (optimistic for IC).
+//              Each operation is timed as the median of 3 calls (thread CPU time), the
 //              methods back to back on the same sub-step. The direct answer's residual in the
-//              step's own product (MultiplyExact) is checked at every sub-step.
+//              step's own product (MultiplyExact) is checked at every sub-step, and so is the
+//              warm start: CG with the band preconditioner from it must take the step's iterations.
 //   snapshots  at named moments: every ordering (natural, AMD, METIS, NESDIS) simplicial and
 //              supernodal: analysis time, nnz(L), flops, numeric factorization, solve; the
 //              band's factor and solve and one CG iteration for comparison; Woodbury's parts
-//              (one band solve per rank of the pairs, a dense factorization of that order).
+//              (one band solve per rank of the pairs, a dense factorization of that order);
+//              each IC variant's nnz(L), factorization, iteration and iterations.
 //              Rounds alternate the methods; medians over the rounds.
 // Usage: bench_direct_coupling [case ...]   (cases: cavity100 cavity1k fall coil; default all)
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -34,6 +45,7 @@
 #include "common/quantile.h"
 #include "exact_system.h"
 #include "fall_scene.h"
+#include "incomplete_cholesky.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
 #include "script/scripted_tools.h"
@@ -124,6 +136,23 @@ void Run(const Case& c, const Observer& observe) {
               ": the observed run left Step's trajectory");
 }
 
+// The incomplete Cholesky variants measured.
+struct IcVariant {
+  IcOrdering ordering;
+  int fill;
+};
+const IcVariant kIcVariants[] = {{IcOrdering::kNatural, 0}, {IcOrdering::kNatural, 5}, {IcOrdering::kNatural, 20},
+                                 {IcOrdering::kAmd, 0},     {IcOrdering::kAmd, 5},     {IcOrdering::kAmd, 20}};
+constexpr int kIcMaxIterations = 500;  // well past the step's 60: how many it would need
+
+struct IcSweep {
+  std::string name;
+  int64_t iterations = 0, unconverged = 0, failures = 0;
+  double nonzeros = 0.0, flops = 0.0, factor_us = 0.0, iteration_us = 0.0, total_us = 0.0, cg_us = 0.0;
+  double iterating_us = 0.0;         // (iterations + 1) iterations: IC's cost with a free factorization
+  double worst_band_residual = 0.0;  // r^T P^-1 r / stop at IC's exit, P the band preconditioner
+};
+
 // Sweep over every sub-step.
 struct Sweep {
   int64_t substeps = 0, coupled = 0, pairs = 0, cg_iterations = 0;
@@ -132,10 +161,57 @@ struct Sweep {
   double cg_us = 0.0, direct_us = 0.0, direct_outgrown_us = 0.0, analysis_us = 0.0;
   double worst_residual = 0.0;
   std::vector<std::pair<int, int>> last_blocks, analysed_blocks;
+  // The step's warm start: the correction it extrapolates for the next sub-step, and this one's.
+  VecX next_extrapolated, extrapolated;
+  int64_t start_mismatches = 0;  // band CG from the rebuilt start took other than the step's iterations
+  std::vector<IcSweep> ic;
 };
+
+// IC in place of the band preconditioner on one sub-step, from the step's start to its stop.
+struct IcRun {
+  bool factored = false;
+  int iterations = 0;
+  double nonzeros = 0.0, flops = 0.0, factor_us = 0.0, iteration_us = 0.0, band_residual = 0.0;
+};
+
+// The step's CG start on this sub-step and its residual b - A x.
+struct CgStart {
+  VecX x, r;
+};
+CgStart StepStart(const ImplicitEulerIntegrator& integrator, const BandPreconditioner& band, const VecX& extrapolated) {
+  CgStart start{CgWarmStart(band, integrator.last_rhs(), extrapolated), {}};
+  integrator.MultiplyExact(start.x, &start.r);
+  start.r = integrator.last_rhs() - start.r;
+  return start;
+}
+
+IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const SparseUpper& a,
+            const BandPreconditioner& band, const CgStart& start) {
+  const double w = integrator.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
+  IncompleteCholeskyPreconditioner ic(v.ordering, v.fill);
+  IcRun run;
+  run.factor_us = MedianMicros(3, [&] { run.factored = ic.Factor(a, w, u); });
+  if (!run.factored) return run;
+  run.nonzeros = static_cast<double>(ic.factor_nonzeros());
+  run.flops = ic.factor_flops();
+  VecX x = start.x, r = start.r;
+  run.iterations = ContinueCg(integrator, ic, integrator.last_cg_stop(), 0.0, kIcMaxIterations, &x, &r);
+  VecX z = r;
+  band.Apply(&z);
+  run.band_residual = r.dot(z) / integrator.last_cg_stop();
+  constexpr int kTimedIterations = 8;
+  VecX cg_x;
+  run.iteration_us = MedianMicros(3, [&] { SolveByCg(integrator, ic, integrator.last_rhs(), 0.0, kTimedIterations, &cg_x); }) /
+                     kTimedIterations;
+  return run;
+}
 
 void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interactions, Sweep* s) {
   ++s->substeps;
+  const Eigen::Index n = integrator.last_rhs().size();  // the step starts with no correction
+  s->extrapolated = s->next_extrapolated.size() == n ? s->next_extrapolated : VecX::Zero(n);
+  s->next_extrapolated = 2.0 * integrator.cg_correction() - integrator.cg_previous_correction();
   const int pairs = interactions.coupled_pairs();
   if (pairs == 0) {
     s->last_blocks.clear();
@@ -171,7 +247,8 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   constexpr int kTimedIterations = 8;
   const double iteration =
       MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, kTimedIterations, &cg_x); }) / kTimedIterations;
-  s->cg_us += band_factor + columns * band_solve + (cg + 1) * iteration;
+  const double cg_path = band_factor + columns * band_solve + (cg + 1) * iteration;
+  s->cg_us += cg_path;
   s->direct_us += numeric + columns * solve + (changed ? analysis : 0.0);
   s->direct_outgrown_us += numeric + columns * solve + (outgrown ? analysis : 0.0);
   s->analysis_us += analysis;
@@ -181,6 +258,36 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   VecX ax;
   integrator.MultiplyExact(x, &ax);
   s->worst_residual = std::max(s->worst_residual, (ax - b).norm() / b.norm());
+
+  // The step's start, checked by rerunning the step's CG from it; then each IC from it.
+  const CgStart start = StepStart(integrator, band, s->extrapolated);
+  {
+    VecX x_again = start.x, r_again = start.r;
+    const int again = ContinueCg(integrator, band, integrator.last_cg_stop(), 0.0,
+                                 ImplicitEulerIntegrator::kMaxCgIterations, &x_again, &r_again);
+    s->start_mismatches += again != cg;
+  }
+  if (s->ic.empty()) {
+    for (const IcVariant& v : kIcVariants) s->ic.push_back({IncompleteCholeskyPreconditioner(v.ordering, v.fill).name()});
+  }
+  for (size_t i = 0; i < std::size(kIcVariants); ++i) {
+    const IcRun run = RunIc(kIcVariants[i], integrator, a, band, start);
+    IcSweep& ic = s->ic[i];
+    if (!run.factored) {
+      ++ic.failures;
+      continue;
+    }
+    ic.iterations += run.iterations;
+    ic.unconverged += run.iterations == kIcMaxIterations;
+    ic.nonzeros += run.nonzeros;
+    ic.flops += run.flops;
+    ic.iterating_us += (run.iterations + 1) * run.iteration_us;
+    ic.factor_us += run.factor_us;
+    ic.iteration_us += run.iteration_us;
+    ic.total_us += run.factor_us + (run.iterations + 1) * run.iteration_us;
+    ic.cg_us += cg_path;
+    ic.worst_band_residual = std::max(ic.worst_band_residual, run.band_residual);
+  }
 }
 
 void PrintSweep(const Case& c, const Sweep& s) {
@@ -193,11 +300,26 @@ void PrintSweep(const Case& c, const Sweep& s) {
       static_cast<double>(s.cg_iterations) / coupled, 100.0 * static_cast<double>(s.pattern_changes) / coupled,
       100.0 * static_cast<double>(s.outgrown) / coupled, s.cg_us / coupled, s.direct_us / coupled,
       s.direct_outgrown_us / coupled, s.analysis_us / coupled, s.direct_us / s.cg_us, s.worst_residual);
+  std::printf("  warm start rebuilt: band CG took the step's iterations on %lld of %lld coupled sub-steps\n",
+              static_cast<long long>(s.coupled - s.start_mismatches), static_cast<long long>(s.coupled));
+  std::printf("  %-14s %8s %7s %9s %8s %12s %10s %8s %7s %13s %6s %12s\n", "preconditioner", "nnz(L)", "Mflop",
+              "factor_us", "CG it", "iteration_us", "total_us", "CG path", "/CG", "iterating/CG", "fails",
+              "band r/stop");
+  for (const IcSweep& ic : s.ic) {
+    const double factored = static_cast<double>(std::max<int64_t>(1, s.coupled - ic.failures));
+    std::printf("  %-14s %8.0f %7.3f %9.1f %8.2f %12.2f %10.1f %8.1f %7.2f %13.2f %6lld %12.2f%s\n", ic.name.c_str(),
+                ic.nonzeros / factored, ic.flops / factored * 1e-6, ic.factor_us / factored,
+                static_cast<double>(ic.iterations) / factored, ic.iteration_us / factored, ic.total_us / factored,
+                ic.cg_us / factored, ic.total_us / ic.cg_us, ic.iterating_us / ic.cg_us,
+                static_cast<long long>(ic.failures), ic.worst_band_residual,
+                ic.unconverged > 0 ? (" (" + std::to_string(ic.unconverged) + " unconverged)").c_str() : "");
+  }
   std::fflush(stdout);
 }
 
 // One snapshot in detail: every ordering, both factorizations, the band, Woodbury's parts.
-void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Interactions& interactions) {
+void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Interactions& interactions,
+              const VecX& extrapolated) {
   const SparseUpper a = AssembleExact(integrator, interactions);
   const int pairs = interactions.coupled_pairs();
   const VecX& b = integrator.last_rhs();
@@ -265,6 +387,23 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
   std::printf("  Woodbury (rank %d to %d): %d to %d band solves %.0f to %.0f us, + dense LLT of order %d: %.0f us\n",
               pairs, capacitance, pairs, capacitance, pairs * bs, capacitance * bs, capacitance,
               Quantile(woodbury_dense, 0.5));
+  // IC in place of the band preconditioner, from the step's start to its stop.
+  const double level_zero = LevelZeroMultiplyAdds(a, false), band_part = LevelZeroMultiplyAdds(a, true);
+  std::printf("  level-0 IC, chain's order: %.0f multiply-adds, %.0f of them the band's (the band factor's: %.1f us)\n",
+              level_zero, band_part, bf);
+  const CgStart start = StepStart(integrator, band, extrapolated);
+  for (const IcVariant& v : kIcVariants) {
+    const IcRun run = RunIc(v, integrator, a, band, start);
+    const std::string name = IncompleteCholeskyPreconditioner(v.ordering, v.fill).name();
+    if (!run.factored) {
+      std::printf("  %s: the factorization failed\n", name.c_str());
+      continue;
+    }
+    std::printf("  %s: nnz(L) %.0f, %.3f Mflop, factor %.1f us, %d CG iterations (the step's %d), iteration %.1f us, "
+                "total %.1f us\n",
+                name.c_str(), run.nonzeros, run.flops * 1e-6, run.factor_us, run.iterations, cg, run.iteration_us,
+                run.factor_us + (run.iterations + 1) * run.iteration_us);
+  }
   std::fflush(stdout);
 }
 
@@ -277,7 +416,7 @@ int Main(int argc, char** argv) {
     Run(c, [&](ImplicitEulerIntegrator& integrator, Interactions& interactions, double t) {
       ObserveSweep(integrator, interactions, &sweep);
       while (next_snapshot < c.snapshots.size() && t >= c.snapshots[next_snapshot].second - 1e-9) {
-        Snapshot(c.snapshots[next_snapshot++].first, integrator, interactions);
+        Snapshot(c.snapshots[next_snapshot++].first, integrator, interactions, sweep.extrapolated);
       }
     });
     PrintSweep(c, sweep);

@@ -148,28 +148,42 @@ void BandPreconditioner::Apply(VecX* x) const {
   if (w_ > 0.0) *x -= (w_ * u_.dot(*x) / denominator_) * z_;
 }
 
-int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator, const BandPreconditioner& preconditioner,
-              const VecX& b, double tolerance, int max_iterations, VecX* x) {
-  x->setZero(b.size());
-  VecX r = b, z = b, q(b.size());
+int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
+               double stop, double relative, int max_iterations, VecX* x, VecX* r) {
+  VecX z = *r, q(r->size());
   preconditioner.Apply(&z);
   VecX p = z;
-  double rz = r.dot(z);
-  const double stop = tolerance * tolerance * rz;
+  double rz = r->dot(z);
+  stop = std::max(stop, relative * relative * rz);
   int it = 0;
   while (it < max_iterations && rz > stop) {
     ++it;
     integrator.MultiplyExact(p, &q);
-    const double alpha = rz / p.dot(q);
+    const double pq = p.dot(q);
+    if (!(pq > 0.0)) break;
+    const double alpha = rz / pq;
     *x += alpha * p;
-    r -= alpha * q;
-    z = r;
+    *r -= alpha * q;
+    z = *r;
     preconditioner.Apply(&z);
-    const double rz_next = r.dot(z);
+    const double rz_next = r->dot(z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;
   }
   return it;
+}
+
+int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
+              const VecX& b, double tolerance, int max_iterations, VecX* x) {
+  x->setZero(b.size());
+  VecX r = b;
+  return ContinueCg(integrator, preconditioner, 0.0, tolerance, max_iterations, x, &r);
+}
+
+VecX CgWarmStart(const BandPreconditioner& band, const VecX& b, const VecX& extrapolated) {
+  VecX x = b;
+  band.Apply(&x);
+  return x + extrapolated;
 }
 
 }  // namespace viscera::bench

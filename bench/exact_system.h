@@ -77,11 +77,18 @@ class DirectSolver {
   double lnz_ = 0.0, flops_ = 0.0;
 };
 
+/// x <- M^-1 x for a symmetric positive definite M that approximates the exact matrix.
+class Preconditioner {
+ public:
+  virtual ~Preconditioner() = default;
+  virtual void Apply(VecX* x) const = 0;
+};
+
 /// The step's preconditioner without pins: the band factor of P, then w u u^T by Sherman-Morrison.
-class BandPreconditioner {
+class BandPreconditioner final : public Preconditioner {
  public:
   explicit BandPreconditioner(const mechanics::ImplicitEulerIntegrator& integrator);
-  void Apply(VecX* x) const;  // x <- (P + w u u^T)^-1 x
+  void Apply(VecX* x) const override;  // x <- (P + w u u^T)^-1 x
 
  private:
   mechanics::BlockBandCholesky factor_;
@@ -90,10 +97,20 @@ class BandPreconditioner {
   double denominator_;
 };
 
-/// Preconditioned CG on the integrator's own exact product (MultiplyExact) from x = 0, until the
-/// preconditioned residual is `tolerance` of b's (in that norm) or after max_iterations.
-/// Returns the iterations.
-int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator, const BandPreconditioner& preconditioner,
+/// Preconditioned CG on the integrator's own exact product (MultiplyExact), as the step's
+/// RefineExactly: from *x with *r = b - A *x, until r^T M^-1 r falls to max(stop, relative^2
+/// times its start) or after max_iterations (or when p^T A p is not positive). Updates x and r;
+/// returns the iterations.
+int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
+               double stop, double relative, int max_iterations, VecX* x, VecX* r);
+
+/// ContinueCg from x = 0, until the preconditioned residual is `tolerance` of b's (in that norm).
+int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
               const VecX& b, double tolerance, int max_iterations, VecX* x);
+
+/// The start of the last sub-step's CG: the band's answer plus the correction extrapolated from
+/// the two sub-steps before, `extrapolated` (read from the integrator after the sub-step before:
+/// 2 cg_correction() - cg_previous_correction()).
+VecX CgWarmStart(const BandPreconditioner& band, const VecX& b, const VecX& extrapolated);
 
 }  // namespace viscera::bench

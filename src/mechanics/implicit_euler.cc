@@ -198,6 +198,7 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   ApplyBandInverse(cg_z_.data());
   double rz = cg_r_.dot(cg_z_);
   const double stop = kCgTolerance * kCgTolerance * reference;
+  last_cg_stop_ = stop;
   cg_p_ = cg_z_;
   int it = 0;
   while (it < kMaxCgIterations && rz > stop) {

@@ -79,6 +79,13 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
   /// the common modes (as Interactions last weighed them: after Advance, with (h^2, h)).
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
+  /// The last sub-step's CG: its stop (on r^T M^-1 r, M the preconditioner) and its correction
+  /// (exact answer minus the band's) with the one before. The next coupled sub-step starts from
+  /// the band's answer plus 2 cg_correction() - cg_previous_correction() (both 0 after an
+  /// uncoupled sub-step). Read by bench_direct_coupling to rerun that CG with other preconditioners.
+  double last_cg_stop() const { return last_cg_stop_; }
+  const VecX& cg_correction() const { return cg_correction_; }
+  const VecX& cg_previous_correction() const { return cg_previous_correction_; }
 
  private:
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
@@ -145,6 +152,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
   int last_cg_iterations_ = 0;
+  double last_cg_stop_ = 0.0;
   int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
 };
 
