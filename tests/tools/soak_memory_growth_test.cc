@@ -1,6 +1,7 @@
 // The soak's memory verdict (tools/soak/memory_growth.h) on synthetic RSS series shaped like the
 // measured ones (docs/reliability.md): the server grows in steps at its first blow-up cycles, then
-// stays flat; a leak grows by the same amount every cycle.
+// stays flat; a leak grows by the same amount every cycle. And the soak's records check
+// (tools/soak/soak_records.h).
 #include "tools/soak/memory_growth.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "tools/soak/soak_cadence.h"
+#include "tools/soak/soak_records.h"
 
 namespace viscera::soak {
 namespace {
@@ -137,6 +139,23 @@ TEST(SoakMemoryGrowth, TooFewCyclesAfterTheBaselineGiveNoVerdict) {
   // one cycle short of a verdict, then a verdict
   EXPECT_EQ(JudgeGrowth(Series(79, 1.1, WarmingUp), Policy(40)).outcome, Outcome::kTooShort);
   EXPECT_EQ(JudgeGrowth(Series(80, 1.1, WarmingUp), Policy(40)).outcome, Outcome::kFlat);
+}
+
+}  // namespace
+}  // namespace viscera::soak
+
+namespace viscera::soak {
+namespace {
+
+// The records check (soak_records.h): a create whose reply was lost may or may not have made a
+// session; every answered one must have its record.
+TEST(SoakRecords, OneRecordPerAnsweredSessionAndAtMostOneMorePerUnansweredCreate) {
+  EXPECT_TRUE(RecordsAccountedFor(50, 50, 0));
+  EXPECT_FALSE(RecordsAccountedFor(51, 50, 0));  // a record nobody asked for
+  EXPECT_TRUE(RecordsAccountedFor(51, 50, 1));   // the run of session 10: a lost reply
+  EXPECT_TRUE(RecordsAccountedFor(50, 50, 1));   // the create itself was lost
+  EXPECT_FALSE(RecordsAccountedFor(52, 50, 1));
+  EXPECT_FALSE(RecordsAccountedFor(49, 50, 3));  // an answered session without its record
 }
 
 }  // namespace

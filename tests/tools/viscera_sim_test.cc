@@ -57,6 +57,7 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   EXPECT_EQ(summary["steps"], 50);
   EXPECT_NEAR(summary["simulated_seconds"].get<double>(), 0.5, 1e-12);
   EXPECT_EQ(summary["nonfinite_resets"], 0);
+  EXPECT_EQ(summary["halved_substeps"], 0);  // a free fall turns no segment
 
   std::ifstream in(trace);
   std::vector<nlohmann::json> frames;
@@ -75,6 +76,7 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
     EXPECT_NEAR(e["total"].get<double>(), sum, 1e-9);
     EXPECT_NEAR(f["length"].get<double>(), 4.0, 0.04);  // springs keep it within 1 %
     EXPECT_GE(f["step_us"].get<double>(), 0.0);
+    EXPECT_EQ(f["substeps"], f["t"] == 0.0 ? 0 : 1);
   }
   // The centre of mass moves exactly as a point under gravity with viscous friction
   // gamma = 0.5 / s: internal forces sum to zero, and so do the rows of their Jacobians. With
@@ -93,6 +95,14 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   EXPECT_NEAR(z0 - z1, drop, 1e-9);
   // Damping only removes energy.
   EXPECT_LT(summary["final_energy"]["total"].get<double>(), summary["initial_energy"].get<double>());
+}
+
+// attached.toml's overstretched mesentery: the first steps at 100 Hz turn segments too far for
+// one linearization (docs/mechanics.md), and the summary says how many sub-steps were halved.
+TEST(VisceraSim, ReportsTheSubStepsTheLinearizationGuardHalved) {
+  const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("attached.toml") + " --duration 0.05 --json 2>/dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_GT(nlohmann::json::parse(r.out)["halved_substeps"].get<int>(), 0);
 }
 
 TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {

@@ -36,6 +36,7 @@ class ScriptedRun {
 
   const mechanics::State& state() const { return state_; }
   mechanics::Interactions* interactions() { return workspace_.interactions(); }
+  const mechanics::Integrator& integrator() { return workspace_.integrator(); }
 
  private:
   std::span<const mechanics::ToolTarget> TargetsAt(double t) {

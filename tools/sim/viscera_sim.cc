@@ -15,6 +15,7 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "mechanics/implicit_euler.h"
 #include "mechanics/mass_matrix.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
@@ -296,6 +297,9 @@ int Run(const Options& opt) {
       {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
   };
   if (frames) summary["rendered_frames"] = frames->frames();
+  // sub-steps the implicit step's linearization guard did again as halves (docs/mechanics.md)
+  const auto* implicit = dynamic_cast<const mechanics::ImplicitEulerIntegrator*>(&run.integrator());
+  summary["halved_substeps"] = implicit ? implicit->halved_substeps() : 0;
   summary["final_energy"]["contact"] = e.contact;
   assessment::Report report = assessed.Report(0, opt.scene);
   report.sim_time = simulated;

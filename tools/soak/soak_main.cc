@@ -31,6 +31,7 @@
 #include "tools/soak/memory_growth.h"
 #include "tools/soak/soak_cadence.h"
 #include "tools/soak/soak_faults.h"
+#include "tools/soak/soak_records.h"
 
 extern char** environ;
 
@@ -256,10 +257,7 @@ int Run(const Options& o) {
   // Mesa starts one shader-cache thread ("disk$0") with the first frame and keeps it
   const bool threads_ok = after.threads >= 0 && after.threads <= idle.threads + 1;
   const bool rate_kept = rate_samples > 0 && rate_ok >= (rate_samples * 95 + 99) / 100;
-  // A create whose reply was lost (UDP, a loaded machine) may still have made a session, which
-  // the server records when its lease ends: up to one record more per create left unanswered.
-  const int64_t records_expected = created + blowups + 1;
-  const bool records_ok = records_total >= records_expected && records_total <= records_expected + creates_unanswered &&
+  const bool records_ok = viscera::soak::RecordsAccountedFor(records_total, created + blowups + 1, creates_unanswered) &&
                           records_exact == records_total &&
                           records_stopped == records_total;
   // a reply may be lost on a loaded machine (UDP): most oversize creates must be answered
