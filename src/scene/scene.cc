@@ -10,6 +10,7 @@
 #include "scene/mesentery_table.h"
 #include "scene/shapes.h"
 #include "scene/task_reader.h"
+#include "scene/toml_bounds.h"
 #include "scene/toml_reader.h"
 
 #include <algorithm>
@@ -353,6 +354,11 @@ Scene ParseScene(const std::string& text, const std::string& source) {
 }
 
 Scene ParseScene(const std::string& text, const std::string& source, const SceneLimits& limits) {
+  try {
+    CheckTomlBounds(text);  // before the parser, which recurses once per level of a key
+  } catch (const InputError& e) {
+    Fail(source, ": ", e.what());
+  }
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -370,9 +376,11 @@ Scene ParseScene(const std::string& text, const std::string& source, const Scene
 Scene LoadSceneFile(const std::string& path) {
   std::ifstream in(path);
   ThrowUnless(in.good(), path, ": cannot open scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return ParseScene(text.str(), path);
+  // at most one byte past the limit: a huge file (or /dev/zero) is refused, not read whole
+  std::string text(kSceneTomlBounds.max_bytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<size_t>(in.gcount()));
+  return ParseScene(text, path);
 }
 
 void ChangeRate(mechanics::ModelParams* params, double rate_hz) {
