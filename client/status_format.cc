@@ -46,6 +46,8 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"lease_left_s", s.lease_left_s},
           {"recoveries", s.recoveries},
           {"idle_events", s.idle_events},
+          {"messages_dropped", s.messages_dropped},
+          {"nonfinite_dropped", s.nonfinite_dropped},
           {"target_exposed", targets},
           {"frames", {{"skin", s.skin},
                       {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},

@@ -83,6 +83,10 @@ scene::SceneLimits NetworkSceneLimits(const ServerConfig& config, double session
   limits.max_substeps = config.max_substeps;
   limits.max_rate_hz = config.max_rate_hz;
   limits.max_settle_s = config.max_settle_s;
+  limits.max_spheres = config.max_spheres;
+  limits.max_margin_radii = config.max_margin_radii;
+  limits.max_tools = config.max_tools;
+  limits.max_mesh_triangles = config.max_mesh_triangles;
   const std::string scene_dir = config.scene_dir;
   const int64_t max_bytes = config.max_mesh_bytes;
   limits.resolve_file = [scene_dir, max_bytes](const std::string& file) {

@@ -48,6 +48,10 @@ struct ServerConfig {
   int max_substeps = 64;
   double max_settle_s = 10.0;
   double max_session_load = 1.0;       ///< estimated mechanics load, fraction of one core
+  int max_spheres = 2000;              ///< collision spheres (intestine.length / radius)
+  double max_margin_radii = 4.0;       ///< contacts.margin, in tube radii
+  int max_tools = 8;                   ///< [[tool]] tables (one force message each per step)
+  int max_mesh_triangles = 200000;     ///< of one mesh obstacle
 };
 
 }  // namespace viscera::server

@@ -261,6 +261,19 @@ int main(int argc, char** argv) {
                  "Estimated mechanics load of one session (fraction of a core, from timed steps); 0 = no limit")
       ->check(CLI::Range(0.0, 64.0))
       ->capture_default_str();
+  app.add_option("--max-spheres", config.max_spheres,
+                 "Collision spheres of a create's scene (intestine.length / intestine.radius)")
+      ->check(CLI::Range(2, 1000000))
+      ->capture_default_str();
+  app.add_option("--max-contact-margin", config.max_margin_radii, "contacts.margin of a create's scene (tube radii)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  app.add_option("--max-tools", config.max_tools, "Tools of a create's scene (one force message each per step)")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  app.add_option("--max-mesh-triangles", config.max_mesh_triangles, "Triangles of a mesh obstacle of a create's scene")
+      ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
   if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;

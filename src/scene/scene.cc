@@ -79,6 +79,15 @@ double Positive(const TomlReader& r, const std::string& key, double fallback) {
   return r.Has(key) ? Positive(r, key) : r.Double(key, fallback);
 }
 
+// A tool parameter within [lo, hi]: what a haptic device and the coupling can render. A
+// stiffness of 1e308 or a mass of 1e-300 made every force sent non-finite.
+double Within(const TomlReader& r, const std::string& key, double fallback, double lo, double hi,
+              const char* unit) {
+  const double v = r.Double(key, fallback);
+  ThrowUnless(v >= lo && v <= hi, r.Name(key), " = ", v, ": expected ", lo, "..", hi, " ", unit);
+  return v;
+}
+
 std::vector<double> ReadPinned(const TomlReader& r) {
   std::vector<double> pins;
   const toml::node* node = r.Node("pinned");
@@ -106,6 +115,12 @@ void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelPar
   p->length = Positive(r, "length");
   p->radius = Positive(r, "radius");
   p->mass = Positive(r, "mass");
+  // the collision chain's size, known before anything is built (a tiny radius asked for
+  // gigabytes of spheres and their pairs)
+  const double spheres = std::ceil(p->length / p->radius) + 1.0;
+  ThrowUnless(limits.max_spheres <= 0 || spheres <= limits.max_spheres, "intestine.length / intestine.radius = ",
+              spheres, " collision spheres: above this server's limit of ", limits.max_spheres,
+              " (a shorter or wider tube)");
   const int n = r.Int("control_points", 0);
   WithinLimit("intestine.control_points", n, limits.max_control_points);
   p->stretch_stiffness = NonNegative(r, "stretch_stiffness", 0.0);
@@ -149,6 +164,22 @@ void ReadAttachments(const toml::table& root, ModelParams* p) {
     r.Finish();
     p->attachments.push_back(a);
   }
+}
+
+// The triangles of an OBJ file's faces (a polygon of n vertices is n - 2), counted up to one
+// past `stop` before anything is built: a 2M-triangle mesh within the byte limit took 150 s.
+int CountObjTriangles(const std::string& path, int stop) {
+  std::ifstream in(path);
+  ThrowUnless(in.good(), path, ": cannot open mesh");
+  int triangles = 0;
+  for (std::string line; triangles <= stop && std::getline(in, line);) {
+    if (line.size() < 2 || line[0] != 'f' || (line[1] != ' ' && line[1] != '\t')) continue;
+    std::istringstream tokens(line.substr(1));
+    int vertices = 0;
+    for (std::string token; tokens >> token;) ++vertices;
+    triangles += std::max(0, vertices - 2);
+  }
+  return triangles;
 }
 
 collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_dir, const SceneLimits& limits) {
@@ -212,6 +243,10 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
     const int resolution = r.Int("resolution", 40);
     ThrowUnless(resolution >= 8 && resolution <= 200, r.Name("resolution"), " = ", resolution, ": expected 8..200");
     WithinLimit(r.Name("resolution"), resolution, limits.max_mesh_resolution);
+    if (limits.max_mesh_triangles > 0) {
+      WithinLimit(r.Name("file") + " triangles", CountObjTriangles(file, limits.max_mesh_triangles),
+                  limits.max_mesh_triangles);
+    }
     o.sdf = std::make_shared<collision::MeshSdf>(
         collision::MeshSdf::FromObj(file, scale, r.Vector("offset", Vec3::Zero()), resolution));
   } else {
@@ -232,7 +267,7 @@ void ReadObstacles(const toml::table& root, const std::string& base_dir, const S
   }
 }
 
-void ReadContacts(const toml::table& root, ModelParams* p) {
+void ReadContacts(const toml::table& root, const SceneLimits& limits, ModelParams* p) {
   mechanics::ContactParams& c = p->contacts;
   c.self = true;  // a scene never lets the tube pass through itself unless it says so
   const toml::node* node = root.get("contacts");
@@ -244,6 +279,9 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   c.damping = NonNegative(r, "damping", c.damping);
   c.friction = NonNegative(r, "friction", c.friction);
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
+  ThrowUnless(limits.max_margin_radii <= 0.0 || c.margin <= limits.max_margin_radii * p->radius, "contacts.margin = ",
+              c.margin, " m: above this server's limit of ", limits.max_margin_radii, " tube radii (",
+              limits.max_margin_radii * p->radius, " m)");
   c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
   c.impact_depth = NonNegative(r, "impact_depth", c.impact_depth);
   c.impact_constraints = r.Bool("impact_constraints", c.impact_constraints);
@@ -252,9 +290,11 @@ void ReadContacts(const toml::table& root, ModelParams* p) {
   r.Finish();
 }
 
-void ReadTools(const toml::table& root, ModelParams* p) {
+void ReadTools(const toml::table& root, const SceneLimits& limits, ModelParams* p) {
   int index = 0;
-  for (const toml::table* t : TableArray(root, "tool")) {
+  const std::vector<const toml::table*> tables = TableArray(root, "tool");
+  WithinLimit("[[tool]] count", static_cast<int>(tables.size()), limits.max_tools);
+  for (const toml::table* t : tables) {
     const TomlReader r(*t, "tool[" + std::to_string(index++) + "]");
     mechanics::ToolParams tool;
     tool.name = r.String("name");
@@ -265,15 +305,15 @@ void ReadTools(const toml::table& root, ModelParams* p) {
       ThrowUnless(other.name != tool.name, r.Name("name"), " = \"", tool.name, "\": two tools share this name");
     }
     tool.port = r.Vector("port");
-    tool.radius = Positive(r, "radius", tool.radius);
-    tool.length = Positive(r, "length", tool.length);
-    tool.max_force = Positive(r, "max_force", tool.max_force);
-    tool.coupling_stiffness = Positive(r, "coupling_stiffness", tool.coupling_stiffness);
-    tool.coupling_damping = NonNegative(r, "coupling_damping", tool.coupling_damping);
-    tool.mass = Positive(r, "mass", tool.mass);
-    tool.grasp_stiffness = Positive(r, "grasp_stiffness", tool.grasp_stiffness);
-    tool.grasp_reach = NonNegative(r, "grasp_reach", tool.grasp_reach);
-    tool.idle_timeout = Positive(r, "idle_timeout", tool.idle_timeout);
+    tool.radius = Within(r, "radius", tool.radius, 1e-4, 0.05, "m");
+    tool.length = Within(r, "length", tool.length, 0.01, 2.0, "m");
+    tool.max_force = Within(r, "max_force", tool.max_force, 1e-3, 100.0, "N");
+    tool.coupling_stiffness = Within(r, "coupling_stiffness", tool.coupling_stiffness, 1e-3, 1e5, "N/m");
+    tool.coupling_damping = Within(r, "coupling_damping", tool.coupling_damping, 0.0, 1e3, "N s/m");
+    tool.mass = Within(r, "mass", tool.mass, 1e-3, 10.0, "kg");
+    tool.grasp_stiffness = Within(r, "grasp_stiffness", tool.grasp_stiffness, 1e-3, 1e5, "N/m");
+    tool.grasp_reach = Within(r, "grasp_reach", tool.grasp_reach, 0.0, 0.1, "m");
+    tool.idle_timeout = Within(r, "idle_timeout", tool.idle_timeout, 1e-3, 60.0, "s");
     r.Finish();
     p->tools.push_back(tool);
   }
@@ -328,8 +368,8 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   const size_t slash = source.find_last_of('/');
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), limits,
                 &scene.model);
-  ReadContacts(root, &scene.model);
-  ReadTools(root, &scene.model);
+  ReadContacts(root, limits, &scene.model);
+  ReadTools(root, limits, &scene.model);
   ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
            &scene.model);
   scene.model.scope = ReadCamera(root);

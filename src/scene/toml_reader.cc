@@ -33,12 +33,16 @@ const toml::node& TomlReader::Required(const std::string& key) const {
 
 namespace {
 
+constexpr double kMaxMagnitude = 1e9;
+
 double AsDouble(const toml::node& node, const std::string& name) {
   std::optional<double> v;
   if (node.is_floating_point()) v = node.as_floating_point()->get();
   if (node.is_integer()) v = static_cast<double>(node.as_integer()->get());
   ThrowUnless(v.has_value(), name, " = ", Describe(node), ": expected a number");
   ThrowUnless(std::isfinite(*v), name, " = ", *v, ": must be finite");
+  // no scene quantity comes near this (SI units); 1e308 overflowed into infinite forces
+  ThrowUnless(std::fabs(*v) <= kMaxMagnitude, name, " = ", *v, ": outside +-", kMaxMagnitude);
   return *v;
 }
 

@@ -3,6 +3,8 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include <algorithm>
+
 namespace viscera::session {
 
 Outbox::Outbox(bus::LcmBus* bus, Recorder* recorder, Channels channels, int realtime_priority)
@@ -30,6 +32,29 @@ void Outbox::Drain() {
 int64_t Outbox::max_depth() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return max_depth_;
+}
+
+int64_t Outbox::dropped() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return dropped_;
+}
+
+int64_t Outbox::nonfinite() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return nonfinite_;
+}
+
+bool Outbox::PushBounded(std::deque<Item>* queue, Item item, size_t max) {
+  bool dropped = false;
+  if (queue->size() >= max && !queue->empty()) {
+    const auto force = std::find_if(queue->begin(), queue->end(), [](const Item& queued) {
+      return std::holds_alternative<viscera_proto::force_feedback_t>(queued);
+    });
+    queue->erase(force != queue->end() ? force : queue->begin());
+    dropped = true;
+  }
+  queue->push_back(std::move(item));
+  return dropped;
 }
 
 void Outbox::Send(const Item& item) {

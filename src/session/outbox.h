@@ -5,6 +5,9 @@
 /// in the order they were handed over. Publishing on LCM (a sendto on a multicast socket)
 /// and writing the record (stdio) can block for milliseconds on a busy machine
 /// (docs/benchmarks.md measured 1-5 ms stalls in sendto); here they cannot delay a step.
+/// The queue is bounded (kMaxQueued): when the output falls behind, the oldest force is
+/// dropped (a newer one for the same tool supersedes it), or with no force queued the oldest
+/// message; and no message with a non-finite number is ever sent. Both are counted.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -19,12 +22,16 @@
 #include <viscera_proto/step_record_t.hpp>
 
 #include "bus/lcm_bus.h"
+#include "session/finite_message.h"
 #include "session/recorder.h"
 
 namespace viscera::session {
 
 class Outbox {
  public:
+  /// Messages waiting at most (about 4 s of a 1 kHz session with one tool).
+  static constexpr size_t kMaxQueued = 8192;
+
   /// Where each kind goes: published on its channel (step records are never published)
   /// and, with a recorder, recorded.
   struct Channels {
@@ -37,6 +44,12 @@ class Outbox {
   ~Outbox();
   Outbox(const Outbox&) = delete;
   Outbox& operator=(const Outbox&) = delete;
+
+  using Item = std::variant<viscera_proto::force_feedback_t, viscera_proto::skeleton_state_t,
+                            viscera_proto::session_status_t, viscera_proto::step_record_t>;
+  /// Appends `item` to `queue`; when it already holds `max` items, first drops the oldest
+  /// force, or with none the oldest item. @return true when one was dropped.
+  static bool PushBounded(std::deque<Item>* queue, Item item, size_t max);
 
   /// Queue a message (mechanics thread). Call Flush() once per loop iteration to wake the
   /// output thread.
@@ -51,14 +64,20 @@ class Outbox {
 
   /// Most messages that ever waited at once (a sign of a stalled output).
   int64_t max_depth() const;
+  /// Messages dropped because the queue was full, and forces or skeletons refused because a
+  /// number in them was not finite.
+  int64_t dropped() const;
+  int64_t nonfinite() const;
 
  private:
-  using Item = std::variant<viscera_proto::force_feedback_t, viscera_proto::skeleton_state_t,
-                            viscera_proto::session_status_t, viscera_proto::step_record_t>;
   template <typename Msg>
   void PushItem(const Msg& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
-    queue_.emplace_back(msg);
+    if (!AllFinite(msg)) {
+      ++nonfinite_;
+      return;
+    }
+    if (PushBounded(&queue_, msg, kMaxQueued)) ++dropped_;
     if (static_cast<int64_t>(queue_.size()) > max_depth_) max_depth_ = static_cast<int64_t>(queue_.size());
   }
   void Run(int realtime_priority);
@@ -73,6 +92,8 @@ class Outbox {
   bool busy_ = false;
   bool stop_ = false;
   int64_t max_depth_ = 0;
+  int64_t dropped_ = 0;
+  int64_t nonfinite_ = 0;
   std::thread thread_;
 };
 

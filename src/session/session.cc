@@ -462,6 +462,10 @@ void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
     s.contacts = st.contacts.self + st.contacts.environment + st.contacts.tool;
     s.recoveries = L->stepper.recoveries();
     s.idle_events = L->idle_events;
+    if (L->outbox != nullptr) {
+      s.messages_dropped = L->outbox->dropped();
+      s.nonfinite_dropped = L->outbox->nonfinite();
+    }
     FillAssessment(&s);
   }
   {

@@ -12,6 +12,10 @@ Stepper::Stepper(const mechanics::Model& model)
 
 bool Stepper::Sane(const mechanics::State& s) const {
   if (!s.q.allFinite() || !s.qd.allFinite()) return false;
+  // what a step sends: a non-finite tool force is a blow-up too (extreme tool parameters)
+  for (const mechanics::ToolState& t : s.tools) {
+    if (!t.force.allFinite() || !t.torque.allFinite() || !t.tip.allFinite() || !t.stiffness.allFinite()) return false;
+  }
   if (s.q.rowwise().norm().maxCoeff() > kMaxDistance) return false;
   return s.qd.rowwise().norm().maxCoeff() <= kMaxSpeed;
 }

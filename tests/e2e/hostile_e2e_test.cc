@@ -62,5 +62,32 @@ TEST(HostileE2E, ADeepDottedKeyOrHeaderIsRefusedAndTheServerLivesOn) {
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
+std::string Tools(int n, const std::string& extra = "") {
+  std::string out;
+  for (int i = 0; i < n; ++i) out += "[[tool]]\nname = \"t" + std::to_string(i) + "\"\nport = [0, 0, 0.3]\n" + extra;
+  return out;
+}
+
+// What a scene would cost, bounded from its keys before anything is allocated: a tiny radius
+// (6.2 GB in 23 s), a huge contact margin (no reply for 120 s), 300 tools (2.9 GB of queued
+// forces), and tool parameters that put NaN on the wire.
+TEST(HostileE2E, CostlyScenesAreRefusedWithTheKeyAndTheLimit) {
+  const std::string dir = ScratchDir();
+  Daemon daemon("hostile-b", {}, dir);
+  const int64_t witness = Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();
+  const std::string tiny = "[intestine]\nlength = 0.4\nradius = 1e-7\nmass = 0.1\ncontrol_points = 21\n"
+                           "[intestine.shape]\nkind = \"straight\"\n";
+  ExpectRefused(dir, tiny, "intestine.length / intestine.radius = 4e+06 collision spheres: above this server's limit of 2000");
+  ExpectRefused(dir, kBase + "[contacts]\nmargin = 10.0\n",
+                "contacts.margin = 10 m: above this server's limit of 4 tube radii");
+  ExpectRefused(dir, kBase + Tools(300), "[[tool]] count = 300: above this server's limit of 8");
+  ExpectRefused(dir, kBase + Tools(1, "coupling_stiffness = 1e308\n"), "tool[0].coupling_stiffness = 1e+308: outside");
+  ExpectRefused(dir, kBase + Tools(1, "max_force = 1e308\n"), "tool[0].max_force = 1e+308: outside");
+  ExpectRefused(dir, kBase + Tools(1, "mass = 1e-300\n"), "tool[0].mass = 1e-300: expected 0.001..10 kg");
+  EXPECT_TRUE(daemon.Alive()) << daemon.Stderr();
+  ExpectWitnessSteps(dir, witness);
+  EXPECT_EQ(daemon.Stop(), 0);
+}
+
 }  // namespace
 }  // namespace viscera::e2e
