@@ -1,6 +1,8 @@
 #pragma once
 /// PeerDirectory: the other servers on the bus, from their heartbeats, so that a full
-/// server can name one that has room when it refuses a create.
+/// server can name one that has room when it refuses a create. Bounded: peers not heard for
+/// max_age_ns are forgotten, and at most kMaxPeers are kept (heartbeats with ever-new server
+/// ids grew the directory by 241 MB in 10 s).
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -14,6 +16,9 @@ namespace viscera::server {
 
 class PeerDirectory {
  public:
+  /// Peers kept at most; a new one beyond it is ignored until an old one expires.
+  static constexpr size_t kMaxPeers = 256;
+
   /// @param own_id this server's id: its own heartbeats are not a peer's.
   /// @param max_age_ns a peer not heard for longer is forgotten (gone or unreachable).
   PeerDirectory(std::string own_id, int64_t max_age_ns);
@@ -25,6 +30,8 @@ class PeerDirectory {
   /// max_age_ns of `now_ns`), or none.
   std::optional<bus::ServerLoad> Suggest(int64_t now_ns) const;
 
+  size_t size() const { return peers_.size(); }
+
  private:
   struct Peer {
     bus::ServerLoad load;
@@ -33,6 +40,7 @@ class PeerDirectory {
   std::string own_id_;
   int64_t max_age_ns_;
   std::map<std::string, Peer> peers_;
+  int64_t next_sweep_ns_ = 0;
 };
 
 }  // namespace viscera::server

@@ -75,6 +75,15 @@ double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_h
   return per_step_s * (rate_hz > 0.0 ? rate_hz : params.rate_hz);
 }
 
+std::function<void()> BuildStopCheck(std::shared_ptr<const std::atomic<bool>> stop, double max_s) {
+  const int64_t deadline_ns = MonotonicNanos() + static_cast<int64_t>(max_s * 1e9);
+  return [stop = std::move(stop), deadline_ns, max_s] {
+    ThrowUnless(!stop->load(), "the server is stopping: the scene's build was abandoned");
+    ThrowUnless(max_s <= 0.0 || MonotonicNanos() < deadline_ns, "the scene's build took longer than this server's ",
+                "limit of ", max_s, " s (a shorter settle, fewer control points or sub-steps)");
+  };
+}
+
 scene::SceneLimits NetworkSceneLimits(const ServerConfig& config, double session_rate_hz) {
   scene::SceneLimits limits;
   limits.max_control_points = config.max_control_points;

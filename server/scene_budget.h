@@ -1,7 +1,10 @@
 #pragma once
 /// Scenes from the network are hostile input: what a create's scene may name (files inside
 /// the server's scene directory only) and cost (docs/security.md, "Scene budget").
+#include <atomic>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "mechanics/model_params.h"
@@ -28,5 +31,10 @@ inline constexpr double kUnsettledLoadFactor = 4.0;
 /// The limits of `config` for a create's scene; `session_rate_hz` (0: the scene's) is the
 /// rate the session will run at, for the load estimate.
 scene::SceneLimits NetworkSceneLimits(const ServerConfig& config, double session_rate_hz);
+
+/// A SceneLimits::check_stop for a build that starts now: throws InputError once `stop` is
+/// set (the server stops: a SIGTERM abandons builds instead of waiting minutes for them) or
+/// `max_s` seconds of wall time have passed (0: no deadline).
+std::function<void()> BuildStopCheck(std::shared_ptr<const std::atomic<bool>> stop, double max_s);
 
 }  // namespace viscera::server

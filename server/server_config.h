@@ -39,7 +39,7 @@ struct ServerConfig {
   double session_lease_s = 60.0;   ///< a session without client traffic this long ends
   // Limits (docs/security.md, "Limits"); reported in every heartbeat.
   int max_message_bytes = 256 * 1024;  ///< larger datagrams are dropped before decoding
-  int max_creates_per_minute = 10;     ///< per sender
+  int max_creates_per_minute = 30;     ///< all key holders (or all clients) together
   double max_frame_mpix_per_s = 40.0;  ///< all frame streams together (width x height x rate)
   int max_control_points = 1000;       ///< of a create's scene
   int max_obstacles = 32;
@@ -52,6 +52,7 @@ struct ServerConfig {
   double max_margin_radii = 4.0;       ///< contacts.margin, in tube radii
   int max_tools = 8;                   ///< [[tool]] tables (one force message each per step)
   int max_mesh_triangles = 200000;     ///< of one mesh obstacle
+  double max_build_s = 30.0;           ///< a create's scene build (wall time, s); 0 = none
 };
 
 }  // namespace viscera::server

@@ -26,6 +26,12 @@ using viscera_proto::session_request_t;
 
 namespace {
 
+// (sender, channel) pairs each replay guard keeps: the request channel's and the pose
+// channels' (docs/security.md).
+constexpr size_t kReplayEntriesPerClass = 1 << 15;
+// How long a shutdown waits for a scene build to see its stop flag.
+constexpr std::chrono::milliseconds kBuildStopWait{500};
+
 constexpr size_t kTokenBytes = 16;
 constexpr double kMaxPosition = 10.0;  // m: no operating room is larger
 
@@ -115,8 +121,12 @@ SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
     : config_(config),
       bus_(bus),
       frame_bus_(frame_bus),
-      replay_(static_cast<int64_t>(config.max_clock_skew_s * 1e6)) {
+      replay_(static_cast<int64_t>(config.max_clock_skew_s * 1e6), kReplayEntriesPerClass),
+      replay_poses_(static_cast<int64_t>(config.max_clock_skew_s * 1e6), kReplayEntriesPerClass) {
   VISCERA_DEMAND(bus_ != nullptr && frame_bus_ != nullptr);
+  // nothing sent before this start is taken: a create captured before a restart stays stale
+  replay_.SetEpoch(bus::WallMicros());
+  replay_poses_.SetEpoch(bus::WallMicros());
 }
 
 SessionManager::~SessionManager() { StopAll(); }
@@ -137,7 +147,17 @@ std::string SessionManager::FullMessage() const {
 }
 
 void SessionManager::StopAll() {
-  for (PendingCreate& p : pending_) p.scene.wait();  // helpers finish; their models are dropped
+  // Builds stop at their next check (every settling step, between phases); one still inside a
+  // long step after kBuildStopWait is left to end with the process: its future is let go of
+  // (a future of std::async waits in its destructor) and it holds only copies.
+  for (PendingCreate& p : pending_) p.stop->store(true);
+  const auto give_up = std::chrono::steady_clock::now() + kBuildStopWait;
+  for (PendingCreate& p : pending_) {
+    if (p.scene.wait_until(give_up) != std::future_status::ready) {
+      std::fprintf(stderr, "viscerad: a scene build is still in a step at shutdown; left to end with the process\n");
+      new std::future<session::SessionScene>(std::move(p.scene));  // never waited for, never freed
+    }
+  }
   pending_.clear();
   for (auto& [id, running] : sessions_) {
     if (running.frames != nullptr) running.frames->RequestStop();  // all at once, then wait
@@ -162,30 +182,27 @@ void SessionManager::Reject(session::Session* session, const std::string& why) {
 std::string SessionManager::CheckReplay(const viscera_proto::header_t& header,
                                        const std::string& channel, session::Session* session) {
   const int64_t now = bus::WallMicros();
-  const bus::ReplayGuard::Verdict verdict = replay_.Check(header.sender, channel, header.seq, header.utime, now);
+  bus::ReplayGuard& guard = channel == bus::kRequestChannel ? replay_ : replay_poses_;
+  const bus::ReplayGuard::Verdict verdict = guard.Check(header.sender, channel, header.seq, header.utime, now);
   if (verdict == bus::ReplayGuard::Verdict::kAccepted) return "";
-  const std::string why = replay_.Explain(verdict, header.seq, header.utime, now);
+  const std::string why = guard.Explain(verdict, header.seq, header.utime, now);
   ++rejected_;
   ++replayed_;
   if (session != nullptr) session->CountReplayed(Cat(channel, ": ", why));
   return why;
 }
 
-std::string SessionManager::CreateRateProblem(int64_t sender) {
+std::string SessionManager::CreateRateProblem() {
   if (config_.max_creates_per_minute <= 0) return "";
   const int64_t now = MonotonicNanos();
   constexpr int64_t kMinute = 60'000'000'000;
-  for (auto it = creates_.begin(); it != creates_.end();) {
-    std::deque<int64_t>& times = it->second;
-    while (!times.empty() && now - times.front() > kMinute) times.pop_front();
-    it = times.empty() ? creates_.erase(it) : std::next(it);
+  while (!create_times_.empty() && now - create_times_.front() > kMinute) create_times_.pop_front();
+  if (static_cast<int>(create_times_.size()) >= config_.max_creates_per_minute) {
+    return Cat("too many creates: ", create_times_.size(), " in the last minute from ",
+               config_.key_file.empty() ? "all clients" : "the holders of this server's key",
+               " together (limit ", config_.max_creates_per_minute, " per minute; try again shortly)");
   }
-  std::deque<int64_t>& times = creates_[sender];
-  if (static_cast<int>(times.size()) >= config_.max_creates_per_minute) {
-    return Cat("too many creates: ", times.size(), " in the last minute from this client (limit ",
-               config_.max_creates_per_minute, " per minute)");
-  }
-  times.push_back(now);
+  create_times_.push_back(now);
   return "";
 }
 
@@ -399,7 +416,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
 }
 
 void SessionManager::Create(const session_request_t& request) {
-  if (const std::string problem = CreateRateProblem(request.header.sender); !problem.empty()) {
+  if (const std::string problem = CreateRateProblem(); !problem.empty()) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused, problem);
     return;
@@ -440,14 +457,19 @@ void SessionManager::Create(const session_request_t& request) {
   // Building the model may take long (mesh distance fields, settling): a helper thread does
   // it at low priority (nice 10), within the server's scene budget, so no session waits for it.
   const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
-  const scene::SceneLimits limits = NetworkSceneLimits(config_, rate);
+  scene::SceneLimits limits = NetworkSceneLimits(config_, rate);
+  auto stop = std::make_shared<std::atomic<bool>>(false);
+  limits.check_stop = BuildStopCheck(stop, config_.max_build_s);
   const std::string inline_source = config_.scene_dir + "/<inline>";  // meshes: the scene dir
-  pending_.push_back({request, mpix, std::async(std::launch::async, [this, request, rate, limits, inline_source] {
+  // copies only, no `this`: a build still running at shutdown is left behind (StopAll)
+  pending_.push_back({request, mpix,
+                      std::async(std::launch::async, [scene_dir = config_.scene_dir, max_rate = config_.max_rate_hz,
+                                                      request, rate, limits, inline_source] {
                         NiceThisThread();
-                        return session::LoadSessionScene(config_.scene_dir, request.scene_name,
-                                                         request.scene_toml, rate, config_.max_rate_hz,
-                                                         inline_source, limits);
-                      })});
+                        return session::LoadSessionScene(scene_dir, request.scene_name, request.scene_toml, rate,
+                                                         max_rate, inline_source, limits);
+                      }),
+                      stop});
 }
 
 
@@ -573,7 +595,9 @@ void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::M
     Reject(nullptr, "pose for an unknown session");
     return;
   }
-  if (SessionOfChannel(*info.channel, bus::kPosePrefix) != id) {
+  // the exact name: VISCERA_POSE_0<id> parses to the same id but is another (sender, channel)
+  // for the replay guard, so a captured pose replayed there passed it
+  if (*info.channel != bus::SessionChannel(bus::kPosePrefix, id)) {
     Reject(session, Cat("pose for session ", id, " on channel ", *info.channel));
     return;
   }

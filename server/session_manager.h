@@ -95,8 +95,10 @@ class SessionManager {
   /// dropped (counted, charged to `session` when there is one).
   std::string CheckReplay(const viscera_proto::header_t& header, const std::string& channel,
                           session::Session* session);
-  /// Why `sender` may not create now ("" if it may): more than max_creates_per_minute.
-  std::string CreateRateProblem(int64_t sender);
+  /// Why no create may start now ("" if one may): max_creates_per_minute reached by all key
+  /// holders together (a sender id is the client's own choice: a per-sender limit stopped
+  /// nobody, and its sweep over every sender ever seen slowed every command).
+  std::string CreateRateProblem();
   /// Frame streams of all sessions and creations in flight (megapixels per second).
   double FrameLoadMpix() const;
   /// Stops session `id` (which exists) and moves it to retiring_ (its render thread may be
@@ -129,14 +131,16 @@ class SessionManager {
     viscera_proto::session_request_t request;
     double frame_mpix_per_s = 0.0;
     std::future<session::SessionScene> scene;  // the helper's result or its exception
+    std::shared_ptr<std::atomic<bool>> stop;   // set: the helper abandons the build
   };
   std::vector<PendingCreate> pending_;
   std::atomic<int> num_sessions_{0};
   std::atomic<int64_t> rejected_{0};
   std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> expired_{0};
-  bus::ReplayGuard replay_;
-  std::unordered_map<int64_t, std::deque<int64_t>> creates_;  // sender -> create times (ns)
+  bus::ReplayGuard replay_;        // the request channel's senders
+  bus::ReplayGuard replay_poses_;  // the pose channels': a pose flood cannot fill the other
+  std::deque<int64_t> create_times_;  // creates accepted within the last minute (ns)
   int64_t reply_seq_ = 0;
   viscera_proto::session_reply_t reply_{};  // zeroed: Reply() sends num_sessions before any list set it
   viscera_proto::tool_pose_t record_pose_{};         // a pose as recorded: without its token

@@ -231,7 +231,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-message-size", config.max_message_bytes, "Largest datagram accepted (bytes)")
       ->check(CLI::Range(1024, 64 << 20))
       ->capture_default_str();
-  app.add_option("--max-creates-per-minute", config.max_creates_per_minute, "Creates per minute per client; 0 = no limit")
+  app.add_option("--max-creates-per-minute", config.max_creates_per_minute, "Creates per minute, all key holders (or all clients) together; 0 = no limit")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   app.add_option("--max-frame-bandwidth", config.max_frame_mpix_per_s,
@@ -273,6 +273,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-mesh-triangles", config.max_mesh_triangles, "Triangles of a mesh obstacle of a create's scene")
       ->check(CLI::Range(1, 100000000))
+      ->capture_default_str();
+  app.add_option("--max-build-time", config.max_build_s,
+                 "Wall time a create's scene build may take before it is abandoned (s); 0 = no limit")
+      ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions

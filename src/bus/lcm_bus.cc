@@ -19,17 +19,20 @@ bool UrlLeavesHost(const std::string& url) {
   if (url.rfind("udpm://", 0) != 0) return true;
   const size_t query = url.find('?');
   if (query == std::string::npos) return false;
+  // every ttl, not the first: LCM takes the last of repeated options ("?ttl=0&ttl=1" sends
+  // with TTL 1), so any one that is not 0 may leave the host
+  bool leaves = false;
   for (size_t start = query + 1; start < url.size();) {
     const size_t end = std::min(url.find('&', start), url.size());
     const std::string option = url.substr(start, end - start);
     if (option.rfind("ttl=", 0) == 0) {
       const std::string value = option.substr(4);
       // anything but a plain 0 may leave the host (LCM reads it with atoi)
-      return value.empty() || value.find_first_not_of('0') != std::string::npos;
+      leaves = leaves || value.empty() || value.find_first_not_of('0') != std::string::npos;
     }
     start = end + 1;
   }
-  return false;
+  return leaves;
 }
 
 LcmBus::LcmBus(const std::string& url) : url_(url), lcm_(url) {

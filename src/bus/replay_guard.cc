@@ -15,7 +15,19 @@ ReplayGuard::ReplayGuard(int64_t max_skew_us, size_t max_entries)
 
 void ReplayGuard::Expire(int64_t now_us) {
   std::erase_if(windows_, [&](const auto& entry) { return now_us - entry.second.last_us > 2 * max_skew_us_; });
-  next_sweep_us_ = now_us + max_skew_us_ / 4;
+  next_full_sweep_us_ = now_us + 1'000'000;
+}
+
+void ReplayGuard::SweepSome(int64_t now_us) {
+  const size_t buckets = windows_.bucket_count();
+  for (int n = 0; n < kBucketsPerCheck; ++n) {
+    cursor_ = (cursor_ + 1) % buckets;
+    for (auto it = windows_.cbegin(cursor_); it != windows_.cend(cursor_); ++it) {
+      if (now_us - it->second.last_us > 2 * max_skew_us_) idle_.push_back(&it->first);
+    }
+    for (const std::string* key : idle_) windows_.erase(windows_.find(*key));
+    idle_.clear();
+  }
 }
 
 ReplayGuard::Verdict ReplayGuard::Check(int64_t sender, const std::string& channel, int64_t seq,
@@ -23,7 +35,8 @@ ReplayGuard::Verdict ReplayGuard::Check(int64_t sender, const std::string& chann
   if (sender == 0 || seq < 0) return Verdict::kNoSender;
   // |now - utime| without overflow for any utime an attacker may put there
   if (utime < now_us - max_skew_us_ || utime > now_us + max_skew_us_) return Verdict::kStale;
-  if (now_us >= next_sweep_us_) Expire(now_us);
+  if (utime < epoch_us_) return Verdict::kBeforeEpoch;
+  SweepSome(now_us);
 
   key_.resize(sizeof(sender));
   std::memcpy(key_.data(), &sender, sizeof(sender));
@@ -31,7 +44,7 @@ ReplayGuard::Verdict ReplayGuard::Check(int64_t sender, const std::string& chann
   auto it = windows_.find(key_);
   if (it == windows_.end()) {
     if (windows_.size() >= max_entries_) {
-      Expire(now_us);
+      if (now_us >= next_full_sweep_us_) Expire(now_us);
       if (windows_.size() >= max_entries_) return Verdict::kFull;
     }
     it = windows_.emplace(key_, Window{}).first;
@@ -67,6 +80,9 @@ std::string ReplayGuard::Explain(Verdict verdict, int64_t seq, int64_t utime, in
                  " s; are the clocks synchronised?)");
     case Verdict::kNoSender:
       return "no sender id or a negative sequence: cannot be checked for replay";
+    case Verdict::kBeforeEpoch:
+      return Cat("stale: sent ", (static_cast<double>(epoch_us_) - static_cast<double>(utime)) * 1e-6,
+                 " s before this server started (a message from before a restart is never taken)");
     case Verdict::kFull:
       return Cat("too many senders (", max_entries_, ") within the freshness bound");
   }

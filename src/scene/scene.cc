@@ -262,6 +262,7 @@ void ReadObstacles(const toml::table& root, const std::string& base_dir, const S
   const std::vector<const toml::table*> tables = TableArray(root, "obstacle");
   WithinLimit("[[obstacle]] count", static_cast<int>(tables.size()), limits.max_obstacles);
   for (const toml::table* t : tables) {
+    if (limits.check_stop) limits.check_stop();
     p->obstacles.push_back(
         ReadObstacle(TomlReader(*t, "obstacle[" + std::to_string(index++) + "]"), base_dir, limits));
   }
@@ -325,7 +326,7 @@ void ReadTools(const toml::table& root, const SceneLimits& limits, ModelParams* 
 // two thirds of the time (its slack starts long enough for every tether, and shrinks to the
 // scene's in kTighten stages): pulled taut at once, the far tethers would drag the tube through
 // itself.
-void Settle(double seconds, ModelParams* p) {
+void Settle(double seconds, const std::function<void()>& check_stop, ModelParams* p) {
   const mechanics::Model before(*p);
   for (size_t i = 0; i < p->attachments.size(); ++i) p->attachments[i].point = before.attachments()[i].anchor;
   double excess = 0.0;
@@ -343,7 +344,10 @@ void Settle(double seconds, ModelParams* p) {
     // stage k < kTighten gets 1 / (1.5 kTighten) of the time, the last one the remaining third
     const int begin = stage * total_steps * 2 / (3 * kTighten);
     const int end = stage + 1 < stages ? (stage + 1) * total_steps * 2 / (3 * kTighten) : total_steps;
-    for (int k = begin; k < end; ++k) mechanics::Step(model, {}, &state, &workspace);
+    for (int k = begin; k < end; ++k) {
+      if (check_stop) check_stop();  // an atomic load and a clock read: nothing beside a step
+      mechanics::Step(model, {}, &state, &workspace);
+    }
   }
   ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
   p->initial_q = state.q;
@@ -368,6 +372,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   const size_t slash = source.find_last_of('/');
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), limits,
                 &scene.model);
+  if (limits.check_stop) limits.check_stop();  // after the distance fields
   ReadContacts(root, limits, &scene.model);
   ReadTools(root, limits, &scene.model);
   ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
@@ -379,10 +384,12 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
     // task's gesture was designed, docs/training.md) are the plain step's.
     const bool guard = scene.model.linearization_guard;
     scene.model.linearization_guard = false;
+    if (limits.check_stop) limits.check_stop();
     if (limits.vet) limits.vet(scene.model, false);
-    Settle(settle, &scene.model);
+    Settle(settle, limits.check_stop, &scene.model);
     scene.model.linearization_guard = guard;
   }
+  if (limits.check_stop) limits.check_stop();
   if (limits.vet) limits.vet(scene.model, true);
   return scene;
 }

@@ -42,6 +42,9 @@ struct SceneLimits {
   /// scene settles), and with the settled model, which is what runs (settled = true): may
   /// throw InputError (the server estimates the step cost here).
   std::function<void(const mechanics::ModelParams&, bool settled)> vet;
+  /// Called between the build's phases and before every settling step: throws InputError to
+  /// abandon the build (the server's build deadline, or its shutdown).
+  std::function<void()> check_stop;
 };
 
 /// @throws InputError with the file, the key, the value and the reason.

@@ -208,5 +208,18 @@ TEST(ResolveUrl, FlagThenEnvironmentThenDefault) {
   ::unsetenv("LCM_DEFAULT_URL");
 }
 
+// The off-loopback check reads every ttl: LCM takes the last of repeated options, and the
+// check took the first ("?ttl=0&ttl=1" started without a key and sent with TTL 1).
+TEST(UrlLeavesHost, EveryTtlCountsNotOnlyTheFirst) {
+  EXPECT_FALSE(UrlLeavesHost("udpm://239.255.76.67:7667?ttl=0"));
+  EXPECT_FALSE(UrlLeavesHost("udpm://239.255.76.67:7667?ttl=00&recv_buf_size=100"));
+  EXPECT_FALSE(UrlLeavesHost("memq://"));
+  EXPECT_TRUE(UrlLeavesHost("udpm://239.255.76.67:7667?ttl=1"));
+  EXPECT_TRUE(UrlLeavesHost("udpm://239.255.76.67:7667?ttl=0&ttl=1"));
+  EXPECT_TRUE(UrlLeavesHost("udpm://239.255.76.67:7667?ttl=1&ttl=0"));
+  EXPECT_TRUE(UrlLeavesHost("udpm://239.255.76.67:7667?ttl="));
+  EXPECT_TRUE(UrlLeavesHost("tcpq://127.0.0.1:7700"));
+}
+
 }  // namespace
 }  // namespace viscera::bus
