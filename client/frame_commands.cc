@@ -16,6 +16,7 @@
 
 #include "bus/lcm_bus.h"
 #include "client/frame_receiver.h"
+#include "client/jpeg_header.h"
 #include "client/mjpeg_server.h"
 #include "client/session_client.h"
 #include "common/check.h"
@@ -25,6 +26,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using viscera_proto::jpeg_frame_t;
+
+// A frame message at most: a 4096 x 4096 JPEG at quality 100 is about 8 MB.
+constexpr int kMaxFrameMessageBytes = 16 << 20;
 
 // SIGINT / SIGTERM end a command cleanly (a video gets its trailer): blocked here, before
 // any thread starts, and polled between pumps. The mask stays: the command ends the process.
@@ -75,6 +79,7 @@ int Listen(const FrameListenOptions& o, const std::string& where,
   const StopSignals signals;
   bus::LcmBus bus(WithReceiveBuffer(o.url));
   bus.SetAuth(o.auth);
+  bus.SetMaxMessageSize(kMaxFrameMessageBytes);  // larger ones are dropped before decoding
   bool failed = false;
   FrameReceiver receiver(&bus, o.session_id, [&](const jpeg_frame_t& frame) {
     if (!failed && !on_frame(frame)) failed = true;
@@ -189,6 +194,11 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
       for (int64_t k = 0; k < std::min<int64_t>(missing, static_cast<int64_t>(fps)); ++k, ++filled) {
         writer.write(previous);
       }
+    }
+    // the header first: a frame claiming 30000 x 30000 pixels is skipped, not decoded
+    if (!JpegProblem(frame.data.data(), frame.data.size(), frame.width, frame.height).empty()) {
+      ++undecodable;
+      return true;
     }
     const cv::Mat image = cv::imdecode(frame.data, cv::IMREAD_COLOR);
     if (image.empty() || image.cols != frame.width || image.rows != frame.height) {

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "bus/header.h"
+#include "client/printable.h"
 
 namespace viscera::client {
 
@@ -23,6 +24,7 @@ void ServerDirectory::Observe(const viscera_proto::heartbeat_t& heartbeat) {
   info.load = heartbeat.load;
   info.uptime_s = static_cast<double>(heartbeat.uptime_us) * 1e-6;
   info.rejected = heartbeat.rejected;
+  info.record_free_bytes = heartbeat.record_free_bytes;
   ++info.heartbeats;
 }
 
@@ -46,7 +48,7 @@ const ServerInfo* PickServer(const std::vector<ServerInfo>& servers) {
 std::string ServersSummary(const std::vector<ServerInfo>& servers) {
   std::string out;
   for (const ServerInfo& s : servers) {
-    out += (out.empty() ? "" : ", ") + s.server_id + " " + std::to_string(s.sessions) + "/" +
+    out += (out.empty() ? "" : ", ") + Printable(s.server_id) + " " + std::to_string(s.sessions) + "/" +
            std::to_string(s.max_sessions);
   }
   return out.empty() ? "none" : out;
@@ -61,7 +63,8 @@ nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers) {
                      {"load", s.load},
                      {"uptime_s", s.uptime_s},
                      {"heartbeats", s.heartbeats},
-                     {"rejected", s.rejected}});
+                     {"rejected", s.rejected},
+                     {"record_free_bytes", s.record_free_bytes}});
   }
   return array;
 }
@@ -77,7 +80,7 @@ std::string ServersToTable(const std::vector<ServerInfo>& servers) {
   out += line;
   for (const ServerInfo& s : servers) {
     const std::string sessions = std::to_string(s.sessions) + "/" + std::to_string(s.max_sessions);
-    std::snprintf(line, sizeof(line), "%-*s  %8s  %4.0f%%  %9.1fs\n", w, s.server_id.c_str(),
+    std::snprintf(line, sizeof(line), "%-*s  %8s  %4.0f%%  %9.1fs\n", w, Printable(s.server_id).c_str(),
                   sessions.c_str(), 100.0 * s.load, s.uptime_s);
     out += line;
   }

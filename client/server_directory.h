@@ -18,6 +18,7 @@ struct ServerInfo : bus::ServerLoad {
   double uptime_s = 0.0;   ///< s
   int64_t heartbeats = 0;  ///< heard while listening
   int64_t rejected = 0;    ///< messages the server dropped since it started
+  int64_t record_free_bytes = -1;  ///< on the server's record disk (-1: it records nothing)
 };
 
 class ServerDirectory {

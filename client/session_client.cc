@@ -6,6 +6,7 @@
 #include "bus/channels.h"
 #include "bus/header.h"
 #include "bus/message_auth.h"
+#include "client/printable.h"
 
 namespace viscera::client {
 namespace {
@@ -21,6 +22,18 @@ int MillisLeft(Clock::time_point deadline) {
   const auto left =
       std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
   return static_cast<int>(std::clamp<int64_t>(left, 0, 100));
+}
+
+// Every string of a reply made printable: the CLI prints them, and whoever answers chooses them
+// (a status carrying terminal escapes reached the user's terminal raw).
+void MakePrintable(viscera_proto::session_reply_t* reply) {
+  reply->message = Printable(reply->message);
+  reply->server_id = Printable(reply->server_id);
+  for (viscera_proto::session_status_t& s : reply->sessions) {
+    for (std::string* text : {&s.server_id, &s.scene, &s.skin, &s.last_error}) *text = Printable(*text);
+    for (std::string& name : s.tool_names) name = Printable(name);
+    for (std::string& name : s.target_names) name = Printable(name);
+  }
 }
 
 }  // namespace
@@ -41,6 +54,8 @@ viscera_proto::session_request_t MakeRequest(int8_t command, int64_t session_id)
 SessionClient::SessionClient(const std::string& url, std::shared_ptr<const bus::MessageAuth> auth)
     : bus_(url), sender_(bus::NewSenderId()) {
   bus_.SetAuth(std::move(auth));
+  // replies, statuses and heartbeats are small: a fake server's 33 MB list took 711 MB to decode
+  bus_.SetMaxMessageSize(kMaxReplyBytes);
 }
 
 std::optional<viscera_proto::heartbeat_t> SessionClient::FindServer(const std::string& server_id,
@@ -89,6 +104,7 @@ std::vector<viscera_proto::session_reply_t> SessionClient::Request(
           return;
         }
         replies.push_back(reply);
+        MakePrintable(&replies.back());
         if (reply.result != viscera_proto::session_reply_t::kUnknownSession) owner_answered = true;
       });
   Send(&request);

@@ -23,6 +23,9 @@ viscera_proto::session_request_t MakeRequest(int8_t command, int64_t session_id)
 
 class SessionClient {
  public:
+  /// Messages larger than this are dropped before decoding (replies, statuses, heartbeats).
+  static constexpr int kMaxReplyBytes = 1 << 20;
+
   /// @throws InputError when LCM cannot open `url`.
   SessionClient(const std::string& url, std::shared_ptr<const bus::MessageAuth> auth);
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "client/printable.h"
+
 namespace viscera::client {
 
 using viscera_proto::session_status_t;
@@ -48,6 +50,7 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"idle_events", s.idle_events},
           {"messages_dropped", s.messages_dropped},
           {"nonfinite_dropped", s.nonfinite_dropped},
+          {"record_failures", s.record_failures},
           {"target_exposed", targets},
           {"frames", {{"skin", s.skin},
                       {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},
@@ -82,11 +85,11 @@ std::string StatusTable(const std::vector<session_status_t>& sessions) {
     const std::string fps = s.frame_rate_hz > 0 ? Whole(s.achieved_frame_rate_hz) + "/" + Whole(s.frame_rate_hz) : "-";
     const std::string lease = s.lease_s > 0 ? Whole(s.lease_left_s) + "s" : "-";
     std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7s  %s\n",
-                  static_cast<long long>(s.header.session_id), s.scene.c_str(),
+                  static_cast<long long>(s.header.session_id), Printable(s.scene).c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),
                   static_cast<long long>(s.deadline_misses), s.step_cost_p99_us, fps.c_str(),
                   static_cast<long long>(s.rejected), static_cast<long long>(s.recoveries),
-                  lease.c_str(), s.last_error.c_str());
+                  lease.c_str(), Printable(s.last_error).c_str());
     out += line;
   }
   return out;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <functional>
@@ -52,7 +53,8 @@ struct Common {
   std::string lcm_url;
   std::string key_file;
   std::string sessions_file;
-  std::string token_hex;
+  std::string token_hex;   ///< --token: refused (argv is readable by every local user)
+  std::string token_file;  ///< --token-file: the session token (hex) in a file
   double timeout_s = 2.0;
   bool json = false;
 };
@@ -257,7 +259,16 @@ int RunList(const std::string& url, const Common& c) {
 }
 
 std::vector<uint8_t> TokenFor(const Common& c, int64_t id, std::string* server_id) {
-  if (!c.token_hex.empty()) return viscera::client::FromHex(c.token_hex);
+  // a token from a file or the environment, never from argv (/proc/PID/cmdline)
+  if (!c.token_file.empty()) {
+    std::ifstream in(c.token_file);
+    std::string hex;
+    viscera::ThrowUnless(static_cast<bool>(in >> hex), "cannot read a token from '", c.token_file, "'");
+    return viscera::client::FromHex(hex);
+  }
+  if (const char* env = std::getenv("VISCERA_TOKEN"); env != nullptr && env[0] != '\0') {
+    return viscera::client::FromHex(env);
+  }
   viscera::client::TokenStore store(c.sessions_file);
   const viscera::client::StoredSession* s = store.Find(id);
   if (s == nullptr) return {};
@@ -522,6 +533,13 @@ int main(int argc, char** argv) {
     cmd->add_flag("--json", common.json, "Print JSON");
   };
   add_common(&app);
+  // a session token: --token-file or $VISCERA_TOKEN (default: from --sessions); --token is
+  // kept only to say why it is refused
+  auto add_token = [&](CLI::App* cmd) {
+    cmd->add_option("--token-file", common.token_file,
+                    "File holding the session token (hex; or $VISCERA_TOKEN; default: from --sessions)");
+    cmd->add_option("--token", common.token_hex, "Refused: use --token-file or $VISCERA_TOKEN")->group("");
+  };
 
   ServersOptions servers_options;
   CLI::App* servers = app.add_subcommand("servers", "List the servers heard on the heartbeat channel");
@@ -581,14 +599,14 @@ int main(int argc, char** argv) {
   drive->add_option("--pose-rate", drive_options.pose_rate_hz, "Poses per second")
       ->check(CLI::Range(1.0, 10000.0))
       ->capture_default_str();
-  drive->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
+  add_token(drive);
 
 
   viscera::client::HapticCli haptic_options;
   CLI::App* haptic = app.add_subcommand("haptic", "Run a haptic device loop on a session's tool (docs/haptics.md)");
   add_common(haptic);
   viscera::client::AddHapticOptions(haptic, &haptic_options);
-  haptic->add_option("--token", common.token_hex, "Session token (hex; default: from --sessions)");
+  add_token(haptic);
 
   int64_t camera_id = 0;
   std::vector<double> eye{0.0, -0.3, 0.3}, target{0.0, 0.0, 0.0}, up{0.0, 0.0, 1.0};
@@ -600,7 +618,7 @@ int main(int argc, char** argv) {
   camera->add_option("--target", target, "Look-at point x y z (m)")->expected(3)->required();
   camera->add_option("--up", up, "Up vector")->expected(3);
   camera->add_option("--fov", fov, "Vertical field of view (degrees)");
-  camera->add_option("--token", common.token_hex, "Session token (hex)");
+  add_token(camera);
 
   struct Simple {
     const char* name;
@@ -619,7 +637,7 @@ int main(int argc, char** argv) {
     s.app = app.add_subcommand(s.name, s.help);
     add_common(s.app);
     s.app->add_option("id", s.id, "Session id")->required();
-    s.app->add_option("--token", common.token_hex, "Session token (hex)");
+    add_token(s.app);
   }
 
   // frames, record, view: listen to one session's frame stream
@@ -651,6 +669,12 @@ int main(int argc, char** argv) {
   keygen->add_option("file", keygen_path, "Key file to write")->required();
 
   CLI11_PARSE(app, argc, argv);
+  if (!common.token_hex.empty()) {
+    std::fprintf(stderr, "viscera: --token is refused: a command line is readable by every local user "
+                         "(/proc/PID/cmdline); put the token in a file (--token-file FILE, mode 0600) or "
+                         "in $VISCERA_TOKEN\n");
+    return kLocalError;
+  }
   try {
     const std::string url = viscera::bus::ResolveUrl(common.lcm_url);
     if (servers->parsed()) {

@@ -5,6 +5,7 @@
 
 #include "bus/header.h"
 #include "common/check.h"
+#include "server/record_disk.h"
 
 namespace viscera::server {
 
@@ -27,6 +28,13 @@ void PutLimits(const ServerConfig& config, viscera_proto::heartbeat_t* heartbeat
   heartbeat->max_mesh_bytes = config.max_mesh_bytes;
   heartbeat->max_settle_s = config.max_settle_s;
   heartbeat->max_session_load = config.max_session_load;
+  heartbeat->max_spheres = config.max_spheres;
+  heartbeat->max_margin_radii = config.max_margin_radii;
+  heartbeat->max_tools = config.max_tools;
+  heartbeat->max_mesh_triangles = config.max_mesh_triangles;
+  heartbeat->max_build_s = config.max_build_s;
+  heartbeat->record_free_bytes = config.log_dir.empty() ? -1 : FreeBytes(config.log_dir);
+  heartbeat->min_record_free_bytes = config.min_record_free_bytes;
 }
 
 HeartbeatSource::HeartbeatSource(std::string server_id, int max_sessions, HeartbeatClocks clocks)

@@ -53,6 +53,7 @@ struct ServerConfig {
   int max_tools = 8;                   ///< [[tool]] tables (one force message each per step)
   int max_mesh_triangles = 200000;     ///< of one mesh obstacle
   double max_build_s = 30.0;           ///< a create's scene build (wall time, s); 0 = none
+  int64_t min_record_free_bytes = 64 << 20;  ///< creates refused below this free space for records
 };
 
 }  // namespace viscera::server

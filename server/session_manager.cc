@@ -15,6 +15,7 @@
 #include "common/clock.h"
 #include "server/frame_schedule.h"
 #include "server/idle_priority.h"
+#include "server/record_disk.h"
 #include "server/scene_budget.h"
 #include "session/session_scene.h"
 #include "skin/skin.h"
@@ -424,6 +425,11 @@ void SessionManager::Create(const session_request_t& request) {
   if (static_cast<int>(sessions_.size() + pending_.size()) >= config_.max_sessions) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused, FullMessage());
+    return;
+  }
+  if (const std::string problem = RecordDiskProblem(config_); !problem.empty()) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused, problem);
     return;
   }
   if (!std::isfinite(request.skeleton_rate_hz) || request.skeleton_rate_hz > 1000.0) {

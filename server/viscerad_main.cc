@@ -278,6 +278,10 @@ int main(int argc, char** argv) {
                  "Wall time a create's scene build may take before it is abandoned (s); 0 = no limit")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
+  app.add_option("--min-record-free", config.min_record_free_bytes,
+                 "Creates are refused while the record directory's disk has less free (bytes)")
+      ->check(CLI::Range(int64_t{0}, int64_t{1} << 62))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
   if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;

@@ -67,7 +67,8 @@ if [[ "${VISCERA_SANITIZERS:-1}" != 0 ]]; then
               test_mechanics_force_lanes_test test_mechanics_contact_window_test
               test_mechanics_block_band_test test_collision_pair_separation_test
               test_mechanics_linearization_guard_test test_scene_toml_bounds_test
-              test_scene_scene_limits_test test_session_outbox_test)
+              test_scene_scene_limits_test test_session_session_scene_test test_client_jpeg_header_test
+              test_session_outbox_test)
   timed "asan+ubsan build" bash -c "CC=clang CXX=clang++ cmake -S '$root' -B '$asan' -G Ninja -DCMAKE_BUILD_TYPE=None \
       '-DCMAKE_C_FLAGS=$flags' '-DCMAKE_CXX_FLAGS=$flags' -DVISCERA_SANITIZE=ON -DVISCERA_FUZZ=ON ${launcher[*]} >/dev/null &&
     cmake --build '$asan' --parallel $jobs --target ${fuzz_targets[*]} ${asan_tests[*]}"

@@ -34,14 +34,14 @@ void Recorder::WriteLocked(const std::string& channel, const void* data, int siz
   ++events_;
   const int64_t now = MonotonicNanos();
   if (now - last_flush_ns_ >= kFlushPeriodNs) {
-    std::fflush(log_->getFilePtr());
+    if (std::fflush(log_->getFilePtr()) != 0) ++failures_;  // a full disk shows here
     last_flush_ns_ = now;
   }
 }
 
 void Recorder::Flush() {
   std::lock_guard<std::mutex> lock(mutex_);
-  std::fflush(log_->getFilePtr());
+  if (std::fflush(log_->getFilePtr()) != 0) ++failures_;
   last_flush_ns_ = MonotonicNanos();
 }
 

@@ -42,6 +42,7 @@ class Recorder {
 
   const std::string& path() const { return path_; }
   int64_t events() const;
+  /// Events or flushes that failed (a full disk): the record is missing what they held.
   int64_t failures() const;
 
  private:

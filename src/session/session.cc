@@ -466,6 +466,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
       s.messages_dropped = L->outbox->dropped();
       s.nonfinite_dropped = L->outbox->nonfinite();
     }
+    if (recorder_ != nullptr) s.record_failures = recorder_->failures();
     FillAssessment(&s);
   }
   {

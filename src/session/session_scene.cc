@@ -1,13 +1,54 @@
 #include "session/session_scene.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
 #include "common/check.h"
+#include "scene/toml_bounds.h"
 
 namespace viscera::session {
+namespace {
+
+// The text of NAME in `dir`, opened without following a link (a link to a file outside, or to
+// /dev/zero, was loaded) and without blocking (a FIFO hung the build and the shutdown), read
+// only when it is a regular file and at most one byte past the scene size limit.
+std::string ReadSceneFile(const std::string& dir, const std::string& name, const std::string& scene_name) {
+  const int dir_fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  ThrowUnless(dir_fd >= 0, "the server's scene directory '", dir, "' cannot be opened");
+  const int fd = openat(dir_fd, name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  const int error = errno;
+  close(dir_fd);
+  if (fd < 0) {
+    ThrowUnless(error != ELOOP, "scene '", scene_name, "': ", name,
+                " is a symbolic link in the scene directory (refused: scenes are regular files there)");
+    Fail("unknown scene '", scene_name, "' (no ", name, " in the scene directory)");
+  }
+  struct stat st {};
+  if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    close(fd);
+    Fail("scene '", scene_name, "': ", name, " is not a regular file (devices, FIFOs, sockets and directories are refused)");
+  }
+  std::string text(scene::kSceneTomlBounds.max_bytes + 1, '\0');
+  size_t got = 0;
+  for (ssize_t n; got < text.size() && (n = read(fd, text.data() + got, text.size() - got)) != 0;) {
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      close(fd);
+      Fail("scene '", scene_name, "': ", name, " cannot be read");
+    }
+    got += static_cast<size_t>(n);
+  }
+  close(fd);
+  text.resize(got);
+  return text;  // ParseScene refuses it if it is over the limit
+}
+
+}  // namespace
 
 bool ValidSceneName(const std::string& name) {
   if (name.empty() || name.size() > 64 || name[0] == '.') return false;
@@ -34,11 +75,7 @@ SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& s
     std::string name = scene_name;
     if (name.size() < 5 || name.substr(name.size() - 5) != ".toml") name += ".toml";
     const std::string path = scene_dir + "/" + name;
-    std::ifstream in(path);
-    ThrowUnless(in.good(), "unknown scene '", scene_name, "' (no ", name, " in the scene directory)");
-    std::ostringstream text;
-    text << in.rdbuf();
-    out.toml = text.str();
+    out.toml = ReadSceneFile(scene_dir, name, scene_name);
     out.label = scene_name;
     char* absolute = realpath(path.c_str(), nullptr);
     out.source = absolute != nullptr ? absolute : path;

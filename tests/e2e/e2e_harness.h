@@ -49,8 +49,11 @@ class Daemon {
   Daemon(const std::string& server_id, std::vector<std::string> extra, const std::string& dir,
          const std::string& url = kUrl)
       : stderr_path_(dir + "/viscerad-" + server_id + ".err") {
-    std::vector<std::string> args = {VISCERAD, "--server-id", server_id, "--lcm-url", url,
-                                     "--scene-dir", std::string(VISCERA_SOURCE_DIR) + "/scenes"};
+    std::vector<std::string> args = {VISCERAD, "--server-id", server_id, "--lcm-url", url};
+    // the repository's scenes unless the test names its own directory
+    if (std::find(extra.begin(), extra.end(), "--scene-dir") == extra.end()) {
+      args.insert(args.end(), {"--scene-dir", std::string(VISCERA_SOURCE_DIR) + "/scenes"});
+    }
     // A fixed session limit unless the test sets its own: the measured default (a cavity
     // session's step and frame cost against 70 % of the cores, docs/capacity.md) sits near 2
     // sessions on a 2-core machine, and a busy or slow moment made it 1 and refused a test's

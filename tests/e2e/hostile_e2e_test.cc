@@ -318,5 +318,104 @@ TEST(HostileE2E, CreatesFromRotatingSendersMeetOneLimit) {
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
+// Scene names in the scene directory that are links (out of it, to /dev/zero) or a FIFO: a link
+// outside was loaded, /dev/zero ran out of memory, the FIFO hung the build and the shutdown.
+TEST(HostileE2E, SceneNamesThatAreLinksOrFifosAreRefusedAndShutdownIsClean) {
+  const std::string dir = ScratchDir();
+  const std::string scenes = dir + "/scenes";
+  ASSERT_EQ(std::system(("mkdir -p '" + scenes + "' && cp '" + VISCERA_SOURCE_DIR + "/scenes/hanging.toml' '" + scenes +
+                         "/' && cp '" + VISCERA_SOURCE_DIR + "/scenes/hanging.toml' '" + dir + "/outside.toml' && ln -s '" +
+                         dir + "/outside.toml' '" + scenes + "/out.toml' && ln -s /dev/zero '" + scenes +
+                         "/zero.toml' && mkfifo '" + scenes + "/fifo.toml'").c_str()),
+            0);
+  Daemon daemon("hostile-j", {"--scene-dir", scenes}, dir);
+  const int64_t witness = Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();
+  for (const auto& [name, reason] : std::vector<std::pair<std::string, std::string>>{
+           {"out", "out.toml is a symbolic link in the scene directory"},
+           {"zero", "zero.toml is a symbolic link in the scene directory"},
+           {"fifo", "fifo.toml is not a regular file"}}) {
+    const CliResult r = Viscera(dir, "create " + name + " --frame-rate -1 --timeout 30 2>&1");
+    EXPECT_EQ(r.rc, 4) << r.out;
+    EXPECT_NE(r.out.find(reason), std::string::npos) << r.out;
+  }
+  ExpectWitnessSteps(dir, witness);
+  const auto stopping = std::chrono::steady_clock::now();
+  EXPECT_EQ(daemon.Stop(), 0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - stopping).count(), 10.0);
+}
+
+// The record directory's disk is (said to be) full: creates are refused with the reason,
+// heartbeats carry the free space, the server runs on. (A minimum above any disk's size stands
+// in for a full disk; a full disk under a running session is tests/session/recorder_test.cc.)
+TEST(HostileE2E, AFullRecordDiskIsReportedAndRefusesCreates) {
+  const std::string dir = ScratchDir();
+  Daemon daemon("hostile-k", {"--log-dir", dir, "--min-record-free", "4611686018427387904"}, dir);
+  const CliResult r = Viscera(dir, "create hanging --frame-rate -1 --timeout 30 2>&1");
+  EXPECT_EQ(r.rc, 4) << r.out;
+  EXPECT_NE(r.out.find("the record directory's disk has"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("below this server's minimum of"), std::string::npos) << r.out;
+  const CliResult servers = Viscera(dir, "servers --json --timeout 5");
+  ASSERT_EQ(servers.rc, 0) << servers.out;
+  const json list = servers.json();
+  ASSERT_TRUE(list.is_array() && !list.empty()) << servers.out;
+  EXPECT_GT(list[0]["record_free_bytes"].get<int64_t>(), 0) << servers.out;
+  EXPECT_TRUE(daemon.Alive());
+  EXPECT_EQ(daemon.Stop(), 0);
+}
+
+// A fake server answers `viscera status` with terminal escapes in every string, and `viscera
+// list` with a 4 MB reply: the escapes are not printed, the huge reply is dropped before decoding.
+TEST(HostileE2E, AFakeServersEscapesAreNotPrintedAndItsHugeReplyIsDropped) {
+  const std::string dir = ScratchDir();
+  lcm::LCM fake(kUrl);
+  ASSERT_TRUE(fake.good());
+  std::atomic<bool> stop{false};
+  std::thread server([&] {
+    viscera_proto::heartbeat_t hb{};
+    hb.header = bus::MakeHeader(0, 0);
+    hb.server_id = "fake";
+    hb.max_sessions = 4;
+    struct Answer {
+      lcm::LCM* lcm;
+      void On(const lcm::ReceiveBuffer*, const std::string&, const session_request_t* q) {
+        session_reply_t r{};
+        r.header = bus::MakeHeader(q->header.session_id, 0);
+        r.request_id = q->request_id;
+        r.command = q->command;
+        r.server_id = "fake";
+        r.result = session_reply_t::kOk;
+        viscera_proto::session_status_t s{};
+        s.header = bus::MakeHeader(q->header.session_id, 0);
+        s.server_id = "fake";
+        s.scene = "evil\x1b[31m";
+        s.last_error = "\x1b]0;owned\x07\x1b[2J\xc2\x9b" "1m";
+        s.state = 1;
+        if (q->command == session_request_t::kList) r.message = std::string(4 << 20, 'A');
+        r.num_sessions = 1;
+        r.sessions = {s};
+        lcm->publish(bus::kReplyChannel, &r);
+      }
+    } answer{&fake};
+    fake.subscribe(bus::kRequestChannel, &Answer::On, &answer);
+    auto next_beat = std::chrono::steady_clock::now();
+    while (!stop) {
+      if (std::chrono::steady_clock::now() >= next_beat) {
+        fake.publish(bus::kHeartbeatChannel, &hb);
+        next_beat += std::chrono::milliseconds(200);
+      }
+      fake.handleTimeout(50);
+    }
+  });
+  const CliResult status = Viscera(dir, "status 7 --timeout 5 2>&1");
+  const CliResult list = Viscera(dir, "list --timeout 3 2>&1");
+  stop = true;
+  server.join();
+  EXPECT_NE(status.out.find("evil?[31m"), std::string::npos) << status.out;
+  EXPECT_EQ(status.out.find('\x1b'), std::string::npos) << status.out;
+  EXPECT_EQ(status.out.find('\x07'), std::string::npos) << status.out;
+  EXPECT_EQ(status.out.find("\xc2\x9b"), std::string::npos) << status.out;
+  EXPECT_EQ(list.out.find("AAAA"), std::string::npos) << list.out.substr(0, 300);
+}
+
 }  // namespace
 }  // namespace viscera::e2e

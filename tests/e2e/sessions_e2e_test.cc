@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <random>
@@ -115,7 +116,12 @@ TEST(SessionsE2E, TwoSessionsStayIsolated) {
   // a's token does not drive b
   client::TokenStore store(dir + "/sessions.json");
   const std::string token_a = client::ToHex(store.Find(a)->token);
-  EXPECT_EQ(Viscera(dir, "pause " + std::to_string(b) + " --token " + token_a).rc, 4);
+  std::ofstream(dir + "/token_a") << token_a;
+  EXPECT_EQ(Viscera(dir, "pause " + std::to_string(b) + " --token-file " + dir + "/token_a").rc, 4);
+  // never on the command line, where every local user reads it (/proc/PID/cmdline)
+  const CliResult argv_token = Viscera(dir, "pause " + std::to_string(a) + " --token " + token_a + " 2>&1");
+  EXPECT_EQ(argv_token.rc, 1);
+  EXPECT_NE(argv_token.out.find("--token is refused"), std::string::npos) << argv_token.out;
   EXPECT_EQ(Viscera(dir, "pause " + std::to_string(a)).rc, 0);
   const json sa = StatusWhen(dir, a, [](const json& s) { return s["state"] == "paused"; });
   const json sb = StatusWhen(dir, b, [](const json& s) { return s["rate_hz"].get<double>() > 0.0; });
@@ -206,7 +212,8 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
     probe.Publish(pose_a, p);
   }, "stale pose (seq 999 after a newer one)");
   expect_rejected("a destroy with another session's token", [&] {
-    EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a) + " --token " + client::ToHex(token_b)).rc, 4);
+    std::ofstream(dir + "/token_b") << client::ToHex(token_b);
+    EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a) + " --token-file " + dir + "/token_b").rc, 4);
   }, "request with a wrong session token");
   // a request of another protocol version is answered, in this version's layout, kBadRequest
   {

@@ -141,16 +141,24 @@ std::string UnstableScene() {
 pid_t StartDriver(const std::string& viscera, const std::string& url, int64_t id, const std::vector<uint8_t>& token,
                   const std::string& script) {
   std::vector<std::string> args = {viscera, "drive", std::to_string(id), "--script", script,
-                                   "--token", client::ToHex(token), "--lcm-url", url, "--pose-rate", "500"};
+                                   "--lcm-url", url, "--pose-rate", "500"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // the token in the environment, never on the command line (/proc/PID/cmdline)
+  std::string token_env = "VISCERA_TOKEN=" + client::ToHex(token);
+  std::vector<char*> env;
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::string(*e).rfind("VISCERA_TOKEN=", 0) != 0) env.push_back(*e);
+  }
+  env.push_back(token_env.data());
+  env.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
   pid_t pid = -1;
-  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
+  if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), env.data()) != 0) pid = -1;
   posix_spawn_file_actions_destroy(&actions);
   return pid;
 }
