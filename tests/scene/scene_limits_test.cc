@@ -80,7 +80,7 @@ TEST(SceneLimits, MeshTrianglesAreCountedWhileReading) {
       << ErrorOf(mesh, Network());
 }
 
-// The red team's 1e308 stiffness, force limit and 1e-300 mass made 500 of 501 forces on the
+// A stiffness or force limit of 1e308 and a mass of 1e-300 made 500 of 501 forces on the
 // wire NaN or infinite: refused at load, with the key and the range.
 TEST(SceneLimits, ToolParametersAreRangeChecked) {
   EXPECT_EQ(ErrorOf(kTube + Tools(1, "coupling_stiffness = 1e5\nmax_force = 100\nmass = 1e-3\n")), "");
