@@ -205,6 +205,7 @@ TEST(HostileE2E, ARepeatedTtlCannotSneakOffLoopbackWithoutAKey) {
 
 // A captured signed pose re-sent on VISCERA_POSE_0<id> (a leading zero: the same id, another
 // channel for the replay guard) renewed the lease; only the exact channel name is taken.
+// (With SessionOfChannel's parse back in OnPose instead, this test sees "poses": 1.)
 TEST(HostileE2E, APoseIsTakenOnlyOnItsExactChannelName) {
   const std::string dir = ScratchDir();
   const std::string key = " --key-file " + dir + "/psk";
@@ -234,7 +235,7 @@ TEST(HostileE2E, APoseIsTakenOnlyOnItsExactChannelName) {
 
 // A signed create captured before a restart was new to the restarted server's replay guard;
 // anything sent before the server started is stale now (a wide skew bound, so that only the
-// restart can refuse it).
+// restart can refuse it). Without the epoch (SetEpoch) the replay is answered kOk.
 TEST(HostileE2E, ACreateCapturedBeforeARestartIsStale) {
   const std::string dir = ScratchDir();
   const std::string key = " --key-file " + dir + "/psk";
