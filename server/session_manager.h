@@ -9,6 +9,7 @@
 #include <map>
 #include <unordered_map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <viscera_proto/session_reply_t.hpp>
@@ -17,6 +18,7 @@
 
 #include "bus/lcm_bus.h"
 #include "bus/replay_guard.h"
+#include "server/capacity_estimate.h"
 #include "server/exposure_watcher.h"
 #include "server/frame_streamer.h"
 #include "server/peer_directory.h"
@@ -75,6 +77,11 @@ class SessionManager {
 
   /// Creates beyond `max_sessions` running sessions are refused from now on. @pre >= 1.
   void SetMaxSessions(int max_sessions);
+  /// Admission by the measured cost from now on: at most estimate.max_sessions sessions,
+  /// and a create is refused when its own cost (steps, plus frames if it streams them:
+  /// CapacityEstimate::SessionCores) would take the sessions past the cores' budget. An
+  /// idle server still takes any one session.
+  void SetCapacity(const CapacityEstimate& estimate);
 
   int num_sessions() const { return num_sessions_.load(); }
   /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
@@ -89,7 +96,7 @@ class SessionManager {
              const std::string& message, int64_t session_id = 0);
   void Create(const viscera_proto::session_request_t& request);
   void FinishCreate(const viscera_proto::session_request_t& request, session::SessionScene scene,
-                    double frame_mpix_per_s);
+                    double frame_mpix_per_s, double cores);
   void Reject(session::Session* session, const std::string& why);
   /// The replay verdict on an otherwise authentic message: "" to go on, else why it was
   /// dropped (counted, charged to `session` when there is one).
@@ -99,6 +106,8 @@ class SessionManager {
   std::string CreateRateProblem(int64_t sender);
   /// Frame streams of all sessions and creations in flight (megapixels per second).
   double FrameLoadMpix() const;
+  /// Cores charged to all sessions and creations in flight (0 without SetCapacity).
+  double CoresCharged() const;
   /// Stops session `id` (which exists) and moves it to retiring_ (its render thread may be
   /// mid-frame). @return its final status.
   viscera_proto::session_status_t Retire(int64_t id);
@@ -108,6 +117,7 @@ class SessionManager {
   session::Session* Find(int64_t id);
 
   ServerConfig config_;
+  std::optional<CapacityEstimate> capacity_;  // admission by cores once measured
   bus::LcmBus* bus_;
 
   /// A session and its render thread (none without frames). The streamer reads the session:
@@ -117,6 +127,7 @@ class SessionManager {
     std::unique_ptr<FrameStreamer> frames;
     std::unique_ptr<ExposureWatcher> exposure;  // scenes with [[target]]; ends before the session
     double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
+    double cores = 0.0;             // what admission charged it (SetCapacity)
   };
 
   bus::LcmBus* frame_bus_;
@@ -128,6 +139,7 @@ class SessionManager {
   struct PendingCreate {
     viscera_proto::session_request_t request;
     double frame_mpix_per_s = 0.0;
+    double cores = 0.0;
     std::future<session::SessionScene> scene;  // the helper's result or its exception
   };
   std::vector<PendingCreate> pending_;
