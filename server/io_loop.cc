@@ -134,6 +134,7 @@ void IoLoop::Run() {
         viscera_proto::heartbeat_t heartbeat = heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());
         heartbeat.replayed = sessions_->replayed();
         heartbeat.cores = AvailableCores();
+        heartbeat.not_ours = sessions_->not_ours();
         PutLimits(config_, &heartbeat);
         if (bus_->Publish(bus::kHeartbeatChannel, heartbeat)) {
           ++heartbeats_sent_;

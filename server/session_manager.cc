@@ -323,7 +323,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   const int64_t id = request.header.session_id;
   session::Session* session = Find(id);
   if (session == nullptr) {
-    ++rejected_;
+    ++not_ours_;  // on a shared bus, most likely another server's session: not an attack
     Reply(request, session_reply_t::kUnknownSession,
           Cat("no session ", id, " on server ", config_.server_id), id);
     return;
@@ -597,7 +597,7 @@ void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::M
   const int64_t id = pose.header.session_id;
   session::Session* session = Find(id);
   if (session == nullptr) {
-    Reject(nullptr, "pose for an unknown session");
+    ++not_ours_;  // another server's session on a shared bus: counted apart from rejected
     return;
   }
   if (SessionOfChannel(*info.channel, bus::kPosePrefix) != id) {

@@ -84,8 +84,12 @@ class SessionManager {
   void SetCapacity(const CapacityEstimate& estimate);
 
   int num_sessions() const { return num_sessions_.load(); }
-  /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
+  /// Messages dropped since start as invalid (all reasons, all sessions): undecodable,
+  /// bad MAC, wrong token, bad values, replays, refused creates.
   int64_t rejected() const { return rejected_.load(); }
+  /// Poses and requests for sessions this server does not run (not in rejected): on a bus
+  /// shared by several servers, each hears the others' traffic.
+  int64_t not_ours() const { return not_ours_.load(); }
   /// Of those, replayed or stale session-changing messages.
   int64_t replayed() const { return replayed_.load(); }
   /// Sessions ended because their lease ran out.
@@ -145,6 +149,7 @@ class SessionManager {
   std::vector<PendingCreate> pending_;
   std::atomic<int> num_sessions_{0};
   std::atomic<int64_t> rejected_{0};
+  std::atomic<int64_t> not_ours_{0};
   std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> expired_{0};
   bus::ReplayGuard replay_;

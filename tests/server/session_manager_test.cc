@@ -293,3 +293,30 @@ TEST_F(SessionManagerTest, AdmissionChargesFramesOnlyToSessionsThatStreamThem) {
 
 }  // namespace
 }  // namespace viscera::server
+
+namespace viscera::server {
+namespace {
+
+// On a bus shared by several servers each hears the others' poses and requests: they are
+// counted apart (not_ours), and rejected keeps meaning invalid or hostile traffic.
+TEST_F(SessionManagerTest, TrafficForOtherServersSessionsIsNotRejected) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  viscera_proto::tool_pose_t pose{};
+  pose.header = bus::MakeHeader(777, 1);
+  pose.orientation[0] = 1.0;
+  const std::string channel = bus::SessionChannel(bus::kPosePrefix, 777);
+  manager_->OnPose(pose, bus::MessageInfo{&channel, 0, 0});
+  EXPECT_EQ(Ask(Request(Q::kStatus, 777)).result, R::kUnknownSession);
+  EXPECT_EQ(manager_->not_ours(), 2);
+  EXPECT_EQ(manager_->rejected(), 0);
+  // a hostile message still is rejected: garbage on the pose channel, a bad request
+  const std::vector<uint8_t> garbage(40, 0xab);
+  manager_->OnDrop(channel, bus::DropReason::kMalformed, garbage.data(), static_cast<int>(garbage.size()));
+  EXPECT_EQ(Ask(Request(42)).result, R::kBadRequest);
+  EXPECT_EQ(manager_->rejected(), 2);
+  EXPECT_EQ(manager_->not_ours(), 2);
+}
+
+}  // namespace
+}  // namespace viscera::server
