@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
   // loop allocates nothing, so the arenas' locks cost it nothing.
   mallopt(M_ARENA_MAX, 2);
   CLI::App app{"viscerad: the viscera haptic server (small intestine simulation over LCM)"};
+  app.set_version_flag("--version", std::string("viscerad ") + VISCERA_VERSION);
   std::string lcm_url;
   viscera::server::ServerConfig config;
   config.server_id = DefaultServerId();

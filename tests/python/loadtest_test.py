@@ -167,6 +167,7 @@ class RefusalTest(unittest.TestCase):
             f.write(text.replace("[intestine]", "[intestine]\nlenght = 1.0", 1))
         err = self.refused("--scene-file", typo)
         self.assertIn(typo, err)  # the user's file, not the server's "<inline>"
+        self.assertIn("did you mean \"length\"?", err)
 
     def test_a_key_other_than_the_servers_is_a_refusal(self):
         key = os.path.join(self.dir.name, "other.key")
