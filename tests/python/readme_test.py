@@ -8,6 +8,7 @@ import json
 import os
 import re
 import shlex
+import signal
 import subprocess
 import sys
 import tempfile
@@ -54,14 +55,29 @@ class ReadmeLoadTest(unittest.TestCase):
                 os.symlink(os.path.join(SOURCE_DIR, name), os.path.join(root, name))
             os.symlink(BUILD_DIR, os.path.join(root, "build"))
             os.symlink(sys.prefix, os.path.join(root, ".venv"))
-            env = dict(os.environ, LCM_DEFAULT_URL=URL)  # the namespace's bus (README: the default)
+            env = dict(os.environ, LCM_DEFAULT_URL=URL, PYTHONFAULTHANDLER="1")  # the namespace's bus (README: the default)
             err = open(os.path.join(root, "viscerad.err"), "w+")
             server = subprocess.Popen(shlex.split(server_cmd), cwd=root, env=env, stderr=err)
             try:
                 # README's user types the next command at once: the load tester waits for a
                 # server still measuring its capacity, so no wait here either
-                run = subprocess.run(shlex.split(load_cmd), cwd=root, env=env, capture_output=True,
-                                     text=True, timeout=180)
+                # into files: on a timeout, what it said so far shows where it was
+                with open(os.path.join(root, "loadtest.out"), "w+") as out, \
+                        open(os.path.join(root, "loadtest.err"), "w+") as errs:
+                    p = subprocess.Popen(shlex.split(load_cmd), cwd=root, env=env, stdout=out,
+                                         stderr=errs, stdin=subprocess.DEVNULL, text=True)
+                    try:
+                        p.wait(timeout=120)
+                    except subprocess.TimeoutExpired:
+                        p.send_signal(signal.SIGABRT)  # PYTHONFAULTHANDLER: where it was
+                        try:
+                            p.wait(timeout=10)
+                        except subprocess.TimeoutExpired:
+                            p.kill()
+                            p.wait()
+                    out.seek(0)
+                    errs.seek(0)
+                    run = subprocess.CompletedProcess(p.args, p.returncode, out.read(), errs.read())
             finally:
                 server.terminate()
                 self.assertEqual(server.wait(timeout=30), 0)
