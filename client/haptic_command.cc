@@ -1,10 +1,13 @@
 #include "client/haptic_command.h"
 
+#include <sched.h>
+
 #include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <memory>
 
+#include "client/haptic_verdict.h"
 #include "common/check.h"
 #include "haptic/lcm_link.h"
 #include "haptic/replay_device.h"
@@ -15,6 +18,13 @@ namespace {
 
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
+
+// CPUs this process may run on (its affinity mask), for the verdict's advice.
+int UsableCores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  return sched_getaffinity(0, sizeof(set), &set) == 0 ? CPU_COUNT(&set) : 1;
+}
 
 void PrintLive(const haptic::LoopReport& r) {
   std::fprintf(stderr,
@@ -129,12 +139,15 @@ int RunHaptic(SessionClient& client, const HapticCommand& c) {
   if (c.live) std::fputc('\n', stderr);
   log.reset();  // flushed before the summary says it is there
 
+  const HapticVerdict verdict = JudgeHapticLoop(s, UsableCores());
   if (c.json) {
     nlohmann::ordered_json j = {{"session", c.session_id}, {"tool", c.tool_name}};
     j["haptic"] = HapticSummaryToJson(s);
+    j["verdict"] = HapticVerdictToJson(verdict);
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     PrintSummary(c, s);
+    std::printf("verdict    %s\n", verdict.line.c_str());
   }
   if (s.answers_received == 0) {
     std::fprintf(stderr, "viscera: no force answer received from session %lld\n",

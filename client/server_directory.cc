@@ -25,6 +25,9 @@ void ServerDirectory::Observe(const viscera_proto::heartbeat_t& heartbeat) {
   info.uptime_s = static_cast<double>(heartbeat.uptime_us) * 1e-6;
   info.rejected = heartbeat.rejected;
   info.record_free_bytes = heartbeat.record_free_bytes;
+  info.not_ours = heartbeat.not_ours;
+  info.cores = heartbeat.cores;
+  info.capacity = heartbeat.capacity;
   ++info.heartbeats;
 }
 
@@ -64,7 +67,10 @@ nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers) {
                      {"uptime_s", s.uptime_s},
                      {"heartbeats", s.heartbeats},
                      {"rejected", s.rejected},
-                     {"record_free_bytes", s.record_free_bytes}});
+                     {"record_free_bytes", s.record_free_bytes},
+                     {"not_ours", s.not_ours},
+                     {"cores", s.cores},
+                     {"capacity", s.capacity}});
   }
   return array;
 }
@@ -83,6 +89,9 @@ std::string ServersToTable(const std::vector<ServerInfo>& servers) {
     std::snprintf(line, sizeof(line), "%-*s  %8s  %4.0f%%  %9.1fs\n", w, Printable(s.server_id).c_str(),
                   sessions.c_str(), 100.0 * s.load, s.uptime_s);
     out += line;
+  }
+  for (const ServerInfo& s : servers) {
+    if (!s.capacity.empty()) out += s.server_id + ": " + s.capacity + "\n";
   }
   return out;
 }

@@ -19,6 +19,9 @@ struct ServerInfo : bus::ServerLoad {
   int64_t heartbeats = 0;  ///< heard while listening
   int64_t rejected = 0;    ///< messages the server dropped since it started
   int64_t record_free_bytes = -1;  ///< on the server's record disk (-1: it records nothing)
+  int64_t not_ours = 0;    ///< messages for sessions it does not run (not rejected)
+  int cores = 0;           ///< CPUs the server may run on (0: not announced)
+  std::string capacity;    ///< why it holds max_sessions ("" : not announced)
 };
 
 class ServerDirectory {
@@ -47,10 +50,11 @@ const ServerInfo* PickServer(const std::vector<ServerInfo>& servers);
 std::string ServersSummary(const std::vector<ServerInfo>& servers);
 
 /// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load,
-/// uptime_s, heartbeats, rejected.
+/// uptime_s, heartbeats, rejected, not_ours, cores, capacity.
 nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers);
 
-/// A table with a header line, one line per server, columns aligned.
+/// A table with a header line, one line per server, columns aligned, then per server the
+/// line saying why it holds what it holds.
 std::string ServersToTable(const std::vector<ServerInfo>& servers);
 
 }  // namespace viscera::client

@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -161,8 +162,13 @@ struct CreateOptions {
 };
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
-  if (o.scene.empty() == o.scene_file.empty()) {
-    std::fprintf(stderr, "viscera: create needs a SCENE name or --scene-file, not both\n");
+  if (o.scene.empty() && o.scene_file.empty()) {
+    std::fprintf(stderr, "viscera: create needs a scene: a SCENE name from the server's scene directory "
+                         "(viscera create cavity) or --scene-file FILE\n");
+    return kLocalError;
+  }
+  if (!o.scene.empty() && !o.scene_file.empty()) {
+    std::fprintf(stderr, "viscera: create takes a SCENE name or --scene-file, not both\n");
     return kLocalError;
   }
   viscera::client::SessionClient client(url, LoadAuth(c));
@@ -211,8 +217,16 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
                  server_id.c_str(), wait_s);
     return kNoServer;
   }
+  if (replies.front().result != session_reply_t::kOk) {
+    session_reply_t named = replies.front();
+    // the server knows an inline scene as "<scene dir>/<inline>": name the user's file
+    for (size_t at; !o.scene_file.empty() && (at = named.message.find("<inline>")) != std::string::npos;) {
+      const size_t dir = named.message.rfind(' ', at) == std::string::npos ? 0 : named.message.rfind(' ', at) + 1;
+      named.message.replace(dir, at + 8 - dir, o.scene_file);
+    }
+    return ReplyError(named, 0);
+  }
   const session_reply_t& reply = replies.front();
-  if (reply.result != session_reply_t::kOk) return ReplyError(reply, 0);
   const int64_t id = reply.header.session_id;
   viscera::client::TokenStore store(c.sessions_file);
   store.Put(id, {reply.header.token, reply.server_id});
@@ -473,9 +487,10 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
     std::printf("round trip pose -> force p50 %.0f us, p99 %.0f us, max %.0f us (%lld poses answered)\n",
                 r.round_trip_p50_us, r.round_trip_p99_us, r.round_trip_max_us,
                 static_cast<long long>(r.poses_answered));
-    std::printf("mechanics  %.0f of %.0f Hz, %lld deadline misses, step p50 %.0f us p99 %.0f us, "
+    std::printf("mechanics  %.0f of %.0f Hz, %lld deadline %s, step p50 %.0f us p99 %.0f us, "
                 "jitter p99 %.0f us, %lld rejected\n",
                 s.achieved_rate_hz, s.rate_hz, static_cast<long long>(s.deadline_misses),
+                s.deadline_misses == 1 ? "miss" : "misses",
                 s.step_cost_p50_us, s.step_cost_p99_us, s.jitter_p99_us,
                 static_cast<long long>(s.rejected));
   }
@@ -513,14 +528,51 @@ int RunHapticCli(const std::string& url, const Common& c, viscera::client::Hapti
   return viscera::client::RunHaptic(client, h);
 }
 
+// A few lines of examples for a command's --help.
+std::string ExamplesFor(const std::string& command) {
+  static const std::map<std::string, std::string> examples = {
+      {"servers", "  viscera servers              # who is there, what each holds and why\n"
+                  "  viscera servers --json\n"},
+      {"create", "  viscera create cavity --json                 # the least loaded server with room\n"
+                 "  viscera create cavity --frame-rate -1        # no frames: costs a step only\n"
+                 "  viscera create --scene-file my_scene.toml --rate 500\n"},
+      {"list", "  viscera list\n"},
+      {"status", "  viscera status ID\n  viscera status ID --watch --count 8\n"},
+      {"report", "  viscera report ID\n  viscera report ID --final --json\n"},
+      {"drive", "  viscera drive ID --gesture clearing\n  viscera drive ID --script scenes/clearing.csv --pose-rate 500\n"},
+      {"haptic", "  viscera haptic ID --tool right --device sim --script scenes/clearing.csv\n"
+                 "  viscera haptic ID --tool right --device sim --script scenes/clearing.csv --realtime 80\n"},
+      {"camera", "  viscera camera ID --eye -0.02 -0.14 0.20 --target -0.01 0.01 0.05\n"},
+      {"destroy", "  viscera destroy ID\n"},
+      {"pause", "  viscera pause ID\n"},
+      {"resume", "  viscera resume ID\n"},
+      {"reset", "  viscera reset ID\n"},
+      {"frames", "  viscera frames ID --out out/frames --count 5\n"},
+      {"record", "  viscera record ID --out out/clip.mp4 --seconds 10\n"},
+      {"view", "  viscera view ID --http 127.0.0.1:8080\n"},
+      {"keygen", "  viscera keygen psk    # then viscerad --key-file psk, viscera --key-file psk ...\n"},
+  };
+  const auto it = examples.find(command);
+  return it == examples.end() ? std::string() : "\nExamples:\n" + it->second;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"viscera: client of the viscera haptic server"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("viscera ") + VISCERA_VERSION);
+  // the common options belong to `viscera` and are matched there from any command (listed
+  // once, by viscera --help, rather than in every command's help)
+  app.fallthrough();
   Common common;
   common.sessions_file = viscera::client::DefaultTokenStorePath();
   auto add_common = [&](CLI::App* cmd) {
+    if (cmd != &app) {
+      cmd->footer(ExamplesFor(cmd->get_name()) +
+                  "\nCommon options (--lcm-url, --key-file, --sessions, --timeout, --json): viscera --help");
+      return;
+    }
     cmd->add_option("--lcm-url", common.lcm_url,
                     "LCM URL (default: $LCM_DEFAULT_URL, else " +
                         std::string(viscera::bus::kDefaultUrl) + ")");
@@ -560,8 +612,9 @@ int main(int argc, char** argv) {
                      "Seconds to wait for the heard server to build the scene and answer")
       ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
-  create->add_option("--rate", create_options.rate_hz, "Mechanics rate (Hz; default: the scene's)")
-      ->check(CLI::Range(1.0, 10000.0));
+  create->add_option("--rate", create_options.rate_hz,
+                     "Mechanics rate (Hz; default: the scene's; servers cap it at their --max-rate, 1000 by default)")
+      ->check(CLI::Range(1.0, 1000.0));
   create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");
   create->add_option("--skin", create_options.skin,
                      "Skin of the frames: parametric, implicit, convolution or hybrid");

@@ -58,15 +58,32 @@ double MeasureFrame(const mechanics::Model& model, const mechanics::State& state
 
 }  // namespace
 
+double CapacityEstimate::BudgetCores() const { return cores * kCoreBudget; }
+
+double CapacityEstimate::FrameCores(double rate_hz, int width, int height) const {
+  if (rate_hz <= 0.0 || frame_cpu_ms <= 0.0 || frame_width <= 0 || frame_height <= 0) return 0.0;
+  const double pixels = static_cast<double>(width) * height / (static_cast<double>(frame_width) * frame_height);
+  return frame_cpu_ms * 1e-3 * rate_hz * pixels;
+}
+
+double CapacityEstimate::SessionCores(double frame_rate_hz, int width, int height) const {
+  return session_cores + FrameCores(frame_rate_hz, width, height);
+}
+
 std::string CapacityEstimate::Describe() const {
-  std::string frames = frame_rate_hz > 0.0
-                           ? Cat(" + a frame ", std::lround(frame_cpu_ms * 10.0) / 10.0,
-                                 " ms at ", frame_rate_hz, " Hz")
-                           : std::string();
-  return Cat("max ", max_sessions, " sessions: a ", scene, " session costs ",
-             std::lround(session_cores * 1000.0) / 1000.0, " core (a step ",
-             std::lround(step_cpu_us), " us at ", rate_hz, " Hz", frames, "), ", cores,
-             " core(s) at ", std::lround(kCoreBudget * 100.0), " %");
+  const auto rounded = [](double x, double unit) { return std::lround(x / unit) * unit; };
+  std::string frames = " (frames not measured)";
+  if (frame_cpu_ms > 0.0) {
+    const double stream = FrameCores(frame_rate_hz, frame_width, frame_height);
+    frames = Cat("; its ", frame_rate_hz, " Hz ", frame_width, "x", frame_height, " frame stream adds ",
+                 rounded(stream, 0.01), " core (a frame ", rounded(frame_cpu_ms, 0.1), " ms), so ",
+                 std::max(1, static_cast<int>(std::floor(BudgetCores() / (session_cores + stream) + 1e-9))),
+                 " with frames");
+  }
+  return Cat("max ", max_sessions, " sessions without frames: a ", scene, " session costs ",
+             rounded(session_cores, 0.001), " core (a step ", std::lround(step_cpu_us), " us at ", rate_hz,
+             " Hz)", frames, "; ", cores, " core(s) at ", std::lround(kCoreBudget * 100.0), " % = ",
+             rounded(BudgetCores(), 0.01), " core");
 }
 
 int AvailableCores() {
@@ -119,7 +136,8 @@ CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string&
     });
     render.join();
     if (error) std::rethrow_exception(error);
-    e.session_cores += e.frame_cpu_ms * 1e-3 * e.frame_rate_hz;
+    e.frame_width = config.frame_width;
+    e.frame_height = config.frame_height;
   }
   e.max_sessions = SessionsThatFit(e.cores, e.session_cores);
   return e;

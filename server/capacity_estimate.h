@@ -15,16 +15,31 @@ namespace viscera::server {
 /// receive thread and wake-up jitter (docs/capacity.md: misses start near 80 % busy).
 inline constexpr double kCoreBudget = 0.7;
 
+/// What a session costs is charged per session: its steps always, its frames only when it
+/// streams them (at its own rate and size). max_sessions counts sessions without frames.
 struct CapacityEstimate {
   std::string scene;            ///< reference scene measured
   int cores = 1;                ///< CPUs this process may run on (its affinity mask)
   double rate_hz = 0.0;         ///< mechanics rate of a session (Hz)
   double step_cpu_us = 0.0;     ///< median CPU time of one step (us)
   double frame_rate_hz = 0.0;   ///< default frame rate (Hz); 0 without frames
-  double frame_cpu_ms = 0.0;    ///< median CPU time of one frame: skin, draw, JPEG (ms)
-  double session_cores = 0.0;   ///< cost of one session (cores): steps and frames per second
+  double frame_cpu_ms = 0.0;    ///< median CPU time of one frame: skin, draw, JPEG (ms); 0: not measured
+  int frame_width = 0;          ///< size of the frames measured (pixels)
+  int frame_height = 0;
+  double session_cores = 0.0;   ///< cost of one session without frames (cores): its steps per second
   int max_sessions = 1;         ///< floor(cores * kCoreBudget / session_cores), at least 1
-  std::string Describe() const; ///< one line for the start-up message
+
+  /// Cores sessions may use: cores * kCoreBudget.
+  double BudgetCores() const;
+  /// Cores a frame stream of `rate_hz` (<= 0: none) at width x height adds to a session:
+  /// the measured frame's CPU time scaled by the rate and the pixel count (0 when frames
+  /// were not measured: then only the count limits sessions).
+  double FrameCores(double rate_hz, int width, int height) const;
+  /// Cores one session costs: session_cores plus FrameCores.
+  double SessionCores(double frame_rate_hz, int width, int height) const;
+  /// One line for the start-up message and the heartbeat: what a session costs, with and
+  /// without frames, and the cores that hold them.
+  std::string Describe() const;
 };
 
 /// CPUs in this process's affinity mask (what taskset or a container grants), at least 1.

@@ -70,6 +70,9 @@ viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions, int64_t rejec
                  : 0.0f;
   msg.uptime_us = (wall_ns - start_wall_ns_) / 1000;
   msg.rejected = rejected;
+  msg.capacity = capacity_note_;
+  msg.cores = 0;
+  msg.not_ours = 0;
 
   last_wall_ns_ = wall_ns;
   last_cpu_ns_ = cpu_ns;

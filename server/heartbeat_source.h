@@ -37,10 +37,13 @@ class HeartbeatSource {
 
   /// The max_sessions announced from the next heartbeat on. @pre max_sessions >= 1.
   void SetMaxSessions(int max_sessions);
+  /// Why max_sessions is what it is (heartbeat_t.capacity), from the next heartbeat on.
+  void SetCapacityNote(std::string note) { capacity_note_ = std::move(note); }
 
  private:
   std::string server_id_;
   int max_sessions_;
+  std::string capacity_note_;
   HeartbeatClocks clocks_;
   int64_t seq_ = 0;
   int64_t start_wall_ns_;

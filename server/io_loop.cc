@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <utility>
 
 #include "bus/channels.h"
 #include "common/check.h"
@@ -86,6 +87,17 @@ void IoLoop::SetMaxSessions(int max_sessions) {
   new_max_sessions_ = max_sessions;
 }
 
+void IoLoop::SetCapacity(const CapacityEstimate& estimate) {
+  std::lock_guard<std::mutex> lock(capacity_mutex_);
+  new_capacity_ = estimate;
+  new_capacity_note_ = estimate.Describe();
+}
+
+void IoLoop::SetCapacityNote(const std::string& note) {
+  std::lock_guard<std::mutex> lock(capacity_mutex_);
+  new_capacity_note_ = note;
+}
+
 std::string IoLoop::error() const {
   std::lock_guard<std::mutex> lock(error_mutex_);
   return error_;
@@ -109,10 +121,20 @@ void IoLoop::Run() {
         sessions_->SetMaxSessions(n);
         heartbeat_.SetMaxSessions(n);
       }
+      if (std::unique_lock<std::mutex> lock(capacity_mutex_, std::try_to_lock); lock.owns_lock()) {
+        if (new_capacity_) {
+          sessions_->SetCapacity(*new_capacity_);
+          heartbeat_.SetMaxSessions(new_capacity_->max_sessions);
+          new_capacity_.reset();
+        }
+        if (new_capacity_note_) heartbeat_.SetCapacityNote(*std::exchange(new_capacity_note_, std::nullopt));
+      }
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
         viscera_proto::heartbeat_t heartbeat = heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());
         heartbeat.replayed = sessions_->replayed();
+        heartbeat.cores = AvailableCores();
+        heartbeat.not_ours = sessions_->not_ours();
         PutLimits(config_, &heartbeat);
         if (bus_->Publish(bus::kHeartbeatChannel, heartbeat)) {
           ++heartbeats_sent_;

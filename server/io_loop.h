@@ -5,10 +5,12 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
 #include "bus/lcm_bus.h"
+#include "server/capacity_estimate.h"
 #include "server/heartbeat_source.h"
 #include "server/peer_directory.h"
 #include "server/server_config.h"
@@ -44,6 +46,11 @@ class IoLoop {
   /// Accept at most `max_sessions` sessions from now on (sessions running stay); the I/O
   /// thread applies it at its next turn (within 100 ms). Any thread. @pre max_sessions >= 1.
   void SetMaxSessions(int max_sessions);
+  /// Admission by the measured cost (SessionManager::SetCapacity) from the next turn on, and
+  /// its Describe() in every heartbeat. Any thread.
+  void SetCapacity(const CapacityEstimate& estimate);
+  /// Why the server holds what it holds, for the heartbeat (when not SetCapacity). Any thread.
+  void SetCapacityNote(const std::string& note);
 
   /// True once the thread has died of an error; error() says which.
   bool failed() const { return failed_.load(); }
@@ -64,6 +71,9 @@ class IoLoop {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<int> new_max_sessions_{0};  // 0: no change asked
+  std::mutex capacity_mutex_;             // guards the two below, handed to the I/O thread
+  std::optional<CapacityEstimate> new_capacity_;
+  std::optional<std::string> new_capacity_note_;
   std::atomic<bool> failed_{false};
   std::atomic<int64_t> heartbeats_sent_{0};
   mutable std::mutex error_mutex_;

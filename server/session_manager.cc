@@ -137,6 +137,18 @@ void SessionManager::SetMaxSessions(int max_sessions) {
   config_.max_sessions = max_sessions;
 }
 
+void SessionManager::SetCapacity(const CapacityEstimate& estimate) {
+  SetMaxSessions(estimate.max_sessions);
+  capacity_ = estimate;
+}
+
+double SessionManager::CoresCharged() const {
+  double sum = 0.0;
+  for (const auto& [id, running] : sessions_) sum += running.cores;
+  for (const PendingCreate& p : pending_) sum += p.cores;
+  return sum;
+}
+
 std::string SessionManager::FullMessage() const {
   const std::string full = Cat("server ", config_.server_id, " is full (", sessions_.size(),
                                " of ", config_.max_sessions, " sessions)");
@@ -329,7 +341,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   const int64_t id = request.header.session_id;
   session::Session* session = Find(id);
   if (session == nullptr) {
-    ++rejected_;
+    ++not_ours_;  // on a shared bus, most likely another server's session: not an attack
     Reply(request, session_reply_t::kUnknownSession,
           Cat("no session ", id, " on server ", config_.server_id), id);
     return;
@@ -460,6 +472,20 @@ void SessionManager::Create(const session_request_t& request) {
     return;
   }
 
+  const double cores =
+      !capacity_ ? 0.0
+                 : capacity_->SessionCores(frame_rate, request.frame_width > 0 ? request.frame_width : config_.frame_width,
+                                           request.frame_height > 0 ? request.frame_height : config_.frame_height);
+  if (const double charged = CoresCharged(); capacity_ && charged > 0.0 && charged + cores > capacity_->BudgetCores() + 1e-9) {
+    ++rejected_;
+    Reply(request, session_reply_t::kRefused,
+          Cat("server ", config_.server_id, " has no room for this session: it would cost ", cores,
+              " core", frame_rate > 0.0 ? Cat(" (", frame_rate, " Hz frames included)") : "", ", and its ",
+              sessions_.size(), " sessions use ", charged, " of its ", capacity_->BudgetCores(),
+              " core budget", frame_rate > 0.0 ? "; ask for fewer or no frames (frame rate < 0)" : ""));
+    return;
+  }
+
   // Building the model may take long (mesh distance fields, settling): a helper thread does
   // it at low priority (nice 10), within the server's scene budget, so no session waits for it.
   const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
@@ -468,7 +494,7 @@ void SessionManager::Create(const session_request_t& request) {
   limits.check_stop = BuildStopCheck(stop, config_.max_build_s);
   const std::string inline_source = config_.scene_dir + "/<inline>";  // meshes: the scene dir
   // copies only, no `this`: a build still running at shutdown is left behind (StopAll)
-  pending_.push_back({request, mpix,
+  pending_.push_back({request, mpix, cores,
                       std::async(std::launch::async, [scene_dir = config_.scene_dir, max_rate = config_.max_rate_hz,
                                                       request, rate, limits, inline_source] {
                         NiceThisThread();
@@ -491,7 +517,7 @@ void SessionManager::Poll() {
       continue;
     }
     const session_request_t request = p.request;
-    const double mpix = p.frame_mpix_per_s;
+    const double mpix = p.frame_mpix_per_s, cores = p.cores;
     std::future<session::SessionScene> future = std::move(p.scene);
     pending_.erase(pending_.begin() + static_cast<long>(i));
     session::SessionScene scene;
@@ -502,12 +528,12 @@ void SessionManager::Poll() {
       Reply(request, session_reply_t::kRefused, e.what());
       continue;
     }
-    FinishCreate(request, std::move(scene), mpix);
+    FinishCreate(request, std::move(scene), mpix, cores);
   }
 }
 
 void SessionManager::FinishCreate(const session_request_t& request, session::SessionScene scene,
-                                  double frame_mpix_per_s) {
+                                  double frame_mpix_per_s, double cores) {
   if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused, FullMessage());
@@ -563,6 +589,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
 
   Running& running = sessions_[sc.id];  // in the map first: nothing below can lose a thread
   running.frame_mpix_per_s = frame_mpix_per_s;
+  running.cores = cores;
   running.session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
   session::Session* session = running.session.get();
   session->Start();
@@ -598,7 +625,7 @@ void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::M
   const int64_t id = pose.header.session_id;
   session::Session* session = Find(id);
   if (session == nullptr) {
-    Reject(nullptr, "pose for an unknown session");
+    ++not_ours_;  // another server's session on a shared bus: counted apart from rejected
     return;
   }
   // the exact name: VISCERA_POSE_0<id> parses to the same id but is another (sender, channel)

@@ -9,6 +9,7 @@
 #include <map>
 #include <unordered_map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <viscera_proto/session_reply_t.hpp>
@@ -17,6 +18,7 @@
 
 #include "bus/lcm_bus.h"
 #include "bus/replay_guard.h"
+#include "server/capacity_estimate.h"
 #include "server/exposure_watcher.h"
 #include "server/frame_streamer.h"
 #include "server/peer_directory.h"
@@ -75,10 +77,19 @@ class SessionManager {
 
   /// Creates beyond `max_sessions` running sessions are refused from now on. @pre >= 1.
   void SetMaxSessions(int max_sessions);
+  /// Admission by the measured cost from now on: at most estimate.max_sessions sessions,
+  /// and a create is refused when its own cost (steps, plus frames if it streams them:
+  /// CapacityEstimate::SessionCores) would take the sessions past the cores' budget. An
+  /// idle server still takes any one session.
+  void SetCapacity(const CapacityEstimate& estimate);
 
   int num_sessions() const { return num_sessions_.load(); }
-  /// Messages dropped since start (all reasons, all sessions, plus unknown sessions).
+  /// Messages dropped since start as invalid (all reasons, all sessions): undecodable,
+  /// bad MAC, wrong token, bad values, replays, refused creates.
   int64_t rejected() const { return rejected_.load(); }
+  /// Poses and requests for sessions this server does not run (not in rejected): on a bus
+  /// shared by several servers, each hears the others' traffic.
+  int64_t not_ours() const { return not_ours_.load(); }
   /// Of those, replayed or stale session-changing messages.
   int64_t replayed() const { return replayed_.load(); }
   /// Sessions ended because their lease ran out.
@@ -89,7 +100,7 @@ class SessionManager {
              const std::string& message, int64_t session_id = 0);
   void Create(const viscera_proto::session_request_t& request);
   void FinishCreate(const viscera_proto::session_request_t& request, session::SessionScene scene,
-                    double frame_mpix_per_s);
+                    double frame_mpix_per_s, double cores);
   void Reject(session::Session* session, const std::string& why);
   /// The replay verdict on an otherwise authentic message: "" to go on, else why it was
   /// dropped (counted, charged to `session` when there is one).
@@ -101,6 +112,8 @@ class SessionManager {
   std::string CreateRateProblem();
   /// Frame streams of all sessions and creations in flight (megapixels per second).
   double FrameLoadMpix() const;
+  /// Cores charged to all sessions and creations in flight (0 without SetCapacity).
+  double CoresCharged() const;
   /// Stops session `id` (which exists) and moves it to retiring_ (its render thread may be
   /// mid-frame). @return its final status.
   viscera_proto::session_status_t Retire(int64_t id);
@@ -110,6 +123,7 @@ class SessionManager {
   session::Session* Find(int64_t id);
 
   ServerConfig config_;
+  std::optional<CapacityEstimate> capacity_;  // admission by cores once measured
   bus::LcmBus* bus_;
 
   /// A session and its render thread (none without frames). The streamer reads the session:
@@ -119,6 +133,7 @@ class SessionManager {
     std::unique_ptr<FrameStreamer> frames;
     std::unique_ptr<ExposureWatcher> exposure;  // scenes with [[target]]; ends before the session
     double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
+    double cores = 0.0;             // what admission charged it (SetCapacity)
   };
 
   bus::LcmBus* frame_bus_;
@@ -130,12 +145,14 @@ class SessionManager {
   struct PendingCreate {
     viscera_proto::session_request_t request;
     double frame_mpix_per_s = 0.0;
+    double cores = 0.0;
     std::future<session::SessionScene> scene;  // the helper's result or its exception
     std::shared_ptr<std::atomic<bool>> stop;   // set: the helper abandons the build
   };
   std::vector<PendingCreate> pending_;
   std::atomic<int> num_sessions_{0};
   std::atomic<int64_t> rejected_{0};
+  std::atomic<int64_t> not_ours_{0};
   std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> expired_{0};
   bus::ReplayGuard replay_;        // the request channel's senders

@@ -2,7 +2,6 @@
 /// for clients over LCM and announces itself with a heartbeat once a second.
 #include <malloc.h>
 #include <pthread.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <sched.h>
@@ -14,6 +13,7 @@
 #include <cstdio>
 #include <ctime>
 #include <exception>
+#include <filesystem>
 #include <iterator>
 #include <optional>
 #include <string>
@@ -24,6 +24,7 @@
 
 #include "bus/channels.h"
 #include "bus/lcm_bus.h"
+#include "common/check.h"
 #include "render/frame_renderer.h"
 #include "render/offscreen_context.h"
 #include "server/capacity_estimate.h"
@@ -44,23 +45,25 @@ const char* SignalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTE
 
 // --max-sessions 0: as many sessions as the measured cost of `scene` fits in this
 // process's cores (docs/capacity.md); one per core if the scene cannot be measured.
-// A stop abandons the measurement: std::nullopt.
-std::optional<int> AutoMaxSessions(const viscera::server::ServerConfig& config, const std::string& scene,
-                                   const std::atomic<bool>& stopping) {
+// A stop abandons the measurement.
+// Admission from then on charges each session its steps, and its frames only if it streams
+// them (SessionManager::SetCapacity).
+void AutoCapacity(viscera::server::IoLoop* loop, const viscera::server::ServerConfig& config,
+                  const std::string& scene, const std::atomic<bool>& stopping) {
   try {
     const viscera::server::CapacityEstimate e =
         viscera::server::EstimateCapacity(config, scene, 0.3, [&stopping] { return stopping.load(); });
     std::fprintf(stderr, "viscerad: %s (--max-sessions N overrides)\n", e.Describe().c_str());
-    return e.max_sessions;
+    loop->SetCapacity(e);
   } catch (const viscera::server::MeasurementStopped&) {
     std::fprintf(stderr, "viscerad: capacity measurement abandoned: stopping\n");
-    return std::nullopt;
   } catch (const std::exception& e) {
     const int cores = viscera::server::AvailableCores();
-    std::fprintf(stderr,
-                 "viscerad: cannot measure scene '%s' for --max-sessions (%s): %d, one per core\n",
-                 scene.c_str(), e.what(), cores);
-    return cores;
+    const std::string why = viscera::Cat("max ", cores, " sessions, one per core: scene '", scene,
+                                         "' could not be measured (", e.what(), ")");
+    std::fprintf(stderr, "viscerad: %s\n", why.c_str());
+    loop->SetMaxSessions(cores);
+    loop->SetCapacityNote(why);
   }
 }
 
@@ -91,20 +94,23 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
   const bool measure = config.max_sessions == 0;
   if (measure) config.max_sessions = viscera::server::AvailableCores();
   viscera::server::IoLoop loop(config);
+  loop.SetCapacityNote(measure ? viscera::Cat("max ", config.max_sessions, " sessions, one per core, until the cost of a ",
+                                              capacity_scene, " session is measured")
+                               : viscera::Cat("max ", config.max_sessions, " sessions: --max-sessions"));
   loop.Start();
   // a stop does not wait for the measurement (nice 19: minutes on a busy machine)
   std::atomic<bool> stopping{false};
   std::thread estimator;
   if (measure) {
     estimator = std::thread([&loop, &stopping, config, capacity_scene] {
-      // Sessions may already run: the measurement takes what they leave (nice 19, inherited
-      // by its render thread). It counts CPU time, so waiting costs it no accuracy.
+      // Normal priority (never the I/O thread's SCHED_FIFO): at nice 19 a machine busy with
+      // other work left it nothing for minutes, and meanwhile the server held one session per
+      // core (a load test started right after viscerad was refused its fourth session). It
+      // counts CPU time, so sharing the cores costs it no accuracy; sessions created during
+      // its second or so of CPU share the cores with it once.
       sched_param normal{};
       pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
-      setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
-      if (const std::optional<int> max = AutoMaxSessions(config, capacity_scene, stopping)) {
-        loop.SetMaxSessions(*max);
-      }
+      AutoCapacity(&loop, config, capacity_scene, stopping);
     });
   }
   std::fprintf(stderr,
@@ -148,6 +154,7 @@ int main(int argc, char** argv) {
   // loop allocates nothing, so the arenas' locks cost it nothing.
   mallopt(M_ARENA_MAX, 2);
   CLI::App app{"viscerad: the viscera haptic server (small intestine simulation over LCM)"};
+  app.set_version_flag("--version", std::string("viscerad ") + VISCERA_VERSION);
   std::string lcm_url;
   viscera::server::ServerConfig config;
   config.server_id = DefaultServerId();
@@ -308,6 +315,16 @@ int main(int argc, char** argv) {
   if (config.rate_hz > config.max_rate_hz) {
     std::fprintf(stderr, "viscerad: --rate %g is above --max-rate %g\n", config.rate_hz, config.max_rate_hz);
     return 2;
+  }
+  if (!config.log_dir.empty()) {
+    // README's `--log-dir out/records` on a fresh checkout: made here, not refused per create
+    std::error_code error;
+    std::filesystem::create_directories(config.log_dir, error);
+    if (error || !std::filesystem::is_directory(config.log_dir)) {
+      std::fprintf(stderr, "viscerad: --log-dir %s: cannot make the directory (%s)\n", config.log_dir.c_str(),
+                   error ? error.message().c_str() : "not a directory");
+      return 2;
+    }
   }
   config.lcm_url = viscera::bus::ResolveUrl(lcm_url);
   if (viscera::bus::UrlLeavesHost(config.lcm_url) && config.key_file.empty() && !config.insecure) {

@@ -10,16 +10,22 @@ at a fixed rate from worker processes, forces, status and frames measured.
 Stops by itself after --seconds (and on Ctrl-C), destroying every session it created.
 docs/capacity.md explains the figures; the JSON report is an object {"overall": {...},
 "sessions": [{"server": ..., ...}, ...]} (with several runs: {"runs": [report, ...]}).
-Exit status: 0 when the server kept up and the client kept its rate, 1 when the server did
-not (over capacity), 3 when this client could not keep its own pose rate, 2 on errors.
+Exit status: 0 when the server kept up (or this run cannot resolve the 0.1 % miss limit
+either way: the verdict says so) and the client kept its rate, 1 when the server did not
+(over capacity), 2 on errors, 3 when this client could not keep its own pose rate, 4 when
+a server refused for a reason that every session would meet again (an unknown scene, a bad
+scene file, a rate above the server's limit, a key that does not match the servers').
 """
 import argparse
 import datetime
 import json
 import multiprocessing
 import os
+import platform
 import queue
+import re
 import signal
+import subprocess
 import sys
 import time
 
@@ -65,6 +71,7 @@ from viscera_client import Client, VisceraError, pick_server  # noqa: E402
 from viscera_client.load import report as rep  # noqa: E402
 from viscera_client.load.stats import status_fields  # noqa: E402
 from viscera_client.load.worker import run_worker  # noqa: E402
+from viscera_proto import session_reply_t  # noqa: E402
 
 
 def parse_args(argv):
@@ -145,14 +152,65 @@ class Progress:
             print(f"loadtest: {text}", file=sys.stderr, flush=True)
 
 
-def create_sessions(client, args, n, scene_toml, log):
-    """N sessions, each on the least loaded server with room (or on --server). The
-    servers' heartbeats are heard once; each placement then counts itself, since the next
-    heartbeat would come too late to see it."""
-    servers = [] if args.server else client.servers(args.listen, timeout_s=10.0)
+def is_capacity_refusal(error):
+    """True when a VisceraError is a server saying it has no room now (full, or no core
+    budget left for this session): another server, or later, may take it. Any other
+    refusal (a bad scene, a rate above the limit) would come again."""
+    text = str(error)
+    return error.result == session_reply_t.kRefused and (
+        " is full (" in text or "has no room for this session" in text
+        or "too many creates" in text or "frame bandwidth" in text)
+
+
+class Refused(Exception):
+    """A refusal that every further session would meet again: stop, exit status 4."""
+
+
+# how long to wait for servers that are still measuring their capacity (viscerad takes a
+# second or two after start, longer on a busy machine)
+MEASURING_WAIT_S = 60.0
+# for the first heartbeat: a viscerad started just before (README's two commands) took more
+# than 10 s to send its first on this 2-core machine at load average 15
+FIRST_SERVER_WAIT_S = 30.0
+# between the runs of --sessions N1,N2,...
+RUN_PAUSE_S = 2.0
+
+
+def hear_servers(client, args, log):
+    """The servers heard (ServerInfo list). Servers still measuring their capacity (their
+    heartbeat says so) are waited for, up to MEASURING_WAIT_S, so that a load test started
+    right after viscerad sees the capacity it will have. A key that does not match the
+    servers' is a Refused: every heartbeat fails its MAC."""
+    servers = client.servers(args.listen, timeout_s=FIRST_SERVER_WAIT_S)
+    deadline = time.monotonic() + MEASURING_WAIT_S
+    said = False
+    while servers and any("until" in s.capacity for s in servers) and time.monotonic() < deadline:
+        if not said:
+            log("waiting for " + ", ".join(s.server_id for s in servers if "until" in s.capacity)
+                + f" to measure its capacity (up to {MEASURING_WAIT_S:g} s)")
+            said = True
+        servers = client.servers(1.2)
+    if not servers and client.bus.drops["malformed"] > 0:
+        raise Refused(f"{client.bus.drops['malformed']} heartbeat(s) heard that this client cannot "
+                      "decode: its viscera_proto types differ from the servers' (an older build: "
+                      "re-run tools/setup.sh, or put the build's python/ first on PYTHONPATH)")
+    if not servers and client.bus.drops["bad_mac"] > 0:
+        raise Refused(f"{client.bus.drops['bad_mac']} heartbeat(s) heard with a MAC that does not "
+                      "match --key-file: the servers use another key (or none)")
+    if not servers and client.bus.auth is None:
+        log("no server heard: if the servers were started with --key-file, give the same key")
+    return servers
+
+
+def create_sessions(client, args, n, scene_toml, log, servers):
+    """N sessions, each on the least loaded server with room (or on --server), among
+    `servers` (heard once); each placement then counts itself, since the next heartbeat
+    would come too late to see it. A refusal that is not about room (a bad scene, a rate
+    above the server's limit) stops everything: Refused."""
     if not args.server:
         if not servers:
-            raise VisceraError(f"no server heard on {client.bus.url} within {args.listen} s")
+            raise VisceraError(f"no server heard on {client.bus.url} within {FIRST_SERVER_WAIT_S:g} s "
+                               "(is viscerad running? a multicast route?)")
         log("servers: " + ", ".join(f"{s.server_id} {s.sessions}/{s.max_sessions} "
                                     f"load {s.load:.2f}" for s in servers))
     created = []
@@ -163,15 +221,23 @@ def create_sessions(client, args, n, scene_toml, log):
             else:
                 chosen = pick_server(servers)
                 if chosen is None:
-                    raise VisceraError(f"every server is full after {len(created)} of {n} "
-                                       "sessions")
+                    raise VisceraError(
+                        f"every server is full after {len(created)} of {n} sessions ("
+                        + "; ".join(f"{s.server_id}: {s.capacity or f'max {s.max_sessions}'}"
+                                    for s in servers) + ")")
                 target = chosen.server_id
             try:
                 h = client.create(scene=args.scene, scene_toml=scene_toml, server=target,
                                   rate_hz=args.session_rate,
                                   frame_rate_hz=args.frame_rate if args.frames else -1.0,
                                   skeleton_rate_hz=-1.0, timeout_s=10.0)
+            except ValueError as e:  # refused by the client's own checks (a rate out of range)
+                raise Refused(f"{e} (every session would be refused alike: stopping)")
             except VisceraError as e:
+                if e.result is not None and not is_capacity_refusal(e):
+                    # the server knows an inline scene as "<scene dir>/<inline>": name the files
+                    why = re.sub(r"\S*<inline>", " + ".join(args.scene_file) or "<inline>", str(e))
+                    raise Refused(f"{why} (every session would be refused alike: stopping)")
                 if args.server or e.result is None:
                     raise
                 log(f"{e}; trying another server")
@@ -201,7 +267,9 @@ def run_once(args, n, scene_toml, log):
     """One run of n sessions: (report dict, {session_id: round trips in us})."""
     started_utc = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     client = Client(args.lcm_url, args.key_file)
-    created = create_sessions(client, args, n, scene_toml, log)
+    load_before = os.getloadavg()
+    servers = hear_servers(client, args, log)
+    created = create_sessions(client, args, n, scene_toml, log, servers)
     handles = [h for h, _ in created]
     if handles and args.tool >= len(handles[0].tools):
         destroy_all(client, handles, log)
@@ -309,7 +377,47 @@ def run_once(args, n, scene_toml, log):
         round_trips[h.session_id] = state["round_trips_us"]
     pooled = [x for v in round_trips.values() for x in v]
     overall = rep.overall_report(sessions, pooled, asked, drops, interrupted, started_utc)
+    overall["context"] = run_context(servers, load_before)
     return {"overall": overall, "sessions": sessions}, round_trips
+
+
+def cpu_model():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def source_commit():
+    """The checkout's commit (with "-dirty" when it has changes), or None outside git."""
+    try:
+        commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "HEAD"], capture_output=True,
+                                text=True, timeout=5).stdout.strip()
+        dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, timeout=5).stdout.strip()
+        return (commit + ("-dirty" if dirty else "")) or None
+    except (OSError, subprocess.SubprocessError):
+        return None
+
+
+def run_context(servers, load_before):
+    """What a planner needs to read the figures: this machine (cores, CPU, load average
+    before and after the run), the servers heard (their capacity and limits), the commit."""
+    return {
+        "machine": {"host": platform.node(), "cpus": os.cpu_count(),
+                    "cpus_usable": len(os.sched_getaffinity(0)), "cpu_model": cpu_model(),
+                    "loadavg_before": list(load_before), "loadavg_after": list(os.getloadavg()),
+                    "python": platform.python_version()},
+        "servers": [{"server_id": s.server_id, "sessions_before": s.sessions,
+                     "max_sessions": s.max_sessions, "cores": s.cores, "capacity": s.capacity,
+                     "load": s.load, "uptime_s": s.uptime_s, "limits": s.limits}
+                    for s in servers],
+        "commit": source_commit(),
+    }
 
 
 def main(argv=None):
@@ -324,13 +432,20 @@ def main(argv=None):
             return 2
     reports, round_trips = [], {}
     try:
-        for n in args.runs:
+        for i, n in enumerate(args.runs):
+            if i > 0:
+                # the previous run's sessions end their threads and records: the next run does
+                # not start on a machine still busy with them
+                time.sleep(RUN_PAUSE_S)
             r, rt = run_once(args, n, scene_toml, log)
             reports.append(r)
             round_trips.update(rt)
             print(rep.text_summary(r), flush=True)
             if r["overall"]["interrupted"]:
                 break
+    except Refused as e:
+        log(str(e))
+        return 4
     except VisceraError as e:
         log(str(e))
         if not reports:
@@ -341,6 +456,7 @@ def main(argv=None):
             return 2
     if args.json:
         doc = reports[0] if len(args.runs) == 1 else {"runs": reports}
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
         with open(args.json, "w") as f:
             json.dump(doc, f, indent=1)
         log(f"report written to {args.json}")

@@ -62,13 +62,29 @@ def header_problem(header):
     return ""
 
 
+class BusError(OSError):
+    """LCM could not open the URL: for udpm://, most often a network without a multicast
+    route (as the viscera CLI explains it)."""
+
+    def __init__(self, url, cause=None):
+        hint = ("for udpm://, does this network have a multicast route? (sudo ip route add "
+                "224.0.0.0/4 dev lo for one machine; tests/e2e/in_netns.sh makes a namespace "
+                "with one)") if url.startswith("udpm://") else "is the URL well formed?"
+        super().__init__(f"LCM could not open URL '{url}' ({hint})"
+                         + (f"; LCM said: {cause}" if cause else ""))
+        self.url = url
+
+
 class Bus:
     """An LCM object with viscera's rules: signed when a key is set, and every received
     datagram checked (MAC, decode, header) before a handler sees it; drops are counted."""
 
     def __init__(self, url=None, auth=None):
         self.url = resolve_url(url)
-        self.lc = lcm.LCM(self.url)
+        try:
+            self.lc = lcm.LCM(self.url)
+        except (RuntimeError, OSError, ValueError) as e:  # PyPI lcm: "Couldn't create LCM"
+            raise BusError(self.url, e) from None
         self.auth = auth
         self.drops = {"bad_mac": 0, "malformed": 0, "bad_header": 0}
         self._seq = {}  # channel -> next header.seq of this sender
@@ -149,4 +165,5 @@ class Bus:
         return handled
 
     def close(self):
+        """Drops the LCM object (its socket closes); the Bus is unusable afterwards."""
         self.lc = None

@@ -1,5 +1,5 @@
 """Servers heard on the heartbeat channel, and where a new session should go."""
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 
@@ -13,10 +13,19 @@ class ServerInfo:
     uptime_s: float = 0.0
     heartbeats: int = 0     # heard while listening
     rejected: int = 0       # messages the server dropped since it started
+    not_ours: int = 0       # messages for sessions it does not run (not in rejected)
+    cores: int = 0          # CPUs the server may run on (0: not announced)
+    capacity: str = ""      # why it holds max_sessions (one line; "": not announced)
+    limits: dict = field(default_factory=dict)  # max_rate_hz, max_session_load, ... (heartbeat)
 
     @property
     def has_room(self):
         return self.sessions < self.max_sessions
+
+
+LIMITS = ("max_clock_skew_s", "session_lease_s", "max_message_bytes", "max_creates_per_minute",
+          "max_rate_hz", "max_frame_mpix_per_s", "max_control_points", "max_obstacles",
+          "max_mesh_resolution", "max_mesh_bytes", "max_settle_s", "max_session_load")
 
 
 def observe(servers, heartbeat):
@@ -29,6 +38,10 @@ def observe(servers, heartbeat):
     info.load = heartbeat.load
     info.uptime_s = heartbeat.uptime_us * 1e-6
     info.rejected = heartbeat.rejected
+    info.not_ours = getattr(heartbeat, "not_ours", 0)
+    info.cores = getattr(heartbeat, "cores", 0)
+    info.capacity = getattr(heartbeat, "capacity", "")
+    info.limits = {k: getattr(heartbeat, k) for k in LIMITS if hasattr(heartbeat, k)}
     info.heartbeats += 1
 
 

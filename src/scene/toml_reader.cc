@@ -1,7 +1,10 @@
 #include "scene/toml_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
+
 #include <toml++/toml.h>
 
 #include "common/check.h"
@@ -108,10 +111,42 @@ Points TomlReader::PointList(const std::string& key) const {
   return p;
 }
 
+namespace {
+
+// Edits (insert, delete, replace) between two short keys.
+size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
 void TomlReader::Finish() const {
   for (const auto& [key, node] : table_) {
     const std::string k(key.str());
-    ThrowUnless(read_.count(k) > 0, Name(k), " = ", Describe(node), ": unknown key");
+    if (read_.count(k) > 0) continue;
+    // the keys this table was asked for are the ones it knows: the nearest is the likely typo
+    std::string nearest;
+    size_t best = 3;  // at most two edits away
+    for (const std::string& known : read_) {
+      if (const size_t d = EditDistance(k, known); d < best) {
+        best = d;
+        nearest = known;
+      }
+    }
+    const toml::source_position where = node.source().begin;
+    Fail(Name(k), " = ", Describe(node), where.line > 0 ? Cat(" (line ", where.line, ")") : std::string(),
+         ": unknown key", nearest.empty() ? std::string() : Cat("; did you mean \"", nearest, "\"?"));
   }
 }
 

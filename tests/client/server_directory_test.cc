@@ -15,6 +15,9 @@ viscera_proto::heartbeat_t Beat(const std::string& id, int sessions, float load,
   msg.max_sessions = 4;
   msg.load = load;
   msg.uptime_us = 2'500'000;
+  msg.cores = 2;
+  msg.not_ours = 0;
+  msg.capacity = "";
   return msg;
 }
 
@@ -46,7 +49,10 @@ TEST(ServerDirectory, RejectsHeartbeatsItCannotTrust) {
 
 TEST(ServerDirectory, JsonAndTableListEveryServer) {
   ServerDirectory directory;
-  directory.Observe(Beat("alpha", 1, 0.5f, 0));
+  viscera_proto::heartbeat_t alpha = Beat("alpha", 1, 0.5f, 0);
+  alpha.capacity = "max 4 sessions: --max-sessions";
+  alpha.not_ours = 7;
+  directory.Observe(alpha);
   directory.Observe(Beat("a-much-longer-server-name", 2, 0.125f, 0));
   const auto servers = directory.Servers();
   const nlohmann::ordered_json json = ServersToJson(servers);
@@ -56,12 +62,17 @@ TEST(ServerDirectory, JsonAndTableListEveryServer) {
   EXPECT_EQ(json[1]["sessions"], 1);
   EXPECT_EQ(json[1]["max_sessions"], 4);
   EXPECT_DOUBLE_EQ(json[1]["load"].get<double>(), 0.5);
+  EXPECT_EQ(json[1]["not_ours"], 7);
+  EXPECT_EQ(json[1]["cores"], 2);
+  EXPECT_EQ(json[1]["capacity"], "max 4 sessions: --max-sessions");
 
   const std::string table = ServersToTable(servers);
   EXPECT_EQ(table.rfind("SERVER", 0), 0u);
   EXPECT_NE(table.find("\nalpha "), std::string::npos) << table;
   EXPECT_NE(table.find("1/4"), std::string::npos) << table;
   EXPECT_NE(table.find("50%"), std::string::npos) << table;
+  // why each server holds what it holds, under the table
+  EXPECT_NE(table.find("\nalpha: max 4 sessions: --max-sessions\n"), std::string::npos) << table;
 }
 
 }  // namespace

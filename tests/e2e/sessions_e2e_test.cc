@@ -245,10 +245,12 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
     EXPECT_EQ(sb["last_error"], "pose for session " + std::to_string(b) + " on channel " + pose_a);
   }
   // garbage on every other channel of the protocol, and an unknown session's pose: counted by
-  // the server, charged to no session
+  // the server, charged to no session; the pose apart, as not ours (another server's, on a
+  // shared bus), not as rejected
   const CliResult before = Viscera(dir, "servers --timeout 1.2 --json");
   ASSERT_EQ(before.rc, 0);
   const int64_t server_rejected = before.json()[0]["rejected"].get<int64_t>();
+  const int64_t server_not_ours = before.json()[0]["not_ours"].get<int64_t>();
   for (const std::string& channel :
        {std::string(bus::kRequestChannel), std::string(bus::kReplyChannel),
         std::string(bus::kHeartbeatChannel), bus::SessionChannel(bus::kForcePrefix, a),
@@ -258,14 +260,18 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
   }
   probe.Publish(bus::SessionChannel(bus::kPosePrefix, 999), Pose(999, token, 0, Vec3::Zero()));
   // the server subscribes to requests, heartbeats (other servers, for placement) and poses only:
-  // the request and heartbeat garbage and the unknown pose
-  int64_t now_rejected = 0;
+  // the request and heartbeat garbage rejected, the unknown pose not ours
+  int64_t now_rejected = 0, now_not_ours = 0;
   EXPECT_TRUE(Eventually([&] {
     const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
-    if (r.rc == 0) now_rejected = r.json()[0]["rejected"].get<int64_t>();
-    return now_rejected >= server_rejected + 3;
+    if (r.rc == 0) {
+      now_rejected = r.json()[0]["rejected"].get<int64_t>();
+      now_not_ours = r.json()[0]["not_ours"].get<int64_t>();
+    }
+    return now_rejected >= server_rejected + 2 && now_not_ours >= server_not_ours + 1;
   }, 30.0)) << "the server did not count the garbage request and heartbeat and the unknown session's pose";
-  EXPECT_EQ(now_rejected, server_rejected + 3);
+  EXPECT_EQ(now_rejected, server_rejected + 2);
+  EXPECT_EQ(now_not_ours, server_not_ours + 1);
   json sa = Status(dir, a);
   EXPECT_EQ(sa["rejected"], expected_a);
   EXPECT_EQ(sa["poses"], 1);

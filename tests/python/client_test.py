@@ -190,12 +190,12 @@ class MeasuredCapacityTest(unittest.TestCase):
         try:
             c = new_client()
             wait_for_servers(c, ["py-auto"])  # heard before the measurement is done
-            deadline = time.monotonic() + 150  # the measurement runs at nice 19
+            deadline = time.monotonic() + 150  # a busy machine stretches the measurement
             line = None
             while line is None:
                 self.assertLess(time.monotonic(), deadline, server.stderr())
-                line = re.search(r"max (\d+) sessions: a cavity session costs ([0-9.]+) core",
-                                 server.stderr())
+                line = re.search(r"max (\d+) sessions without frames: a cavity session costs "
+                                 r"([0-9.]+) core", server.stderr())
                 c.pump(0.1)
             measured, cost = int(line.group(1)), float(line.group(2))
             self.assertGreater(cost, 0.0)
@@ -205,5 +205,53 @@ class MeasuredCapacityTest(unittest.TestCase):
             while heard["py-auto"].max_sessions != measured:
                 self.assertLess(time.monotonic(), deadline, heard)
                 heard = wait_for_servers(c, ["py-auto"])
+            # and why: the same line, in the heartbeat (viscera servers prints it)
+            self.assertIn(f"max {measured} sessions without frames", heard["py-auto"].capacity)
+            self.assertGreaterEqual(heard["py-auto"].cores, 1)
         finally:
             self.assertEqual(server.stop(), 0, server.stderr())
+
+
+class NeighbourTrafficTest(unittest.TestCase):
+    """Two healthy servers on one bus hear each other's sessions' traffic: neither counts it
+    as rejected (the figure operators watch for attacks); each counts it as not ours. A
+    hostile datagram still counts as rejected."""
+
+    @classmethod
+    def setUpClass(cls):
+        require_private_netns()
+        cls.x = Server("py-x", "--max-sessions", "1")
+        cls.y = Server("py-y", "--max-sessions", "1")
+        cls.client = new_client()
+        wait_for_servers(cls.client, ["py-x", "py-y"])
+
+    @classmethod
+    def tearDownClass(cls):
+        for s in (cls.x, cls.y):
+            assert s.stop() == 0, s.stderr()
+
+    def test_each_others_traffic_is_not_rejected_but_garbage_is(self):
+        c = self.client
+        with c.session(scene_toml=push_scene(), server="py-x") as s:
+            for i in range(50):
+                s.send_pose("grasper", (0.0, 0.0, 0.05))
+                c.pump(0.005)
+            s.status()  # py-y hears this request too (kUnknownSession)
+            s.pause()
+            heard = {}
+            deadline = time.monotonic() + 20
+            while heard.get("py-y") is None or heard["py-y"].not_ours < 51:
+                self.assertLess(time.monotonic(), deadline, f"py-y never counted: {heard}")
+                heard = wait_for_servers(c, ["py-x", "py-y"])
+            self.assertEqual(heard["py-y"].rejected, 0)
+            self.assertEqual(heard["py-x"].rejected, 0)
+            self.assertGreaterEqual(heard["py-y"].not_ours, 51)
+            self.assertEqual(heard["py-x"].not_ours, 0)
+            # negative control: garbage on the session's pose channel is rejected by both
+            c.bus.lc.publish(f"VISCERA_POSE_{s.id}", b"\x00" * 40)
+            while True:
+                heard = wait_for_servers(c, ["py-x", "py-y"])
+                if heard["py-y"].rejected >= 1 and heard["py-x"].rejected >= 1:
+                    break
+                self.assertLess(time.monotonic(), deadline + 20, f"garbage not rejected: {heard}")
+            self.assertEqual(heard["py-y"].rejected, 1)

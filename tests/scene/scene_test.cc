@@ -115,6 +115,8 @@ TEST(Scene, NonFiniteAndOutOfRangeValuesAreRejected) {
 
 TEST(Scene, UnknownKeyInKnownTableIsAnError) {
   ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nstiffnes = 3"), {"intestine.stiffnes", "unknown key"});
+  // the line of the typo, and the known key it is nearest to
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nmas = 3"), {"intestine.mas = 3 (line ", "unknown key; did you mean \"mass\"?"});
   ExpectError(Replace(kIntestine, "kind = \"straight\"", "kind = \"straight\"\nradius = 1"), {"intestine.shape.radius", "unknown key"});
 }
 

@@ -225,3 +225,98 @@ TEST_F(SessionManagerTest, FramesOfTheRequestedSizeFollowTheMechanics) {
 
 }  // namespace
 }  // namespace viscera::server
+
+namespace viscera::server {
+namespace {
+
+// Admission charges every session its steps and only the sessions that stream frames their
+// frames (at their own rate): a server whose budget holds one frame stream holds several
+// sessions without frames. The figures are a made-up estimate, so the test is not timed.
+TEST_F(SessionManagerTest, AdmissionChargesFramesOnlyToSessionsThatStreamThem) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  ServerConfig c = config_;
+  c.frame_width = 64;  // frames for real, but small
+  c.frame_height = 48;
+  Restart(c);
+  CapacityEstimate e;
+  e.scene = "hanging";
+  e.cores = 1;  // budget 0.7 core
+  e.rate_hz = 100.0;
+  e.step_cpu_us = 2000.0;
+  e.session_cores = 0.2;
+  e.frame_rate_hz = 25.0;
+  e.frame_cpu_ms = 20.0;  // a 25 Hz stream: 0.5 core
+  e.frame_width = 64;
+  e.frame_height = 48;
+  e.max_sessions = SessionsThatFit(e.cores, e.session_cores);
+  ASSERT_EQ(e.max_sessions, 3);
+  EXPECT_DOUBLE_EQ(e.SessionCores(-1.0, 64, 48), 0.2);
+  EXPECT_DOUBLE_EQ(e.SessionCores(25.0, 64, 48), 0.7);
+  EXPECT_DOUBLE_EQ(e.SessionCores(10.0, 128, 96), 0.2 + 0.8);  // its own rate and size
+  EXPECT_NE(e.Describe().find("max 3 sessions without frames"), std::string::npos) << e.Describe();
+  EXPECT_NE(e.Describe().find("so 1 with frames"), std::string::npos) << e.Describe();
+  manager_->SetCapacity(e);
+
+  const auto create = [&](double frame_rate_hz) {
+    auto r = Request(Q::kCreate);
+    r.scene_name = "hanging";
+    r.frame_rate_hz = frame_rate_hz;  // 0: the server's default (25 Hz), < 0: none
+    return Ask(r);
+  };
+  const auto destroy = [&](const R& created) {
+    auto r = Request(Q::kDestroy, created.header.session_id);
+    r.header.token = created.header.token;
+    r.header.token_len = static_cast<int32_t>(created.header.token.size());
+    EXPECT_EQ(Ask(r).result, R::kOk);
+  };
+  const R a = create(-1.0), b = create(-1.0);
+  ASSERT_EQ(a.result, R::kOk) << a.message;
+  ASSERT_EQ(b.result, R::kOk) << b.message;
+  const R framed = create(0.0);  // 0.4 + 0.7 > 0.7
+  EXPECT_EQ(framed.result, R::kRefused);
+  EXPECT_NE(framed.message.find("it would cost 0.7 core (25 Hz frames included)"), std::string::npos)
+      << framed.message;
+  EXPECT_NE(framed.message.find("no frames"), std::string::npos) << framed.message;
+  const R third = create(-1.0);  // 0.6: fits
+  ASSERT_EQ(third.result, R::kOk) << third.message;
+  EXPECT_EQ(create(-1.0).message, "server srv is full (3 of 3 sessions); no other server with room heard");
+  destroy(a);
+  destroy(b);
+  EXPECT_EQ(create(0.0).result, R::kRefused);  // 0.2 + 0.7 > 0.7
+  destroy(third);
+  // an idle server takes any one session, even one beyond its budget (0.2 + 40 x 20 ms)
+  const R alone = create(40.0);
+  EXPECT_EQ(alone.result, R::kOk) << alone.message;
+  EXPECT_EQ(manager_->num_sessions(), 1);
+}
+
+}  // namespace
+}  // namespace viscera::server
+
+namespace viscera::server {
+namespace {
+
+// On a bus shared by several servers each hears the others' poses and requests: they are
+// counted apart (not_ours), and rejected keeps meaning invalid or hostile traffic.
+TEST_F(SessionManagerTest, TrafficForOtherServersSessionsIsNotRejected) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  viscera_proto::tool_pose_t pose{};
+  pose.header = bus::MakeHeader(777, 1);
+  pose.orientation[0] = 1.0;
+  const std::string channel = bus::SessionChannel(bus::kPosePrefix, 777);
+  manager_->OnPose(pose, bus::MessageInfo{&channel, 0, 0});
+  EXPECT_EQ(Ask(Request(Q::kStatus, 777)).result, R::kUnknownSession);
+  EXPECT_EQ(manager_->not_ours(), 2);
+  EXPECT_EQ(manager_->rejected(), 0);
+  // a hostile message still is rejected: garbage on the pose channel, a bad request
+  const std::vector<uint8_t> garbage(40, 0xab);
+  manager_->OnDrop(channel, bus::DropReason::kMalformed, garbage.data(), static_cast<int>(garbage.size()));
+  EXPECT_EQ(Ask(Request(42)).result, R::kBadRequest);
+  EXPECT_EQ(manager_->rejected(), 2);
+  EXPECT_EQ(manager_->not_ours(), 2);
+}
+
+}  // namespace
+}  // namespace viscera::server
