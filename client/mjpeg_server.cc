@@ -145,6 +145,7 @@ std::string StatsToJson(const MjpegServerStats& stats) {
              ",\"active_streams\":", stats.active_streams, ",\"requests\":", stats.requests,
              ",\"skeletons_posted\":", stats.skeletons_posted, ",\"messages_sent\":", stats.messages_sent,
              ",\"active_sockets\":", stats.active_sockets, ",\"refused_per_peer\":", stats.refused_per_peer,
+             ",\"frame_requests\":", stats.frame_requests,
              ",\"frame_step\":", stats.frame_step, ",\"frame_age_ms\":", stats.frame_age_ms,
              ",\"since_frame_ms\":", stats.since_frame_ms, ",\"frame_rate_hz\":", stats.frame_rate_hz, "}\n");
 }
@@ -432,6 +433,7 @@ void MjpegServer::Answer(int fd, const std::string& head, uint32_t peer) {
     {
       std::lock_guard lock(mutex_);
       frame = frame_;
+      ++stats_.frame_requests;
     }
     if (frame == nullptr) {
       Respond(fd, 503, "text/plain", "no frame yet\n", head_only, "Retry-After: 1\r\n");

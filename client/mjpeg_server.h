@@ -41,6 +41,7 @@ struct MjpegServerStats {
   int64_t messages_sent = 0;     ///< skeleton messages written to all WebSockets
   int active_sockets = 0;        ///< /skeleton WebSockets open now
   int64_t refused_per_peer = 0;  ///< connections and streams refused by the per-peer limits
+  int64_t frame_requests = 0;    ///< /frame.jpg requests
   /// The latest frame as the viewer received it (NoteFrame): its step, its age when it
   /// arrived (ms: arrival - snapshot time), ms since it arrived (-1: none yet), and the rate of
   /// frames over about the last 2 s (Hz).

@@ -11,6 +11,7 @@
 #include "bus/lcm_bus.h"
 #include "client/frame_commands.h"
 #include "client/frame_receiver.h"
+#include "client/keep_alive.h"
 #include "client/mjpeg_server.h"
 #include "client/session_client.h"
 #include "client/stop_signals.h"
@@ -152,9 +153,25 @@ int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port
         });
   }
 
+  // the server draws frames only while someone watches them: renew its frame lease while a
+  // page shows them (an MJPEG stream open, or /frame.jpg asked since the last renewal)
+  SessionClient watcher(options.url, options.auth);
+  auto next_watch = Clock::now();
+  int64_t frame_requests = 0;
   const auto start = Clock::now();
   while (!signals.Received()) {
     bus.Pump(50);
+    if (Clock::now() >= next_watch) {
+      const MjpegServerStats now = server.stats();
+      if (now.active_streams > 0 || now.frame_requests > frame_requests) {
+        viscera_proto::session_request_t watch =
+            MakeRequest(viscera_proto::session_request_t::kWatchFrames, options.session_id);
+        watcher.Send(&watch);
+      }
+      frame_requests = now.frame_requests;
+      next_watch = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                      std::chrono::duration<double>(kFrameWatchPeriodS));
+    }
     if (options.count > 0 && frames.received() + skeletons >= options.count) break;
     if (options.seconds > 0 && Clock::now() - start >= std::chrono::duration<double>(options.seconds)) break;
   }

@@ -702,6 +702,13 @@ int main(int argc, char** argv) {
       }
       viscera::client::KeepAlive keep_alive(&keeper, listen.session_id, token,
                                             viscera::client::KeepAlivePeriod(lease_s));
+      // frames and record take every frame: they renew the frame lease (view does while its page
+      // shows server frames)
+      std::optional<viscera::client::KeepAlive> watch;
+      if (!view->parsed()) {
+        watch.emplace(&keeper, listen.session_id, token, viscera::client::kFrameWatchPeriodS,
+                      session_request_t::kWatchFrames);
+      }
       if (frames->parsed()) return viscera::client::SaveFrames(listen, frames_dir);
       if (record->parsed()) return viscera::client::RecordVideo(listen, record_file, record_fps);
       return viscera::client::ViewOverHttp(listen, view_address, view_scene, view_scene_dir);

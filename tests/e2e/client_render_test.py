@@ -2,7 +2,8 @@
 -> WebSocket -> headless Chromium's WebGL2 (software). Run inside a loopback-only network
 namespace (client_render_test.sh does).
 
-Checks: the page connects, receives skeleton states and draws the intestine; with the session
+Checks: the page connects, receives skeleton states and draws the intestine, and the server
+draws no frame for it (its frame lease is not renewed while the page draws itself); with the session
 paused, the page's canvas and the server's JPEG of the same step and camera agree (the
 intestine's pixel mask overlaps by >= 80 % (intersection over union), the lesion visible or hidden in
 both); the control: the page drawn without the intestine loses > 90 % of that mask, so the
@@ -18,6 +19,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.error
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -88,6 +90,15 @@ def stats():
     return json.load(opener.open(HTTP + "/stats.json", timeout=10))
 
 
+def frame_jpg():
+    """GET /frame.jpg (503 before the first frame); the bytes or None."""
+    opener = urllib.request.build_opener(urllib.request.ProxyHandler({}))
+    try:
+        return opener.open(HTTP + "/frame.jpg", timeout=10).read()
+    except urllib.error.HTTPError:
+        return None
+
+
 def main():
     procs.append(subprocess.Popen([viscerad, "--server-id", "render-test", "--lcm-url", URL, "--scene-dir", scene_dir],
                                   stderr=open(f"{work}/viscerad.err", "w")))
@@ -114,6 +125,8 @@ def main():
             mode = page.evaluate("document.getElementById('mode').textContent")
             if "drawn here" not in mode:
                 fail(f"the page is not drawing the session itself: mode {mode!r}")
+            if stats()["frame_step"] != -1:
+                fail("the server drew frames that nobody watched")
 
             # the same state on both sides: the session paused, the server's frame of the page's step
             paused = cli("pause", session)
@@ -122,6 +135,7 @@ def main():
             deadline = time.monotonic() + 30
             while True:
                 step = page.evaluate("viscera.latest.step")
+                frame_jpg()  # the viewer renews the frame lease for it: the server draws again
                 time.sleep(1.0)
                 if step is not None and step == page.evaluate("viscera.latest.step") == stats()["frame_step"]:
                     break
