@@ -6,7 +6,8 @@ Checks: the page connects, receives skeleton states and draws the intestine, and
 draws no frame for it (its frame lease is not renewed while the page draws itself); with the session
 paused, the page's canvas and the server's JPEG of the same step and camera agree (the
 intestine's pixel mask overlaps by >= 80 % (intersection over union), the lesion visible or hidden in
-both); the control: the page drawn without the intestine loses > 90 % of that mask, so the
+both), once settled (the lesion hidden) and once after the clearing gesture (the tools in view,
+the lesion uncovered); the control: the page drawn without the intestine loses > 90 % of that mask, so the
 mask is the intestine's; the page keeps drawing when the stream stops (the server stopped) and
 says so. Prints the page's drawing rate (a figure, not asserted).
 
@@ -71,6 +72,23 @@ COMPARE = r"""(async () => {
 })()"""
 
 
+# Wall time of one frame drawn and finished (gl.finish), and of the skin alone, median of 20.
+COST = r"""(() => {
+  const v = window.viscera, r = v.renderer, q = v.latest.points, frames = [], skins = [];
+  for (let i = 0; i < 20; ++i) {
+    const t0 = performance.now();
+    r.tube.Build(q);
+    const t1 = performance.now();
+    v.Frame(performance.now() + 1e6);
+    r.gl.finish();
+    frames.push(performance.now() - t1);
+    skins.push(t1 - t0);
+  }
+  const median = (x) => x.sort((a, b) => a - b)[x.length >> 1];
+  return {frame_ms: median(frames), skin_ms: median(skins)};
+})()"""
+
+
 def fail(message):
     print(f"FAIL: {message}", file=sys.stderr)
     for name in ("viscerad.err", "view.err"):
@@ -97,6 +115,36 @@ def frame_jpg():
         return opener.open(HTTP + "/frame.jpg", timeout=10).read()
     except urllib.error.HTTPError:
         return None
+
+
+def compare(page, session, label):
+    """Pauses the session, waits until the page and the server's frame show the same step, and
+    checks that they agree; resumes the session. The masks."""
+    paused = cli("pause", session)
+    if paused.returncode != 0:
+        fail(f"pause: {paused.stderr}")
+    deadline = time.monotonic() + 30
+    while True:
+        step = page.evaluate("viscera.latest.step")
+        frame_jpg()  # the viewer renews the frame lease for it: the server draws again
+        time.sleep(1.0)
+        if step is not None and step == page.evaluate("viscera.latest.step") == stats()["frame_step"]:
+            break
+        if time.monotonic() > deadline:
+            fail(f"{label}: the page's step {step} and the server frame's {stats()['frame_step']} never met")
+    m = page.evaluate(COMPARE, timeout=60)
+    print(f"{label}:", json.dumps(m))
+    if m is None or m["image"] != [640, 480]:
+        fail(f"{label}: no comparison: {m}")
+    if m["iou"] < 0.8:
+        fail(f"{label}: the intestine's masks overlap by {m['iou']:.3f} (< 0.8)")
+    if m["control"] > 0.1:
+        fail(f"{label}: without the intestine the page keeps {m['control']:.2f} of its mask: not the intestine's")
+    if (m["lesion_page"] > 20) != (m["lesion_server"] > 20):
+        fail(f"{label}: the lesion shows in one picture only: page {m['lesion_page']}, "
+             f"server {m['lesion_server']} px")
+    cli("resume", session)
+    return m
 
 
 def main():
@@ -128,31 +176,9 @@ def main():
             if stats()["frame_step"] != -1:
                 fail("the server drew frames that nobody watched")
 
-            # the same state on both sides: the session paused, the server's frame of the page's step
-            paused = cli("pause", session)
-            if paused.returncode != 0:
-                fail(f"pause: {paused.stderr}")
-            deadline = time.monotonic() + 30
-            while True:
-                step = page.evaluate("viscera.latest.step")
-                frame_jpg()  # the viewer renews the frame lease for it: the server draws again
-                time.sleep(1.0)
-                if step is not None and step == page.evaluate("viscera.latest.step") == stats()["frame_step"]:
-                    break
-                if time.monotonic() > deadline:
-                    fail(f"the page's step {step} and the server frame's {stats()['frame_step']} never met")
-            m = page.evaluate(COMPARE, timeout=60)
-            print("masks:", json.dumps(m))
-            if m is None or m["image"] != [640, 480]:
-                fail(f"no comparison: {m}")
-            if m["page"] < 0.02 * 640 * 480:
-                fail(f"the page shows hardly any intestine: {m['page']} pixels")
-            if m["iou"] < 0.8:
-                fail(f"the intestine's masks overlap by {m['iou']:.3f} (< 0.8)")
-            if m["control"] > 0.1:
-                fail(f"without the intestine the page keeps {m['control']:.2f} of its mask: not the intestine's")
-            if (m["lesion_page"] > 20) != (m["lesion_server"] > 20):
-                fail(f"the lesion shows in one picture only: page {m['lesion_page']}, server {m['lesion_server']} px")
+            settled = compare(page, session, "settled")
+            if settled["page"] < 0.02 * 640 * 480:
+                fail(f"the page shows hardly any intestine: {settled['page']} pixels")
 
             # the stream stops (the server stopped): the page keeps drawing and says so
             server.send_signal(signal.SIGSTOP)
@@ -170,13 +196,23 @@ def main():
             if "stream paused" not in note:
                 fail(f"the page did not say the stream paused: {note!r}")
 
-            cli("resume", session)
             page.wait_for("viscera.Rates(performance.now()).states_hz > 5", 30, "the stream never came back")
+            # the clearing gesture uncovers the lesion: the tools in the picture, the lesion in both
+            driven = cli("drive", session, "--gesture", "clearing")
+            if driven.returncode != 0:
+                fail(f"drive: {driven.stderr}")
+            cleared = compare(page, session, "cleared")
+            print(f"lesion pixels: hidden at the start (page {settled['lesion_page']}, server "
+                  f"{settled['lesion_server']}), after the clearing page {cleared['lesion_page']}, "
+                  f"server {cleared['lesion_server']}")
             start, drawn = time.monotonic(), page.evaluate("viscera.drawn")
             time.sleep(3.0)
             fps = (page.evaluate("viscera.drawn") - drawn) / (time.monotonic() - start)
             print(f"the page drew {fps:.1f} fps (headless Chromium, software WebGL, 640x480, load "
                   f"{os.getloadavg()[0]:.1f})")
+            cost = page.evaluate(COST, timeout=120)
+            print(f"a page frame costs {cost['frame_ms']:.1f} ms of wall time (the intestine's skin "
+                  f"{cost['skin_ms']:.1f} ms of it), median of 20 drawn back to back and finished")
         except Failure as e:
             for line in browser.log_tail():
                 print(f"  chromium: {line}", file=sys.stderr)
