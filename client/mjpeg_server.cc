@@ -273,6 +273,12 @@ void MjpegServer::SetScene(std::string json) {
   scene_.swap(scene);
 }
 
+void MjpegServer::DropScene() {
+  std::lock_guard lock(mutex_);
+  scene_.reset();
+  expect_scene_ = false;
+}
+
 void MjpegServer::PostSkeleton(std::string json) {
   Text skeleton = std::make_shared<const std::string>(std::move(json));
   {
@@ -401,13 +407,15 @@ void MjpegServer::Answer(int fd, const std::string& head, uint32_t peer) {
     Respond(fd, 200, "text/javascript; charset=utf-8", kViewerScript, head_only);
   } else if (request.path == "/scene.json") {
     Text scene;
+    bool expected = false;
     {
       std::lock_guard lock(mutex_);
       scene = scene_;
+      expected = expect_scene_;
     }
     if (scene != nullptr) {
       Respond(fd, 200, "application/json", *scene, head_only);
-    } else if (expect_scene_) {
+    } else if (expected) {
       Respond(fd, 503, "text/plain", "no skeleton of the session yet\n", head_only, "Retry-After: 1\r\n");
     } else {
       Respond(fd, 404, "text/plain", "this viewer has no scene: server frames only\n", head_only);

@@ -98,6 +98,9 @@ class MjpegServer {
   /// The page's scene (client/view_scene.h); until it is set /scene.json answers 503, and
   /// without ever calling it (`expect_scene` false at construction) 404.
   void SetScene(std::string json);
+  /// No scene after all (the session's skeleton does not fit the scene file): /scene.json
+  /// answers 404 from now on, and the page shows server frames.
+  void DropScene();
 
   /// Makes `json` the latest skeleton message; any thread, never blocks on a page.
   void PostSkeleton(std::string json);
@@ -127,7 +130,7 @@ class MjpegServer {
   void Reap(bool all);
 
   const std::string page_;
-  const bool expect_scene_;
+  bool expect_scene_;  // guarded by mutex_
   int listen_fd_ = -1;
   int wake_pipe_[2] = {-1, -1};  // written once by the destructor, to wake AcceptLoop's poll
   int port_ = 0;

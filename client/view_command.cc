@@ -105,7 +105,7 @@ int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port
   int64_t skeletons = 0, refused = 0;
   std::string last_refusal;
   std::vector<ViewedTool> tools(scene ? scene->tools.size() : 0);
-  bool scene_sent = false;
+  bool scene_sent = false, scene_dropped = false;
   if (scene) {
     bus.Subscribe<viscera_proto::force_feedback_t>(
         bus::SessionChannel(bus::kForcePrefix, options.session_id),
@@ -131,21 +131,29 @@ int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port
     bus.Subscribe<viscera_proto::skeleton_state_t>(
         bus::SessionChannel(bus::kSkeletonPrefix, options.session_id),
         [&](const viscera_proto::skeleton_state_t& s, int64_t) {
-          std::string problem = Problem(s.header, options.session_id);
-          if (problem.empty() && s.num_points != scene->initial_q.rows()) {
-            problem = Cat(s.num_points, " control points, the scene file has ", scene->initial_q.rows());
+          const auto refuse = [&](const std::string& problem) {
+            if (refused++ == 0) std::fprintf(stderr, "viscera: skeleton state refused: %s\n", problem.c_str());
+            last_refusal = problem;
+          };
+          if (const std::string problem = Problem(s.header, options.session_id); !problem.empty()) {
+            refuse(problem);
+            return;
           }
-          if (problem.empty() && !scene_sent) {
+          // the first state decides: a skeleton that does not fit the scene file leaves the page
+          // the server's frames
+          if (!scene_sent && !scene_dropped) {
             try {
               server.SetScene(SceneJson(*scene, s, width, height));
               scene_sent = true;
             } catch (const InputError& e) {
-              problem = e.what();
+              server.DropScene();
+              scene_dropped = true;
+              std::fprintf(stderr, "viscera: the page shows server frames only: %s\n", e.what());
             }
           }
-          if (!problem.empty()) {
-            if (refused++ == 0) std::fprintf(stderr, "viscera: skeleton state refused: %s\n", problem.c_str());
-            last_refusal = problem;
+          if (!scene_sent) return;
+          if (s.num_points != scene->initial_q.rows()) {
+            refuse(Cat(s.num_points, " control points, the scene file has ", scene->initial_q.rows()));
             return;
           }
           ++skeletons;

@@ -550,6 +550,8 @@ TEST(MjpegServer, SceneAndScriptRoutes) {
   EXPECT_EQ(StatusOf(script), 200);
   EXPECT_NE(BodyOf(script).find("getContext('webgl2'"), std::string::npos);
   EXPECT_EQ(StatusOf(Get(server.port(), "/skeleton")), 400);  // not an upgrade
+  server.DropScene();  // the session's skeleton did not fit the scene: server frames only
+  EXPECT_EQ(StatusOf(Get(server.port(), "/scene.json")), 404);
 }
 
 namespace asio = boost::asio;
