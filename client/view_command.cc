@@ -1,5 +1,6 @@
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <optional>
 
 #include <viscera_proto/force_feedback_t.hpp>
@@ -106,7 +107,30 @@ int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port
   std::string last_refusal;
   std::vector<ViewedTool> tools(scene ? scene->tools.size() : 0);
   bool scene_sent = false, scene_dropped = false;
+  // a camera a client sets (viscera camera): taken once the server's reply accepts it
+  std::string camera;
+  std::map<int64_t, viscera_proto::session_request_t> camera_asked;  // by request_id
   if (scene) {
+    bus.Subscribe<viscera_proto::session_request_t>(
+        bus::kRequestChannel, [&](const viscera_proto::session_request_t& r, int64_t) {
+          if (r.command != viscera_proto::session_request_t::kCamera || r.header.session_id != options.session_id) {
+            return;
+          }
+          if (camera_asked.size() >= 16) camera_asked.erase(camera_asked.begin());
+          camera_asked[r.request_id] = r;
+        });
+    bus.Subscribe<viscera_proto::session_reply_t>(bus::kReplyChannel, [&](const viscera_proto::session_reply_t& r, int64_t) {
+      const auto asked = camera_asked.find(r.request_id);
+      if (asked == camera_asked.end()) return;
+      if (r.result == viscera_proto::session_reply_t::kOk) {
+        try {
+          camera = LookAtCameraJson(asked->second, width, height);
+        } catch (const InputError& e) {
+          std::fprintf(stderr, "viscera: the page keeps its camera: %s\n", e.what());
+        }
+      }
+      camera_asked.erase(asked);
+    });
     bus.Subscribe<viscera_proto::force_feedback_t>(
         bus::SessionChannel(bus::kForcePrefix, options.session_id),
         [&](const viscera_proto::force_feedback_t& f, int64_t) {
@@ -157,7 +181,7 @@ int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port
             return;
           }
           ++skeletons;
-          server.PostSkeleton(SkeletonJson(s, *scene, tools));
+          server.PostSkeleton(SkeletonJson(s, *scene, tools, camera));
         });
   }
 

@@ -92,6 +92,18 @@ Points ControlPoints(const viscera_proto::skeleton_state_t& state) {
   return q;
 }
 
+// The camera as the page takes it: view and projection (column-major) and the light.
+std::string CameraOf(const render::Laparoscope& scope, int width, int height) {
+  const render::CameraMatrices camera = scope.Matrices(width, height);
+  std::string out = "{\"view\":";
+  Numbers(&out, std::vector<float>(camera.view.data(), camera.view.data() + 16));
+  out.append(",\"projection\":");
+  Numbers(&out, std::vector<float>(camera.projection.data(), camera.projection.data() + 16));
+  out.append(Cat(",\"light_range\":", camera.light_range, ",\"spot_inner_deg\":", camera.spot_inner_deg,
+                 ",\"spot_outer_deg\":", camera.spot_outer_deg, "}"));
+  return out;
+}
+
 // Thrown out of the scene's vet hook, which runs after reading and before settling.
 struct GeometryRead {};
 
@@ -123,18 +135,14 @@ std::string SceneJson(const mechanics::ModelParams& params, const viscera_proto:
   ThrowUnless(width > 0 && height > 0, "frame size ", width, "x", height);
   const render::Palette palette = render::DefaultPalette();
   const render::Laparoscope scope = render::SceneLaparoscope(params, ControlPoints(first), width, height);
-  const render::CameraMatrices camera = scope.Matrices(width, height);
   // the server's own shaders: the page prefixes its GLSL ES version and precision
   std::string vertex = render::kTissueVertexShader;
   vertex.erase(0, vertex.find('\n') + 1);  // "#version 330 core"
   std::string out = Cat("{\"width\":", width, ",\"height\":", height, ",\"shaders\":{\"vertex\":",
                         nlohmann::json(vertex).dump(), ",\"fragment\":",
-                        nlohmann::json(std::string(render::kTissueFragmentShader)).dump(), "},\"camera\":{\"view\":");
-  Numbers(&out, std::vector<float>(camera.view.data(), camera.view.data() + 16));
-  out.append(",\"projection\":");
-  Numbers(&out, std::vector<float>(camera.projection.data(), camera.projection.data() + 16));
-  out.append(Cat(",\"light_range\":", camera.light_range, ",\"spot_inner_deg\":", camera.spot_inner_deg,
-                 ",\"spot_outer_deg\":", camera.spot_outer_deg, "},\"background\":"));
+                        nlohmann::json(std::string(render::kTissueFragmentShader)).dump(), "},\"camera\":");
+  out.append(CameraOf(scope, width, height));
+  out.append(",\"background\":");
   Numbers(&out, std::vector<float>(palette.background.data(), palette.background.data() + 3));
   const skin::ParametricOptions tube;
   out.append(Cat(",\"tube\":{\"length\":", params.length, ",\"radius\":", params.radius,
@@ -208,8 +216,16 @@ std::string SceneJson(const mechanics::ModelParams& params, const viscera_proto:
   return out;
 }
 
+std::string LookAtCameraJson(const viscera_proto::session_request_t& request, int width, int height) {
+  const Vec3 eye(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
+  const Vec3 target(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
+  const Vec3 up(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
+  // as the server's render thread draws a client's camera (server/session_view.h)
+  return CameraOf(render::LookAtLaparoscope(eye, target, up, request.camera_fov_deg), width, height);
+}
+
 std::string SkeletonJson(const viscera_proto::skeleton_state_t& state, const mechanics::ModelParams& params,
-                         const std::vector<ViewedTool>& tools) {
+                         const std::vector<ViewedTool>& tools, const std::string& camera) {
   std::string out = Cat("{\"step\":", state.step, ",\"t\":");
   Number(&out, state.sim_time);
   out.append(Cat(",\"utime\":", state.header.utime, ",\"points\":["));
@@ -230,6 +246,7 @@ std::string SkeletonJson(const viscera_proto::skeleton_state_t& state, const mec
     render::AppendTool(p.port, Vec3(t.tip[0], t.tip[1], t.tip[2]), q, t.jaw, p.radius, p.length, &mesh);
   }
   Mesh(&out, mesh);
+  if (!camera.empty()) out.append(Cat(",\"camera\":", camera));
   out.append("}");
   return out;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <viscera_proto/force_feedback_t.hpp>
+#include <viscera_proto/session_request_t.hpp>
 #include <viscera_proto/skeleton_state_t.hpp>
 #include <viscera_proto/tool_pose_t.hpp>
 
@@ -35,9 +36,15 @@ struct ViewedTool {
   double jaw = 1.0;
 };
 
+/// The camera a client set (a kCamera request the server accepted), as the page takes it: the
+/// server draws it as render::LookAtLaparoscope (a plain camera: no spot cone).
+/// @throws InputError for a camera the renderer could not use.
+std::string LookAtCameraJson(const viscera_proto::session_request_t& request, int width, int height);
+
 /// One skeleton message for the page: step, sim time, send time (us), control points
-/// (flattened, mm precision of 1 um) and the tools' triangles (tessellated as the server draws them).
+/// (flattened, 6 significant digits), the tools' triangles (tessellated as the server draws
+/// them) and, when not empty, the camera a client set (LookAtCameraJson).
 std::string SkeletonJson(const viscera_proto::skeleton_state_t& state, const mechanics::ModelParams& params,
-                         const std::vector<ViewedTool>& tools);
+                         const std::vector<ViewedTool>& tools, const std::string& camera);
 
 }  // namespace viscera::client

@@ -322,6 +322,7 @@ const Viewer = (() => {
         this.previous = this.latest;
         this.latest = state;
       }
+      if (state.camera) this.renderer.scene.camera = state.camera;  // a camera a client set
       ++this.states;
       this.state_times.push(state.arrived);
     }

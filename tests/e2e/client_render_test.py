@@ -7,7 +7,7 @@ draws no frame for it (its frame lease is not renewed while the page draws itsel
 paused, the page's canvas and the server's JPEG of the same step and camera agree (the
 intestine's pixel mask overlaps by >= 80 % (intersection over union), the lesion visible or hidden in
 both), once settled (the lesion hidden) and once after the clearing gesture (the tools in view,
-the lesion uncovered); the control: the page drawn without the intestine loses > 90 % of that mask, so the
+the lesion uncovered), and through a camera a client set; the control: the page drawn without the intestine loses > 90 % of that mask, so the
 mask is the intestine's; the page keeps drawing when the stream stops (the server stopped) and
 says so. Prints the page's drawing rate (a figure, not asserted).
 
@@ -205,6 +205,12 @@ def main():
             print(f"lesion pixels: hidden at the start (page {settled['lesion_page']}, server "
                   f"{settled['lesion_server']}), after the clearing page {cleared['lesion_page']}, "
                   f"server {cleared['lesion_server']}")
+            # a camera a client sets (a plain look-at camera from inside the cavity): both follow it
+            moved = cli("camera", session, "--eye", "-0.02", "-0.14", "0.20", "--target", "-0.01", "0.01", "0.05")
+            if moved.returncode != 0:
+                fail(f"camera: {moved.stderr}")
+            time.sleep(2.0)
+            compare(page, session, "client camera")
             start, drawn = time.monotonic(), page.evaluate("viscera.drawn")
             time.sleep(3.0)
             fps = (page.evaluate("viscera.drawn") - drawn) / (time.monotonic() - start)
