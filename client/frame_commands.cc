@@ -17,8 +17,8 @@
 #include "bus/lcm_bus.h"
 #include "client/frame_receiver.h"
 #include "client/jpeg_header.h"
-#include "client/mjpeg_server.h"
 #include "client/session_client.h"
+#include "client/stop_signals.h"
 #include "common/check.h"
 
 namespace viscera::client {
@@ -29,25 +29,6 @@ using viscera_proto::jpeg_frame_t;
 
 // A frame message at most: a 4096 x 4096 JPEG at quality 100 is about 8 MB.
 constexpr int kMaxFrameMessageBytes = 16 << 20;
-
-// SIGINT / SIGTERM end a command cleanly (a video gets its trailer): blocked here, before
-// any thread starts, and polled between pumps. The mask stays: the command ends the process.
-class StopSignals {
- public:
-  StopSignals() {
-    sigemptyset(&set_);
-    sigaddset(&set_, SIGINT);
-    sigaddset(&set_, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &set_, nullptr);
-  }
-  bool Received() const {
-    const timespec zero{0, 0};
-    return sigtimedwait(&set_, nullptr, &zero) > 0;
-  }
-
- private:
-  sigset_t set_;
-};
 
 void PrintSummary(const FrameListenOptions& o, const FrameStreamStats& s, const std::string& where) {
   const double total = static_cast<double>(s.received + s.lost);
@@ -225,26 +206,6 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
     std::fprintf(stderr, "viscera: %lld frame(s) did not decode and were skipped\n",
                  static_cast<long long>(undecodable));
   }
-  return code;
-}
-
-int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port) {
-  std::string host;
-  int port = 0;
-  ParseHostPort(host_port, &host, &port);
-  const StopSignals signals;  // before the server's threads start: they inherit the mask
-  MjpegServer server(host, port, Cat("viscera session ", options.session_id));
-  std::fprintf(stderr, "viscera: session %lld on http://%s:%d/ (Ctrl-C stops)\n",
-               static_cast<long long>(options.session_id), host.c_str(), server.port());
-  FrameListenOptions o = options;
-  if (o.count == 0 && o.seconds == 0) o.timeout_s = 1e9;  // a viewer waits for its session
-  const int code = Listen(o, Cat("http://", host, ":", server.port(), "/"), [&](const jpeg_frame_t& frame) {
-    server.PostFrame(frame.data);
-    return true;
-  });
-  const MjpegServerStats s = server.stats();
-  std::fprintf(stderr, "viscera: served %lld frame parts to %lld stream(s)\n",
-               static_cast<long long>(s.parts_sent), static_cast<long long>(s.streams_opened));
   return code;
 }
 

@@ -34,8 +34,12 @@ int SaveFrames(const FrameListenOptions& options, const std::string& dir);
 /// the video runs in real time.
 int RecordVideo(const FrameListenOptions& options, const std::string& file, double fps);
 
-/// Serves the stream on http://HOST:PORT/ (page), /stream.mjpg, /frame.jpg, /stats.json
-/// until SIGINT/SIGTERM, or `count` frames or `seconds` pass.
-int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port);
+/// `viscera view` (client/view_command.cc): serves the session on http://HOST:PORT/ until
+/// SIGINT/SIGTERM, or `count` frames or `seconds` pass. With the session's scene (`scene_file`,
+/// or "" for `scene_dir`/<the scene its status names>.toml) the page draws the session itself
+/// from its skeleton stream; the server's frames stay on /stream.mjpg (the page's "server
+/// frames"), and are all the page shows when the scene cannot be read (said on stderr).
+int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port, const std::string& scene_file,
+                 const std::string& scene_dir);
 
 }  // namespace viscera::client

@@ -17,9 +17,13 @@ double KeepAlivePeriod(double lease_s) {
 }
 
 KeepAlive::KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token, double period_s)
-    : client_(client), session_id_(session_id), token_(std::move(token)), period_s_(period_s) {
+    : KeepAlive(client, session_id, std::move(token), period_s, viscera_proto::session_request_t::kKeepAlive) {}
+
+KeepAlive::KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token, double period_s,
+                     int8_t command)
+    : client_(client), session_id_(session_id), token_(std::move(token)), period_s_(period_s), command_(command) {
   VISCERA_DEMAND(client_ != nullptr && period_s_ > 0.0);
-  if (token_.empty()) return;
+  if (token_.empty() && command_ != viscera_proto::session_request_t::kWatchFrames) return;
   // The thread takes no signals (it inherits the mask): SIGINT/SIGTERM stay with the
   // threads that handle them (viscera view waits for them synchronously).
   sigset_t all, old;
@@ -50,7 +54,7 @@ void KeepAlive::Run() {
   while (!stop_) {
     lock.unlock();
     viscera_proto::session_request_t request =
-        MakeRequest(viscera_proto::session_request_t::kKeepAlive, session_id_);
+        MakeRequest(command_, session_id_);
     request.header.token = token_;
     request.header.token_len = static_cast<int32_t>(token_.size());
     const bool ok = client_->Send(&request);

@@ -18,12 +18,20 @@ namespace viscera::client {
 /// 0 = unknown or none) several times before it runs out: a quarter of it, 0.2..15 s.
 double KeepAlivePeriod(double lease_s);
 
+/// How often a client that takes frames renews the session's frame lease (s): well within
+/// viscerad's default --frame-lease of 5 s.
+inline constexpr double kFrameWatchPeriodS = 1.0;
+
 class KeepAlive {
  public:
   /// Starts sending at once, then every `period_s` (> 0). An empty token sends nothing (a
   /// viewer without the token cannot renew the lease, and says so to its user).
   /// @pre client outlives this object.
   KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token, double period_s);
+  /// Sends `command` instead: kWatchFrames renews the session's frame lease, token or not (a
+  /// client that takes the session's frames).
+  KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token, double period_s,
+            int8_t command);
   /// Stops the thread (at once, not after a period).
   ~KeepAlive();
   KeepAlive(const KeepAlive&) = delete;
@@ -38,6 +46,7 @@ class KeepAlive {
   int64_t session_id_;
   std::vector<uint8_t> token_;
   double period_s_;
+  int8_t command_ = viscera_proto::session_request_t::kKeepAlive;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stop_ = false;

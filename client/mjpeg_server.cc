@@ -9,12 +9,15 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <system_error>
 
 #include "client/http_request.h"
 #include "client/mjpeg_page.h"
+#include "client/skeleton_socket.h"
+#include "client/viewer_script.h"
 #include "common/check.h"
 
 namespace viscera::client {
@@ -139,7 +142,12 @@ bool SendPart(int fd, const std::vector<uint8_t>& jpeg) {
 std::string StatsToJson(const MjpegServerStats& stats) {
   return Cat("{\"frames_posted\":", stats.frames_posted, ",\"parts_sent\":", stats.parts_sent,
              ",\"streams_opened\":", stats.streams_opened,
-             ",\"active_streams\":", stats.active_streams, ",\"requests\":", stats.requests, "}\n");
+             ",\"active_streams\":", stats.active_streams, ",\"requests\":", stats.requests,
+             ",\"skeletons_posted\":", stats.skeletons_posted, ",\"messages_sent\":", stats.messages_sent,
+             ",\"active_sockets\":", stats.active_sockets, ",\"refused_per_peer\":", stats.refused_per_peer,
+             ",\"frame_requests\":", stats.frame_requests,
+             ",\"frame_step\":", stats.frame_step, ",\"frame_age_ms\":", stats.frame_age_ms,
+             ",\"since_frame_ms\":", stats.since_frame_ms, ",\"frame_rate_hz\":", stats.frame_rate_hz, "}\n");
 }
 
 void ParseHostPort(const std::string& text, std::string* host, int* port) {
@@ -160,8 +168,8 @@ void ParseHostPort(const std::string& text, std::string* host, int* port) {
   *port = std::stoi(port_text);
 }
 
-MjpegServer::MjpegServer(const std::string& host, int port, std::string title)
-    : page_(MjpegPage(title)) {
+MjpegServer::MjpegServer(const std::string& host, int port, std::string title, bool expect_scene)
+    : page_(MjpegPage(title)), expect_scene_(expect_scene) {
   ThrowUnless(port >= 0 && port <= 65535, "MJPEG server: port ", port, " is not in 0..65535");
   in_addr address{};
   const std::string ip = host == "localhost" ? "127.0.0.1" : host;
@@ -238,7 +246,47 @@ void MjpegServer::PostFrame(std::vector<uint8_t> jpeg) {
 
 MjpegServerStats MjpegServer::stats() const {
   std::lock_guard lock(mutex_);
-  return stats_;
+  MjpegServerStats s = stats_;
+  if (s.frame_step >= 0) {
+    const auto now = Clock::now();
+    s.since_frame_ms = std::chrono::duration<double, std::milli>(now - frame_arrived_).count();
+    const auto recent = std::count_if(frame_times_.begin(), frame_times_.end(),
+                                      [&](Clock::time_point t) { return now - t <= 2s; });
+    s.frame_rate_hz = static_cast<double>(recent) / 2.0;
+  }
+  return s;
+}
+
+void MjpegServer::NoteFrame(int64_t step, double age_ms) {
+  const auto now = Clock::now();
+  std::lock_guard lock(mutex_);
+  stats_.frame_step = step;
+  stats_.frame_age_ms = age_ms;
+  frame_arrived_ = now;
+  std::erase_if(frame_times_, [&](Clock::time_point t) { return now - t > 2s; });
+  frame_times_.push_back(now);
+}
+
+void MjpegServer::SetScene(std::string json) {
+  Text scene = std::make_shared<const std::string>(std::move(json));
+  std::lock_guard lock(mutex_);
+  scene_.swap(scene);
+}
+
+void MjpegServer::DropScene() {
+  std::lock_guard lock(mutex_);
+  scene_.reset();
+  expect_scene_ = false;
+}
+
+void MjpegServer::PostSkeleton(std::string json) {
+  Text skeleton = std::make_shared<const std::string>(std::move(json));
+  {
+    std::lock_guard lock(mutex_);
+    skeleton_.swap(skeleton);
+    ++stats_.skeletons_posted;
+  }
+  frame_posted_.notify_all();
 }
 
 void MjpegServer::AcceptLoop() {
@@ -247,7 +295,9 @@ void MjpegServer::AcceptLoop() {
     if (poll(ready, 2, -1) < 0) continue;  // EINTR; nothing else can fail here
     if (ready[1].revents != 0) return;
     if ((ready[0].revents & POLLIN) == 0) continue;
-    const int fd = accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+    sockaddr_in peer{};
+    socklen_t peer_length = sizeof(peer);
+    const int fd = accept4(listen_fd_, reinterpret_cast<sockaddr*>(&peer), &peer_length, SOCK_CLOEXEC);
     if (fd < 0) {
       // out of descriptors (EMFILE) keeps the listener readable: do not spin
       if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
@@ -261,7 +311,11 @@ void MjpegServer::AcceptLoop() {
       close(fd);
       return;
     }
-    if (connections_.size() >= static_cast<size_t>(kMaxConnections)) {
+    const auto from_peer = std::count_if(connections_.begin(), connections_.end(), [&](const Connection& c) {
+      return !c.done && c.peer == peer.sin_addr.s_addr;
+    });
+    if (from_peer >= kMaxConnectionsPerPeer) ++stats_.refused_per_peer;
+    if (connections_.size() >= static_cast<size_t>(kMaxConnections) || from_peer >= kMaxConnectionsPerPeer) {
       // answered here without blocking: a fresh socket's buffer takes a short reply
       static constexpr std::string_view kBusy =
           "HTTP/1.0 503 Service Unavailable\r\nContent-Length: 0\r\nConnection: close\r\n\r\n";
@@ -272,6 +326,7 @@ void MjpegServer::AcceptLoop() {
     }
     Connection& connection = connections_.emplace_back();
     connection.fd = fd;
+    connection.peer = peer.sin_addr.s_addr;
     try {
       connection.thread = std::thread(&MjpegServer::Serve, this, &connection);
     } catch (const std::system_error&) {  // no thread to be had: drop this client
@@ -304,7 +359,7 @@ void MjpegServer::Serve(Connection* connection) {
   std::string head;
   switch (ReadHead(fd, &head)) {
     case HeadRead::kComplete:
-      Answer(fd, head);
+      Answer(fd, head, connection->peer);
       break;
     case HeadRead::kTooLarge:
       Respond(fd, 431, "text/plain", "request head larger than 8 KiB\n", false);
@@ -320,7 +375,7 @@ void MjpegServer::Serve(Connection* connection) {
   connection->done = true;
 }
 
-void MjpegServer::Answer(int fd, const std::string& head) {
+void MjpegServer::Answer(int fd, const std::string& head, uint32_t peer) {
   HttpRequest request;
   const std::string problem = ParseHttpRequest(head, &request);
   if (!problem.empty()) {
@@ -347,12 +402,46 @@ void MjpegServer::Answer(int fd, const std::string& head) {
   if (request.path == "/" || request.path == "/index.html") {
     Respond(fd, 200, "text/html; charset=utf-8", page_, head_only);
   } else if (request.path == "/stream.mjpg") {
-    Stream(fd, head_only);
+    Stream(fd, head_only, peer);
+  } else if (request.path == "/viewer.js") {
+    Respond(fd, 200, "text/javascript; charset=utf-8", kViewerScript, head_only);
+  } else if (request.path == "/scene.json") {
+    Text scene;
+    bool expected = false;
+    {
+      std::lock_guard lock(mutex_);
+      scene = scene_;
+      expected = expect_scene_;
+    }
+    if (scene != nullptr) {
+      Respond(fd, 200, "application/json", *scene, head_only);
+    } else if (expected) {
+      Respond(fd, 503, "text/plain", "no skeleton of the session yet\n", head_only, "Retry-After: 1\r\n");
+    } else {
+      Respond(fd, 404, "text/plain", "this viewer has no scene: server frames only\n", head_only);
+    }
+  } else if (request.path == "/skeleton" && !head_only) {
+    // a page elsewhere may open a WebSocket to any address: only our own page's origin
+    for (const auto& [name, value] : request.fields) {
+      if (strcasecmp(name.c_str(), "Origin") != 0) continue;
+      const size_t scheme = value.find("://");
+      const std::string host = HostOfHostField(scheme == std::string::npos ? value : value.substr(scheme + 3));
+      if (host != "127.0.0.1" && host != "localhost" && host != "[::1]" && host != ip_) {
+        Respond(fd, 403, "text/plain", "the skeleton stream is for this viewer's own page\n", false);
+        return;
+      }
+    }
+    if (!IsWebSocketUpgrade(head)) {
+      Respond(fd, 400, "text/plain", "/skeleton is a WebSocket\n", false);
+      return;
+    }
+    Socket(fd, head, peer);
   } else if (request.path == "/frame.jpg") {
     Frame frame;
     {
       std::lock_guard lock(mutex_);
       frame = frame_;
+      ++stats_.frame_requests;
     }
     if (frame == nullptr) {
       Respond(fd, 503, "text/plain", "no frame yet\n", head_only, "Retry-After: 1\r\n");
@@ -381,21 +470,67 @@ bool MjpegServer::Respond(int fd, int status, std::string_view content_type,
   return SendAll(fd, head, MSG_MORE) && SendAll(fd, body);
 }
 
-void MjpegServer::Stream(int fd, bool head_only) {
-  bool admitted = false;
+std::string MjpegServer::AdmitStream(bool socket, uint32_t peer) {
+  std::lock_guard lock(mutex_);
+  int& open = socket ? stats_.active_sockets : stats_.active_streams;
+  int& mine = (socket ? peer_sockets_ : peer_streams_)[peer];
+  const int most = socket ? kMaxSockets : kMaxStreams;
+  if (open >= most) return Cat("already ", most, socket ? " sockets" : " streams", " open\n");
+  if (mine >= kMaxStreamsPerPeer) {
+    ++stats_.refused_per_peer;
+    return Cat("already ", kMaxStreamsPerPeer, socket ? " sockets" : " streams", " open from your address\n");
+  }
+  ++open;
+  ++mine;
+  return "";
+}
+
+void MjpegServer::Socket(int fd, const std::string& head, uint32_t peer) {
+  const std::string refused = AdmitStream(/*socket=*/true, peer);
+  if (!refused.empty()) {
+    Respond(fd, 503, "text/plain", refused, false, "Retry-After: 1\r\n");
+    return;
+  }
   {
     std::lock_guard lock(mutex_);
-    admitted = stats_.active_streams < kMaxStreams;
-    if (admitted) ++stats_.requests;
-    if (admitted && !head_only) {
-      ++stats_.active_streams;
-      ++stats_.streams_opened;
+    ++stats_.requests;
+  }
+  int64_t sent_number = 0;
+  // the latest message at once, then each new one; every second a look whether the page left
+  ServeWebSocket(fd, head, [&]() -> std::optional<std::string> {
+    std::unique_lock lock(mutex_);
+    while (!stopping_ && (skeleton_ == nullptr || stats_.skeletons_posted == sent_number)) {
+      frame_posted_.wait_for(lock, kIdleCheck);
+      if (stopping_) break;
+      if (skeleton_ == nullptr || stats_.skeletons_posted == sent_number) {
+        lock.unlock();
+        const bool left = PeerSpokeOrLeft(fd);
+        lock.lock();
+        if (left) return std::nullopt;
+      }
+    }
+    if (stopping_) return std::nullopt;
+    if (sent_number != 0) ++stats_.messages_sent;  // the one before went out
+    sent_number = stats_.skeletons_posted;
+    return *skeleton_;
+  });
+  std::lock_guard lock(mutex_);
+  --stats_.active_sockets;
+  --peer_sockets_[peer];
+}
+
+void MjpegServer::Stream(int fd, bool head_only, uint32_t peer) {
+  if (!head_only) {
+    const std::string refused = AdmitStream(/*socket=*/false, peer);
+    if (!refused.empty()) {
+      Respond(fd, 503, "text/plain", refused, false, "Retry-After: 1\r\n");
+      return;
     }
   }
-  if (!admitted) {
-    Respond(fd, 503, "text/plain", Cat("already ", kMaxStreams, " streams open\n"), head_only,
-            "Retry-After: 1\r\n");
-    return;
+  {
+    std::lock_guard lock(mutex_);
+    ++stats_.requests;
+    if (!head_only) ++stats_.streams_opened;
   }
   const bool ok = SendAll(fd, Cat("HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; "
                                   "boundary=", kBoundary, "\r\nCache-Control: no-cache\r\n"
@@ -430,6 +565,7 @@ void MjpegServer::Stream(int fd, bool head_only) {
     ++stats_.parts_sent;
   }
   --stats_.active_streams;
+  --peer_streams_[peer];
 }
 
 }  // namespace viscera::client

@@ -695,7 +695,7 @@ int main(int argc, char** argv) {
 
   // frames, record, view: listen to one session's frame stream
   viscera::client::FrameListenOptions listen;
-  std::string frames_dir, record_file, view_address = "127.0.0.1:8080";
+  std::string frames_dir, record_file, view_address = "127.0.0.1:8080", view_scene, view_scene_dir = "scenes";
   double record_fps = 0.0;
   auto add_listen = [&](CLI::App* cmd) {
     add_common(cmd);
@@ -711,9 +711,14 @@ int main(int argc, char** argv) {
   record->add_option("--out", record_file, "Video file (.mp4: MPEG-4 part 2, .avi: MJPEG)")->required();
   record->add_option("--fps", record_fps, "Frames per second of the video (default: the session's frame rate)")
       ->check(CLI::Range(1.0, 240.0));
-  CLI::App* view = app.add_subcommand("view", "Serve a session's frames to a browser (MJPEG over HTTP)");
+  CLI::App* view = app.add_subcommand(
+      "view", "Show a session in a browser: drawn by the page from its skeleton (WebGL), or the server's frames");
   add_listen(view);
   view->add_option("--http", view_address, "Address to serve on, HOST:PORT (keep it on loopback)")
+      ->capture_default_str();
+  view->add_option("--scene", view_scene,
+                   "The session's scene file, for the page to draw from (default: SCENE-DIR/<its scene>.toml)");
+  view->add_option("--scene-dir", view_scene_dir, "Where the session's named scene is looked for")
       ->capture_default_str();
 
   std::string keygen_path;
@@ -774,9 +779,16 @@ int main(int argc, char** argv) {
       }
       viscera::client::KeepAlive keep_alive(&keeper, listen.session_id, token,
                                             viscera::client::KeepAlivePeriod(lease_s));
+      // frames and record take every frame: they renew the frame lease (view does while its page
+      // shows server frames)
+      std::optional<viscera::client::KeepAlive> watch;
+      if (!view->parsed()) {
+        watch.emplace(&keeper, listen.session_id, token, viscera::client::kFrameWatchPeriodS,
+                      session_request_t::kWatchFrames);
+      }
       if (frames->parsed()) return viscera::client::SaveFrames(listen, frames_dir);
       if (record->parsed()) return viscera::client::RecordVideo(listen, record_file, record_fps);
-      return viscera::client::ViewOverHttp(listen, view_address);
+      return viscera::client::ViewOverHttp(listen, view_address, view_scene, view_scene_dir);
     }
     if (keygen->parsed()) {
       viscera::bus::MessageAuth::WriteKeyFile(keygen_path);

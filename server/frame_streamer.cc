@@ -131,9 +131,13 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
   int64_t seq = 0;
 
   int64_t next = MonotonicNanos();
+  const int64_t lease_ns = std::llround(config_.lease_s * 1e9);
   while (worker_.SleepUntil(next)) {
     const session::CameraPose pose = session_->camera();
-    if (std::shared_ptr<const session::Snapshot> snapshot = session_->LatestSnapshot()) {
+    // nobody watches: no frame drawn or sent (a frame lease of 0 watches always)
+    const bool watched = lease_ns <= 0 || session_->FramesWatched(MonotonicNanos(), lease_ns);
+    std::shared_ptr<const session::Snapshot> snapshot = watched ? session_->LatestSnapshot() : nullptr;
+    if (snapshot) {
       if (!have_framing) {
         framing = FirstFraming(session_->model().params(), snapshot->q, renderer.width(), renderer.height());
         have_framing = true;

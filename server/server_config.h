@@ -19,6 +19,9 @@ struct ServerConfig {
   // Frame streams, when a create asks for no particular value (docs/rendering.md says why).
   double frame_rate_hz = 25.0;       ///< jpeg_frame_t per second; <= 0: no frames by default
   double max_frame_rate_hz = 60.0;   ///< highest frame rate a create may ask for (Hz)
+  /// Frames are drawn only while a viewer renewed the frame lease (kWatchFrames) within this
+  /// long (s); 0: always, watched or not.
+  double frame_lease_s = 5.0;
   std::string skin = "parametric";   ///< skin drawn
   /// Vertices per ring of the parametric and convolution skins (hybrid: both). 16, not the
   /// convolution skin's 32: 640x480 convolution frames at 60 fps on one core

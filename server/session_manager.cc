@@ -330,6 +330,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
     case session_request_t::kResume:
     case session_request_t::kCamera:
     case session_request_t::kKeepAlive:
+    case session_request_t::kWatchFrames:
       break;
     default:
       Reject(Find(request.header.session_id), Cat("unknown command ", int{request.command}));
@@ -350,6 +351,13 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
     // status needs no token: the same status goes out on VISCERA_STATUS_<id> to everyone
     reply_.sessions.push_back(session->Status());
     reply_.num_sessions = 1;
+    Reply(request, session_reply_t::kOk, "", id);
+    return;
+  }
+  if (request.command == session_request_t::kWatchFrames) {
+    // no token, as the frames themselves: a watcher costs the server the frames it asked for
+    // anyway before the lease existed, and changes nothing else
+    session->WatchFrames();
     Reply(request, session_reply_t::kOk, "", id);
     return;
   }
@@ -554,6 +562,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   sc.spin_ns = config_.spin_us < 0.0 ? -1 : static_cast<int64_t>(config_.spin_us * 1e3);
   FrameStreamConfig frames;
   frames.rate_hz = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
+  frames.lease_s = config_.frame_lease_s;
   frames.options.width = request.frame_width > 0 ? request.frame_width : config_.frame_width;
   frames.options.height = request.frame_height > 0 ? request.frame_height : config_.frame_height;
   frames.options.jpeg_quality = request.jpeg_quality > 0 ? request.jpeg_quality : config_.jpeg_quality;

@@ -194,6 +194,10 @@ int main(int argc, char** argv) {
                  "Default frames per second of a session's stream; 0 = no frames by default")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
+  app.add_option("--frame-lease", config.frame_lease_s,
+                 "Draw a session's frames only while a viewer renewed its frame lease within S s (0 = always)")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
   app.add_option("--max-frame-rate", config.max_frame_rate_hz, "Highest frame rate a session may ask (Hz)")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();

@@ -48,8 +48,10 @@ for config in "${configs[@]}"; do
   [[ $frames == frames ]] && frame_args=(--frames --frame-rate 25)
   dir="$out/$config"
   mkdir -p "$dir"
+  # --frame-lease 0: the load tester takes frames without renewing a frame lease; every
+  # session streams as if watched
   taskset -c "$server_cpu" "$build/server/viscerad" --server-id "capacity-$config" --max-sessions 64 \
-    --max-rate 1000 --lcm-url "$url" --scene-dir "$root/scenes" 2>"$dir/viscerad.err" &
+    --max-rate 1000 --frame-lease 0 --lcm-url "$url" --scene-dir "$root/scenes" 2>"$dir/viscerad.err" &
   server_pid=$!
   echo "== $config: sessions $(sweep "$config"), $seconds s each (viscerad on CPU $server_cpu, load tester on CPU $client_cpu)"
   status=0

@@ -12,7 +12,7 @@ packages=(
   libopencv-dev libosmesa6-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev nlohmann-json3-dev
-  libsodium-dev libcli11-dev
+  libsodium-dev libcli11-dev libboost-dev
   iproute2 util-linux python3 python3-venv
   chromium
   clang libclang-rt-14-dev llvm ccache

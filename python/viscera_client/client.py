@@ -359,10 +359,20 @@ class Client:
         return self.bus.subscribe(session_channel("STATUS", session.session_id),
                                   viscera_proto.session_status_t, handler)
 
+    def watch_frames(self, session: SessionHandle) -> None:
+        """Renews the session's frame lease (kWatchFrames, no token): the server draws frames only
+        while someone renews it (viscerad --frame-lease, 5 s by default); send it every second or so."""
+        if hasattr(session_request_t, "kWatchFrames"):
+            r = self.make_request(session_request_t.kWatchFrames, session.session_id)
+            self.bus.stamp(r, REQUEST)
+            self.bus.publish(REQUEST, r)  # no wait for the reply
+
     def on_frames(self, session: SessionHandle,
                   handler: Callable[[Any, str, int], None]) -> Any:
         """handler(jpeg_frame_t, channel, recv_utime) for every frame (create the session
-        with frame_rate_hz > 0); returns the subscription."""
+        with frame_rate_hz > 0); renews the frame lease once (watch_frames keeps it); returns
+        the subscription."""
+        self.watch_frames(session)
         return self.bus.subscribe(session_channel("FRAME", session.session_id),
                                   viscera_proto.jpeg_frame_t, handler)
 

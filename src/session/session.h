@@ -119,6 +119,13 @@ class Session {
   void CountReplayed(const std::string& why);
   /// Renews the lease: the client sent an authentic pose, command or keep-alive (any thread).
   void Touch() { last_touch_ns_ = MonotonicNanos(); }
+  /// Renews the frame lease: someone watches the frames (any thread).
+  void WatchFrames() { last_watch_ns_ = MonotonicNanos(); }
+  /// True while a viewer renewed the frame lease within `lease_ns` of `now_ns` (monotonic).
+  bool FramesWatched(int64_t now_ns, int64_t lease_ns) const {
+    const int64_t last = last_watch_ns_.load();
+    return last != kNeverWatched && now_ns - last <= lease_ns;
+  }
   /// Lease time left (s) at monotonic time `now_ns`; +infinity without a lease.
   double LeaseLeft(int64_t now_ns) const;
 
@@ -158,6 +165,8 @@ class Session {
   std::atomic<int64_t> rejected_{0};
   std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> last_touch_ns_;
+  static constexpr int64_t kNeverWatched = INT64_MIN;
+  std::atomic<int64_t> last_watch_ns_{kNeverWatched};
 
   // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
   // a thread that low, preempted while holding a lock, could hold it for a long time.

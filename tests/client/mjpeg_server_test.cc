@@ -17,6 +17,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core/buffers_to_string.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/websocket/stream.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/check.h"
@@ -31,10 +36,17 @@ using Clock = std::chrono::steady_clock;
 // A blocking test client; every read gives up after 10 s so that a bug fails, not hangs.
 class Client {
  public:
-  explicit Client(int port) {
+  /// `from`: the source address (another loopback address is another peer), or null.
+  explicit Client(int port, const char* from = nullptr) {
     fd_ = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     const timeval timeout{10, 0};
     setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
+    if (from != nullptr) {
+      sockaddr_in source{};
+      source.sin_family = AF_INET;
+      inet_pton(AF_INET, from, &source.sin_addr);
+      bind(fd_, reinterpret_cast<sockaddr*>(&source), sizeof(source));
+    }
     sockaddr_in address{};
     address.sin_family = AF_INET;
     address.sin_port = htons(static_cast<uint16_t>(port));
@@ -252,7 +264,8 @@ TEST(MjpegServer, PageShowsTheStreamUnderItsEscapedTitle) {
   EXPECT_EQ(StatusOf(response), 200) << response;
   EXPECT_TRUE(HasField(response, "Content-Type: text/html; charset=utf-8"));
   const std::string page = BodyOf(response);
-  EXPECT_NE(page.find("<img id=\"stream\" src=\"stream.mjpg\""), std::string::npos);
+  EXPECT_NE(page.find("img.src = 'stream.mjpg'"), std::string::npos);
+  EXPECT_NE(page.find("<script src=\"viewer.js\"></script>"), std::string::npos);
   EXPECT_NE(page.find("<span id=\"shown\">0</span>"), std::string::npos);
   EXPECT_NE(page.find("<title>session &lt;7&gt; &amp; co</title>"), std::string::npos);
   EXPECT_NE(page.find("document.title = title + ' - ' + count + ' frames'"), std::string::npos);
@@ -448,8 +461,10 @@ TEST(MjpegServer, StatsJsonCountsWhatHappened) {
 TEST(MjpegServer, StreamsBeyondTheCapAreAnswered503) {
   MjpegServer server("127.0.0.1", 0, "t");
   std::vector<std::unique_ptr<Client>> streams;
+  const char* peers[] = {"127.0.0.2", "127.0.0.3", "127.0.0.4", "127.0.0.5"};  // 4 each
+  static_assert(MjpegServer::kMaxStreams == 4 * MjpegServer::kMaxStreamsPerPeer);
   for (int i = 0; i < MjpegServer::kMaxStreams; ++i) {
-    streams.push_back(std::make_unique<Client>(server.port()));
+    streams.push_back(std::make_unique<Client>(server.port(), peers[i / MjpegServer::kMaxStreamsPerPeer]));
     EXPECT_EQ(StatusOf(OpenStream(streams.back().get())), 200);
   }
   EXPECT_EQ(StatusOf(Get(server.port(), "/stream.mjpg")), 503);
@@ -488,6 +503,108 @@ TEST(MjpegServer, DestructorReturnsPromptlyWithOpenConnections) {
   server.reset();
   EXPECT_LT(Clock::now() - start, 3s);
   EXPECT_TRUE(silent.ReadToEnd().has_value());  // closed, not left open
+}
+
+
+// Slowloris and a greedy peer: one address that holds connections open with half-sent requests
+// and takes every stream it can gets its share, no more, and every request of another address
+// is answered. (Checked: with kMaxConnectionsPerPeer and kMaxStreamsPerPeer raised to the
+// global caps, the greedy peer holds all 64 connections and this test's requests get 503.)
+TEST(MjpegServer, OnePeerCannotCrowdOutTheOthers) {
+  MjpegServer server("127.0.0.1", 0, "t");
+  const int port = server.port();
+  server.PostFrame(SolidJpeg(kRed));
+  std::vector<std::unique_ptr<Client>> greedy;
+  int held = 0, streams = 0;
+  for (int i = 0; i < MjpegServer::kMaxStreamsPerPeer + 2; ++i) {
+    greedy.push_back(std::make_unique<Client>(port, "127.0.0.2"));
+    streams += StatusOf(OpenStream(greedy.back().get())) == 200;
+  }
+  for (int i = 0; i < MjpegServer::kMaxConnections + 6; ++i) {
+    greedy.push_back(std::make_unique<Client>(port, "127.0.0.2"));
+    greedy.back()->Send("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ");  // and never the rest
+  }
+  ASSERT_TRUE(WaitUntil([&] { return server.stats().refused_per_peer >= MjpegServer::kMaxConnections; }));
+  for (auto& client : greedy) held += client->connected();
+  EXPECT_EQ(streams, MjpegServer::kMaxStreamsPerPeer);
+  EXPECT_EQ(held, static_cast<int>(greedy.size()));  // all connected; the surplus closed at once
+
+  int answered = 0;
+  for (int i = 0; i < 80; ++i) answered += StatusOf(Fetch(port, Request("GET", "/stats.json"))) == 200;
+  EXPECT_EQ(answered, 80);
+  Client viewer(port);
+  EXPECT_EQ(StatusOf(OpenStream(&viewer)), 200);
+}
+
+TEST(MjpegServer, SceneAndScriptRoutes) {
+  MjpegServer frames_only("127.0.0.1", 0, "t");
+  EXPECT_EQ(StatusOf(Get(frames_only.port(), "/scene.json")), 404);
+  MjpegServer server("127.0.0.1", 0, "t", /*expect_scene=*/true);
+  EXPECT_EQ(StatusOf(Get(server.port(), "/scene.json")), 503);
+  server.SetScene("{\"width\":64}");
+  const std::string scene = Get(server.port(), "/scene.json");
+  EXPECT_EQ(StatusOf(scene), 200);
+  EXPECT_TRUE(HasField(scene, "Content-Type: application/json")) << scene;
+  EXPECT_EQ(BodyOf(scene), "{\"width\":64}");
+  const std::string script = Get(server.port(), "/viewer.js");
+  EXPECT_EQ(StatusOf(script), 200);
+  EXPECT_NE(BodyOf(script).find("getContext('webgl2'"), std::string::npos);
+  EXPECT_EQ(StatusOf(Get(server.port(), "/skeleton")), 400);  // not an upgrade
+  server.DropScene();  // the session's skeleton did not fit the scene: server frames only
+  EXPECT_EQ(StatusOf(Get(server.port(), "/scene.json")), 404);
+}
+
+namespace asio = boost::asio;
+namespace websocket = boost::beast::websocket;
+
+// A WebSocket client of /skeleton (Beast); reads give up after 10 s.
+struct SkeletonClient {
+  asio::io_context io;
+  websocket::stream<asio::ip::tcp::socket> ws{io};
+  explicit SkeletonClient(int port, const std::string& origin = "") {
+    ws.next_layer().connect({asio::ip::make_address("127.0.0.1"), static_cast<uint16_t>(port)});
+    const timeval timeout{10, 0};
+    setsockopt(ws.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
+    if (!origin.empty()) {
+      ws.set_option(websocket::stream_base::decorator(
+          [origin](websocket::request_type& request) { request.set(boost::beast::http::field::origin, origin); }));
+    }
+  }
+  std::string Read() {
+    boost::beast::flat_buffer buffer;
+    boost::beast::error_code error;
+    ws.read(buffer, error);
+    return error ? "(" + error.message() + ")" : boost::beast::buffers_to_string(buffer.data());
+  }
+};
+
+TEST(MjpegServer, SkeletonSocketSendsTheLatestMessageThenEachNewOne) {
+  MjpegServer server("127.0.0.1", 0, "t", /*expect_scene=*/true);
+  server.PostSkeleton("{\"step\":1}");
+  server.PostSkeleton("{\"step\":2}");  // the latest wins
+  SkeletonClient page(server.port());
+  page.ws.handshake("127.0.0.1", "/skeleton");
+  EXPECT_EQ(page.Read(), "{\"step\":2}");
+  server.PostSkeleton("{\"step\":3}");
+  EXPECT_EQ(page.Read(), "{\"step\":3}");
+  EXPECT_EQ(server.stats().active_sockets, 1);
+  EXPECT_EQ(server.stats().skeletons_posted, 3);
+  boost::beast::error_code ignored;
+  page.ws.next_layer().shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+  EXPECT_TRUE(WaitUntil([&] { return server.stats().active_sockets == 0; }));
+}
+
+// Cross-site WebSocket hijacking: a page of another site may open a WebSocket to any address.
+TEST(MjpegServer, SkeletonSocketRefusesForeignOrigins) {
+  MjpegServer server("127.0.0.1", 0, "t", /*expect_scene=*/true);
+  server.PostSkeleton("{}");
+  SkeletonClient foreign(server.port(), "http://evil.example");
+  boost::beast::error_code error;
+  foreign.ws.handshake("127.0.0.1", "/skeleton", error);
+  EXPECT_TRUE(error);  // 403
+  SkeletonClient own(server.port(), "http://127.0.0.1:" + std::to_string(server.port()));
+  own.ws.handshake("127.0.0.1", "/skeleton");
+  EXPECT_EQ(own.Read(), "{}");
 }
 
 }  // namespace

@@ -44,7 +44,8 @@ for _ in $(seq 300); do
 done
 grep -q 'http://127.0.0.1:18080/' "$work/view.err" || fail "viscera view never listened (30 s)"
 
-"$here/chromium_mjpeg_check.sh" "http://127.0.0.1:18080/" 5 || fail "Chromium did not show the session"
+# the server's frames (the page's default is to draw the session itself: client_render_test.py)
+"$here/chromium_mjpeg_check.sh" "http://127.0.0.1:18080/?video=server" 5 || fail "Chromium did not show the session"
 
 python3 - "http://127.0.0.1:18080" <<'PY' || fail "stats or still frame"
 import json, sys, urllib.request

@@ -171,9 +171,17 @@ TEST_F(SessionManagerTest, FramesOfTheRequestedSizeFollowTheMechanics) {
   bus_.Subscribe<viscera_proto::jpeg_frame_t>(
       bus::SessionChannel(bus::kFramePrefix, id),
       [&](const viscera_proto::jpeg_frame_t& f, int64_t) { frames.push_back(f); });
-  // the render thread runs SCHED_IDLE: on a busy machine its first frames may take a while
+  // the render thread runs SCHED_IDLE: on a busy machine its first frames may take a while;
+  // a viewer renews the frame lease meanwhile (no token needed)
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (frames.size() < 8 && std::chrono::steady_clock::now() < give_up) bus_.Pump(20);
+  auto next_watch = std::chrono::steady_clock::now();
+  while (frames.size() < 8 && std::chrono::steady_clock::now() < give_up) {
+    if (std::chrono::steady_clock::now() >= next_watch) {
+      ASSERT_EQ(Ask(Request(Q::kWatchFrames, id)).result, R::kOk);
+      next_watch += std::chrono::milliseconds(500);
+    }
+    bus_.Pump(20);
+  }
 
   ASSERT_GE(frames.size(), 8u);
   for (size_t i = 0; i < frames.size(); ++i) {
@@ -224,6 +232,75 @@ TEST_F(SessionManagerTest, FramesOfTheRequestedSizeFollowTheMechanics) {
 }
 
 }  // namespace
+// The frame lease: no viewer, no frame drawn (the status's frame counter stays flat); frames
+// while a viewer renews the lease; and they stop within the lease once it stops renewing. The
+// control: a server without a frame lease draws frames nobody asked for.
+TEST_F(SessionManagerTest, FramesAreDrawnOnlyWhileAViewerRenewsTheFrameLease) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  using Clock = std::chrono::steady_clock;
+  const auto frames_of = [&](double lease_s) -> std::pair<int64_t, int64_t> {
+    config_.frame_lease_s = lease_s;
+    manager_ = std::make_unique<SessionManager>(config_, &bus_, &bus_);
+    auto create = Request(Q::kCreate);
+    create.scene_name = "hanging";
+    create.frame_width = 160;
+    create.frame_height = 120;
+    create.frame_rate_hz = 20.0;
+    const R created = Ask(create);
+    EXPECT_EQ(created.result, R::kOk) << created.message;
+    const int64_t id = created.header.session_id;
+    int64_t received = 0;
+    const auto subscription = bus_.Subscribe<viscera_proto::jpeg_frame_t>(
+        bus::SessionChannel(bus::kFramePrefix, id), [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++received; });
+    const auto pump_for = [&](double seconds) {
+      const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+      while (Clock::now() < until) bus_.Pump(20);
+    };
+    pump_for(2.0);  // a session of 20 Hz frames that nobody watches
+    const R unwatched = Ask(Request(Q::kStatus, id));
+    bus_.Unsubscribe(subscription);
+    Ask([&] { auto r = Request(Q::kDestroy, id); r.header.token = created.header.token; r.header.token_len = 16; return r; }());
+    return {unwatched.sessions[0].frames, received};
+  };
+  const auto [drawn_with_lease, received_with_lease] = frames_of(1.0);
+  EXPECT_EQ(drawn_with_lease, 0);
+  EXPECT_EQ(received_with_lease, 0);
+  const auto [drawn_without_lease, received_without_lease] = frames_of(0.0);  // the control
+  EXPECT_GT(drawn_without_lease, 0);
+  EXPECT_GT(received_without_lease, 0);
+
+  // watched, then left: frames while the lease is renewed, none from the lease (1 s) and a slow
+  // frame (1.5 s on a busy machine) after the last renewal
+  config_.frame_lease_s = 1.0;
+  manager_ = std::make_unique<SessionManager>(config_, &bus_, &bus_);
+  auto create = Request(Q::kCreate);
+  create.scene_name = "hanging";
+  create.frame_width = 160;
+  create.frame_height = 120;
+  create.frame_rate_hz = 20.0;
+  const R created = Ask(create);
+  ASSERT_EQ(created.result, R::kOk) << created.message;
+  const int64_t id = created.header.session_id;
+  int64_t received = 0;
+  bus_.Subscribe<viscera_proto::jpeg_frame_t>(bus::SessionChannel(bus::kFramePrefix, id),
+                                              [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++received; });
+  const auto give_up = Clock::now() + std::chrono::seconds(30);
+  while (received < 5 && Clock::now() < give_up) {  // SCHED_IDLE: slow on a busy machine
+    ASSERT_EQ(Ask(Request(Q::kWatchFrames, id)).result, R::kOk);
+    const auto until = Clock::now() + std::chrono::milliseconds(300);
+    while (Clock::now() < until) bus_.Pump(20);
+  }
+  ASSERT_GE(received, 5);
+  const auto left = Clock::now();  // the viewer vanishes
+  while (Clock::now() < left + std::chrono::milliseconds(2500)) bus_.Pump(20);
+  const int64_t after_lease = Ask(Request(Q::kStatus, id)).sessions[0].frames;
+  const int64_t received_after_lease = received;
+  while (Clock::now() < left + std::chrono::milliseconds(4500)) bus_.Pump(20);
+  EXPECT_EQ(Ask(Request(Q::kStatus, id)).sessions[0].frames, after_lease);
+  EXPECT_EQ(received, received_after_lease);
+}
+
 }  // namespace viscera::server
 
 namespace viscera::server {

@@ -1,0 +1,355 @@
+// The viewer page's renderer: draws a session in WebGL2 from its skeleton states, as the
+// server's OSMesa renderer draws its frames (src/render): the same shaders (the scene sends
+// them), the same static geometry and materials, the laparoscope's matrices and light; the
+// intestine is the parametric skin (src/skin/parametric_skin.h) rebuilt here from the control
+// points, interpolated between skeleton messages, at the display's rate.
+// Plain WebGL2, no library: the server's shaders run unchanged and the page loads nothing else.
+'use strict';
+
+const Viewer = (() => {
+  // ---- the intestine: uniform Catmull-Rom curve with reflected end points ----------------
+  function CurvePoint(q, n, s, out) {
+    const x = Math.min(Math.max(s, 0), 1) * (n - 1);
+    const j = Math.min(Math.floor(x), n - 2);
+    const u = x - j;
+    const at = (k, a) => {
+      if (k < 0) return 2 * q[a] - q[3 + a];
+      if (k >= n) return 2 * q[3 * (n - 1) + a] - q[3 * (n - 2) + a];
+      return q[3 * k + a];
+    };
+    const u2 = u * u, u3 = u2 * u;
+    const w0 = -0.5 * u3 + u2 - 0.5 * u, w1 = 1.5 * u3 - 2.5 * u2 + 1;
+    const w2 = -1.5 * u3 + 2 * u2 + 0.5 * u, w3 = 0.5 * u3 - 0.5 * u2;
+    for (let a = 0; a < 3; ++a) {
+      out[a] = w0 * at(j - 1, a) + w1 * at(j, a) + w2 * at(j + 1, a) + w3 * at(j + 2, a);
+    }
+    return u;
+  }
+  const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+  const scale = (a, k) => [a[0] * k, a[1] * k, a[2] * k];
+  const unit = (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return scale(a, 1 / l); };
+  // v reflected in the plane with normal n (any length)
+  const reflect = (v, n) => { const nn = dot(n, n); return nn > 0 ? sub(v, scale(n, 2 * dot(v, n) / nn)) : v; };
+
+  class Tube {
+    constructor(t) {
+      this.t = t;
+      this.rings = (t.points - 1) * t.rings_per_segment + 1;
+      this.sides = t.sides;
+      this.cap = t.cap_rings;
+      const vertices = 2 * (1 + (this.cap - 1) * this.sides) + this.rings * this.sides;
+      this.positions = new Float32Array(3 * vertices);
+      this.normals = new Float32Array(3 * vertices);
+      this.texture = new Float32Array(3 * vertices);
+      this.indices = this.Triangles();
+      this.first_normal = null;  // kept from build to build: the rings do not spin
+    }
+    // rows of `sides` vertices from the front pole's ring to the back pole's, as TubeRays
+    Triangles() {
+      const m = this.sides, rows = 2 * (this.cap - 1) + this.rings;
+      const out = [];
+      const v = (row, j) => 1 + row * m + (j % m);
+      for (let j = 0; j < m; ++j) out.push(0, v(0, j + 1), v(0, j));  // front pole fan
+      for (let row = 0; row + 1 < rows; ++row) {
+        for (let j = 0; j < m; ++j) {
+          out.push(v(row, j), v(row, j + 1), v(row + 1, j + 1), v(row, j), v(row + 1, j + 1), v(row + 1, j));
+        }
+      }
+      const back = 1 + rows * m;
+      for (let j = 0; j < m; ++j) out.push(back, v(rows - 1, j), v(rows - 1, j + 1));
+      return new Uint32Array(out);
+    }
+    Build(q) {
+      const t = this.t, n = t.points, K = this.rings, m = this.sides;
+      const centres = [], tangents = [], radii = [], ss = [];
+      const p = [0, 0, 0], p2 = [0, 0, 0];
+      for (let k = 0; k < K; ++k) {
+        const s = k / (K - 1);
+        const u = CurvePoint(q, n, s, p);
+        const h = 1e-4;
+        CurvePoint(q, n, Math.min(s + h, 1), p2);
+        const ahead = sub(p2, p);
+        CurvePoint(q, n, Math.max(s - h, 0), p2);
+        tangents.push(unit(sub(ahead, sub(p2, p))));
+        centres.push([p[0], p[1], p[2]]);
+        const c = Math.cos(Math.PI * u);
+        radii.push(t.radius_min + c * c * (t.radius_max - t.radius_min));
+        ss.push(s);
+      }
+      // frames by double reflection (Wang et al. 2008), from the last build's first normal
+      let normal = this.first_normal;
+      if (normal === null) {
+        const t0 = tangents[0], a = [Math.abs(t0[0]), Math.abs(t0[1]), Math.abs(t0[2])];
+        normal = a[0] <= a[1] && a[0] <= a[2] ? [1, 0, 0] : a[1] <= a[2] ? [0, 1, 0] : [0, 0, 1];
+      }
+      normal = unit(sub(normal, scale(tangents[0], dot(normal, tangents[0]))));
+      this.first_normal = normal;
+      const normals = [normal];
+      for (let k = 1; k < K; ++k) {
+        const v1 = sub(centres[k], centres[k - 1]);
+        const rl = reflect(normals[k - 1], v1), tl = reflect(tangents[k - 1], v1);
+        normals.push(unit(reflect(rl, sub(tangents[k], tl))));
+      }
+      let at = 0;
+      const put = (pos, dir, tex) => {
+        this.positions.set(pos, 3 * at);
+        this.normals.set(dir, 3 * at);
+        this.texture.set(tex, 3 * at);
+        ++at;
+      };
+      const ring = (k, theta, end) => {  // theta: polar angle from the end's axis (caps), or none
+        const c = centres[k], tk = tangents[k], nk = normals[k], bk = cross(tk, nk), r = radii[k];
+        for (let j = 0; j < m; ++j) {
+          const phi = 2 * Math.PI * j / m, cp = Math.cos(phi), sp = Math.sin(phi);
+          let dir = [cp * nk[0] + sp * bk[0], cp * nk[1] + sp * bk[1], cp * nk[2] + sp * bk[2]];
+          let along = 0;
+          if (theta !== undefined) {
+            const st = Math.sin(theta), ct = Math.cos(theta);
+            dir = [st * dir[0] + end * ct * tk[0], st * dir[1] + end * ct * tk[1], st * dir[2] + end * ct * tk[2]];
+            along = end * r * ct;
+          }
+          put([c[0] + r * dir[0], c[1] + r * dir[1], c[2] + r * dir[2]], dir,
+              [ss[k] * t.length + along, r * cp, r * sp]);
+        }
+      };
+      const C = this.cap;
+      const pole = (k, end) => {
+        const d = scale(tangents[k], end), r = radii[k], c = centres[k];
+        put([c[0] + r * d[0], c[1] + r * d[1], c[2] + r * d[2]], d, [ss[k] * t.length + end * r, 0, 0]);
+      };
+      pole(0, -1);
+      for (let i = 1; i < C; ++i) ring(0, Math.PI / 2 * i / C, -1);
+      for (let k = 0; k < K; ++k) ring(k);
+      for (let i = C - 1; i >= 1; --i) ring(K - 1, Math.PI / 2 * i / C, 1);
+      pole(K - 1, 1);
+    }
+  }
+
+  // ---- GL --------------------------------------------------------------------------------
+  class Mesh {
+    constructor(gl) {
+      this.gl = gl;
+      this.vao = gl.createVertexArray();
+      this.buffers = [gl.createBuffer(), gl.createBuffer(), gl.createBuffer()];
+      this.index = gl.createBuffer();
+      this.count = 0;
+      gl.bindVertexArray(this.vao);
+      this.buffers.forEach((b, location) => {
+        gl.bindBuffer(gl.ARRAY_BUFFER, b);
+        gl.enableVertexAttribArray(location);
+        gl.vertexAttribPointer(location, 3, gl.FLOAT, false, 0, 0);
+      });
+      gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.index);
+      gl.bindVertexArray(null);
+    }
+    Upload(positions, normals, texture, indices, dynamic) {
+      const gl = this.gl, usage = dynamic ? gl.DYNAMIC_DRAW : gl.STATIC_DRAW;
+      [positions, normals, texture || positions].forEach((data, k) => {
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[k]);
+        gl.bufferData(gl.ARRAY_BUFFER, data instanceof Float32Array ? data : new Float32Array(data), usage);
+      });
+      if (indices !== null) {
+        gl.bindVertexArray(this.vao);
+        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, indices instanceof Uint32Array ? indices : new Uint32Array(indices), usage);
+        gl.bindVertexArray(null);
+        this.count = indices.length;
+      }
+    }
+    Draw() {
+      if (this.count === 0) return;
+      this.gl.bindVertexArray(this.vao);
+      this.gl.drawElements(this.gl.TRIANGLES, this.count, this.gl.UNSIGNED_INT, 0);
+    }
+  }
+
+  function Compile(gl, vertex, fragment) {
+    const shader = (type, text) => {
+      const s = gl.createShader(type);
+      gl.shaderSource(s, text);
+      gl.compileShader(s);
+      if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+      return s;
+    };
+    const program = gl.createProgram();
+    gl.attachShader(program, shader(gl.VERTEX_SHADER, vertex));
+    gl.attachShader(program, shader(gl.FRAGMENT_SHADER, fragment));
+    gl.linkProgram(program);
+    if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
+    const names = ['u_view', 'u_projection', 'u_albedo', 'u_ambient', 'u_specular', 'u_shininess', 'u_sheen',
+                   'u_sheen_shininess', 'u_metallic', 'u_light_range', 'u_opacity', 'u_vessel', 'u_spot'];
+    const u = {};
+    for (const name of names) u[name] = gl.getUniformLocation(program, name);
+    return {program, u};
+  }
+
+  class Renderer {
+    constructor(canvas, scene) {
+      this.scene = scene;
+      canvas.width = scene.width;
+      canvas.height = scene.height;
+      // opaque, as a JPEG: a translucent film must not leave the canvas itself see-through
+      const gl = canvas.getContext('webgl2', {alpha: false, antialias: false, preserveDrawingBuffer: false});
+      if (!gl) throw new Error('this browser has no WebGL2');
+      this.gl = gl;
+      const version = '#version 300 es\nprecision highp float;\n';
+      const vertex = version + scene.shaders.vertex;
+      this.programs = [0, 1, 2, 3].map((k) =>
+        Compile(gl, vertex, version + '#define PATTERN ' + k + '\n' + scene.shaders.fragment));
+      this.statics = scene.meshes.map((m) => {
+        const mesh = new Mesh(gl);
+        mesh.Upload(m.mesh.positions, m.mesh.normals, m.mesh.texture || null, m.mesh.indices, false);
+        return {mesh, material: m.material, faces: m.faces};
+      });
+      this.tube = new Tube(scene.tube);
+      this.intestine = new Mesh(gl);
+      this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, this.tube.indices, true);
+      this.tools = new Mesh(gl);
+      this.film = new Mesh(gl);
+      this.point = [0, 0, 0];
+      this.intestine_drawn = true;  // false: everything but the intestine (the tests' control)
+    }
+    Use(material, faces) {
+      const gl = this.gl, c = this.scene.camera, p = this.programs[material.pattern] || this.programs[0];
+      gl.useProgram(p.program);
+      gl.uniformMatrix4fv(p.u.u_view, false, c.view);
+      gl.uniformMatrix4fv(p.u.u_projection, false, c.projection);
+      gl.uniform3fv(p.u.u_albedo, material.albedo);
+      gl.uniform1f(p.u.u_ambient, material.ambient);
+      gl.uniform1f(p.u.u_specular, material.specular);
+      gl.uniform1f(p.u.u_shininess, material.shininess);
+      gl.uniform1f(p.u.u_sheen, material.sheen);
+      gl.uniform1f(p.u.u_sheen_shininess, material.sheen_shininess);
+      gl.uniform1f(p.u.u_metallic, material.metallic);
+      gl.uniform1f(p.u.u_light_range, c.light_range);
+      gl.uniform1f(p.u.u_opacity, material.opacity);
+      gl.uniform3fv(p.u.u_vessel, material.vessel);
+      const cone = c.spot_outer_deg > 0 && c.spot_outer_deg > c.spot_inner_deg, rad = Math.PI / 180;
+      gl.uniform2f(p.u.u_spot, cone ? Math.cos(c.spot_inner_deg * rad) : 0, cone ? Math.cos(c.spot_outer_deg * rad) : 1);
+      const translucent = material.opacity < 1;
+      if (translucent) {
+        gl.enable(gl.BLEND);
+        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+        gl.depthMask(false);
+      } else {
+        gl.disable(gl.BLEND);
+        gl.depthMask(true);
+      }
+      if (faces === 'both') {
+        gl.disable(gl.CULL_FACE);
+      } else {
+        gl.enable(gl.CULL_FACE);
+        gl.cullFace(faces === 'front' ? gl.BACK : gl.FRONT);
+      }
+    }
+    // Draws control points q (flat, 3 per point) and the tools' triangles (or null).
+    Draw(q, tools) {
+      const gl = this.gl, s = this.scene, m = s.materials;
+      gl.viewport(0, 0, s.width, s.height);
+      gl.enable(gl.DEPTH_TEST);
+      gl.depthMask(true);
+      gl.clearColor(s.background[0], s.background[1], s.background[2], 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+      this.tube.Build(q);
+      this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
+      this.Use(m.intestine, 'front');
+      if (this.intestine_drawn) this.intestine.Draw();
+      if (tools !== null) {
+        this.tools.Upload(tools.positions, tools.normals, null, tools.indices, true);
+        this.Use(m.tool, 'front');
+        this.tools.Draw();
+      }
+      for (const st of this.statics) {
+        this.Use(st.material, st.faces);
+        st.mesh.Draw();
+      }
+      const film = s.mesentery;
+      if (film) {  // a ruled film from the root to the centre line, drawn last (translucent)
+        const k = film.s.length, positions = new Float32Array(6 * k), texture = new Float32Array(6 * k);
+        const normals = new Float32Array(6 * k), indices = [];
+        for (let i = 0; i < k; ++i) {
+          CurvePoint(q, s.tube.points, film.s[i], this.point);
+          positions.set(film.root.slice(3 * i, 3 * i + 3), 6 * i);
+          positions.set(this.point, 6 * i + 3);
+          const along = s.tube.length * i / (k - 1);
+          texture.set([along, 0, 0, along, film.across, 0], 6 * i);
+        }
+        for (let i = 0; i < k; ++i) {  // across the film: the rung and the root line's direction
+          const a = 6 * Math.max(i - 1, 0), b = 6 * Math.min(i + 1, k - 1);
+          const rung = sub(positions.slice(6 * i + 3, 6 * i + 6), positions.slice(6 * i, 6 * i + 3));
+          const line = sub(positions.slice(b, b + 3), positions.slice(a, a + 3));
+          const n = unit(cross(line, rung));
+          normals.set(n, 6 * i);
+          normals.set(n, 6 * i + 3);
+          if (i + 1 < k) indices.push(2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1);
+        }
+        this.film.Upload(positions, normals, texture, indices, true);
+        this.Use(m.mesentery, 'both');
+        this.film.Draw();
+      }
+      gl.disable(gl.BLEND);
+      gl.depthMask(true);
+    }
+  }
+
+  // ---- the stream: the latest two skeleton messages, drawn between them --------------------
+  class Player {
+    constructor(canvas, scene, status) {
+      this.renderer = new Renderer(canvas, scene);
+      this.canvas = canvas;
+      this.status = status;
+      this.previous = null;  // {points, arrived}
+      this.latest = null;
+      this.states = 0;       // messages received
+      this.drawn = 0;        // frames drawn
+      this.changed = 0;      // frames drawn that showed a new state
+      this.frame_times = [];
+      this.state_times = [];
+      this.connected = false;
+      this.blend = new Float64Array(3 * scene.tube.points);
+      this.shown_step = -1;
+    }
+    Receive(message) {
+      const state = JSON.parse(message);
+      state.points = Float64Array.from(state.points);
+      state.arrived = performance.now();
+      state.age_ms = Date.now() - state.utime / 1000;
+      if (this.latest !== null && this.latest.step === state.step) {
+        this.latest.arrived_same = state.arrived;  // a paused session: nothing to interpolate
+        this.latest.age_ms = state.age_ms;
+      } else {
+        this.previous = this.latest;
+        this.latest = state;
+      }
+      if (state.camera) this.renderer.scene.camera = state.camera;  // a camera a client set
+      ++this.states;
+      this.state_times.push(state.arrived);
+    }
+    // Control points for time `now`: from the previous state to the latest over the interval
+    // that separated their arrivals (the picture runs that interval behind the stream).
+    Points(now) {
+      const a = this.previous, b = this.latest;
+      if (a === null || a.points.length !== b.points.length) return b.points;
+      const span = Math.max(b.arrived - a.arrived, 1);
+      const w = Math.min(Math.max((now - b.arrived) / span, 0), 1);
+      for (let i = 0; i < this.blend.length; ++i) this.blend[i] = a.points[i] + w * (b.points[i] - a.points[i]);
+      return w >= 1 ? b.points : this.blend;
+    }
+    Frame(now) {
+      if (this.latest === null) return;
+      this.renderer.Draw(this.Points(now), this.latest.tools && this.latest.tools.indices.length ? this.latest.tools : null);
+      ++this.drawn;
+      this.frame_times.push(now);
+      const moving = this.previous !== null && now - this.latest.arrived < this.latest.arrived - this.previous.arrived;
+      if (moving || this.latest.step !== this.shown_step) ++this.changed;
+      this.shown_step = this.latest.step;
+    }
+    Rates(now) {
+      const recent = (times) => { while (times.length && now - times[0] > 2000) times.shift(); return times.length / 2; };
+      return {fps: recent(this.frame_times), states_hz: recent(this.state_times)};
+    }
+  }
+
+  return {Player, Tube, CurvePoint};
+})();
