@@ -36,6 +36,11 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
   for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_, &cg_correction_, &cg_previous_correction_}) v->setZero(3 * n_);
+  num_tools_ = static_cast<int>(model.params().tools.size());
+  tip_B_.setZero(3 * n_, 3 * num_tools_);
+  tip_Y_.setZero(3 * n_, 3 * num_tools_);
+  for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
+  for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_}) v->setZero(3 * num_tools_);
   if (use_cholmod_) BuildPattern();
 }
 
@@ -152,7 +157,10 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
     dv -= (rank1_w_ * u.dot(dv) / rank1_denom_) * rhs_.col(1);
   }
   // Pins: dv = x - Y S^-1 G x.
-  if (num_pins_ == 0) return;
+  if (num_pins_ == 0) {
+    if (tip_woodbury_) ApplyTipCorrection(x);
+    return;
+  }
   for (int r = 0; r < 3 * num_pins_; ++r) {
     const CurvePoint& at = model_.pins()[r / 3].at;
     double gx = 0.0;
@@ -161,6 +169,7 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
   }
   pin_lambda_ = schur_ldlt_.solve(pin_rhs_);
   dv.noalias() -= rhs_.rightCols(3 * num_pins_).lazyProduct(pin_lambda_);
+  if (tip_woodbury_) ApplyTipCorrection(x);
 }
 
 void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const {
@@ -169,6 +178,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   y->resize(3 * n_);
   system_.Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
+  if (tip_woodbury_) SubtractTipSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
     *y += (rank1_w_ * u.dot(x)) * u;
@@ -264,6 +274,7 @@ double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq)
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
+  ClearTipReleases();
   AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), state);
 }
 
@@ -272,6 +283,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   Points& q = state->q;
   Points& v = state->qd;
   ++substeps_;
+  const bool tips = HasTips(*state);
+  if (tips) interactions_->PlaceTips(*state, tip_end_);
   ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_, interactions_);
   const bool coupled = interactions_ != nullptr && interactions_->coupled_pairs() > 0;
 
@@ -284,9 +297,13 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     interactions_->WeighCommonModes(-1.0, 0.0);
     interactions_->AddCommonModeTerms(v, &kv_);
   }
+  if (tips) AddTipStiffness(*state);
   Eigen::Map<const VecX> force_flat(force_.data(), 3 * n_);
   Eigen::Map<const VecX> kv_flat(kv_.data(), 3 * n_);
   b_ = h * (force_flat - h * kv_flat);
+  tip_woodbury_ = false;
+  tips_linked_ = false;
+  if (tips) ReduceTips(h);
   rhs_.col(0) = b_;
   rhs_.col(1) = Eigen::Map<const VecX>(jac_.rank1_u.data(), 3 * n_);
   for (int p = 0; p < num_pins_; ++p) {
@@ -307,6 +324,12 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     fallback.SolveConstrainedInPlace(&force_);  // allocates, but this path is an error
     v += h * force_;
     q += h * v;
+    if (tips) {
+      tips_linked_ = false;
+      b_.setZero();
+      SolveTips(h, v, b_.data(), *state);  // the tips alone, against their own rows
+      AdvanceTips(h, nullptr, state);
+    }
     return;
   }
   // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once; column 0 then gets their corrections.
@@ -314,6 +337,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   SolveColumns();
   auto dv = rhs_.col(0);
   PrepareConstraints();
+  if (tips) PrepareTipCorrection();
   ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
   if (coupled) {
@@ -324,6 +348,11 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     cg_previous_correction_.setZero();
   }
   const bool correct_depth = ResolveImpacts(h, v, dv);
+  if (tips && SolveTips(h, v, dv.data(), *state)) {
+    ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
+    AdvanceHalving(loads, h, halvings, parent_unseen, state);
+    return;
+  }
 
   // The step is one linearization: a segment turned far within it stretches by what the linear
   // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order),
@@ -337,13 +366,21 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     const double unseen = UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
     if (unseen > 0.0 && (halvings == 0 || unseen < 0.5 * parent_unseen)) {
       ++halved_substeps_;
+      const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
+      tip_span_ = 0.5 * span;
+      tip_end_ = end - tip_span_;
+      ClearTipReleases();
       AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
+      tip_end_ = end;
+      ClearTipReleases();
       AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
+      tip_span_ = span;
       return;
     }
   }
   // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
   // guard existed (and as it does with the guard off).
+  if (tips) AdvanceTips(h, correct_depth ? &depth_dq_ : nullptr, state);
   Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
   q += h * v;
   if (correct_depth) q += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);

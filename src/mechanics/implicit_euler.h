@@ -113,6 +113,21 @@ class ImplicitEulerIntegrator final : public Integrator {
   void ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end);
   // x (3N) <- J_i x, the normal speed of contact i.
   double ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const;
+  // The tools' tips in the solve (implicit_tips.cc): whether there are any; K v's tip rows and
+  // the links' part of kv_; the tips' rows and their elimination from b_; Woodbury's columns for
+  // the band solve; that correction on a band solution; y -= B C^-1 B' x; the tips' update.
+  bool HasTips(const State& state) const;
+  void ClearTipReleases();  // a new sub-step (or half): every tip contact acts again
+  void AddTipStiffness(const State& state);
+  void ReduceTips(double h);
+  void PrepareTipCorrection();
+  void ApplyTipCorrection(double* x) const;
+  void SubtractTipSchur(const double* x, double* y) const;
+  // dv_t for the tube's dv into tip_dv_; true when a tip contact would pull at the end and was
+  // released, or was stiffened (the sub-step is then solved again, at most kMaxTipRounds times).
+  bool SolveTips(double h, const Points& v, const double* dv, const State& state);
+  void AdvanceTips(double h, const VecX* depth_dq, State* state);
+  static constexpr int kMaxTipRounds = 4;
 
   const Model& model_;
   Interactions* interactions_;
@@ -154,6 +169,17 @@ class ImplicitEulerIntegrator final : public Integrator {
   int last_cg_iterations_ = 0;
   double last_cg_stop_ = 0.0;
   int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
+  // Tips (three unknowns per tool): B (3N by 3T), Y = P^-1 B, C and C^-1 (block diagonal),
+  // S = C - B' Y, the tips' right-hand side and K v rows, scratch of 3T. The target's path is
+  // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).
+  int num_tools_ = 0;
+  bool tips_linked_ = false, tip_woodbury_ = false;
+  MatX tip_B_, tip_Y_, tip_c_, tip_c_inv_, tip_S_;
+  Eigen::LDLT<MatX> tip_S_ldlt_;
+  VecX tip_b_, tip_kv_, tip_dv_, tip_v_;
+  int tip_rounds_ = 0;  // solves of this sub-step redone without pulling tip contacts
+  mutable VecX tip_tmp_, tip_tmp2_;
+  double tip_end_ = 1.0, tip_span_ = 1.0;
 };
 
 }  // namespace viscera::mechanics

@@ -71,6 +71,10 @@ struct ContactParams {
   /// instead of being re-placed along its arc length at every sub-step, which slides them into
   /// each other while an impact stretches the tube (docs/contacts.md, "Impacts").
   bool spheres_follow_material = true;
+  /// Implicit integrator: each tool's tip is an unknown of the tube's solve, with its coupling and
+  /// every tip-tube contact (docs/contacts.md, "Tools and haptics"); false runs the tip in its own
+  /// cycles against the tube held still (not action-reaction; kept to compare against).
+  bool tips_in_solve = true;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.
