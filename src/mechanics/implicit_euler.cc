@@ -185,7 +185,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   }
 }
 
-void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv) {
+bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
@@ -211,7 +211,7 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   last_cg_stop_ = stop;
   cg_p_ = cg_z_;
   int it = 0;
-  while (it < kMaxCgIterations && rz > stop) {
+  while (it < kMaxCgIterationsExtended && rz > stop) {
     ++it;
     MultiplyExact(cg_p_, &cg_q_);
     const double pq = cg_p_.dot(cg_q_);
@@ -226,9 +226,10 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
     cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
     rz = rz_next;
   }
-  if (it == kMaxCgIterations && rz > stop) ++cg_unconverged_;
+  if (it > kMaxCgIterations) ++cg_extended_;
   last_cg_iterations_ = it;
   cg_iterations_ += it;
+  return !(rz > stop);
 }
 
 namespace {
@@ -276,6 +277,19 @@ double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq)
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
   ClearTipReleases();
   AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), state);
+}
+
+void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
+                                            State* state) {
+  const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
+  tip_span_ = 0.5 * span;
+  tip_end_ = end - tip_span_;
+  ClearTipReleases();
+  AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
+  tip_end_ = end;
+  ClearTipReleases();
+  AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
+  tip_span_ = span;
 }
 
 void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings,
@@ -340,12 +354,24 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   if (tips) PrepareTipCorrection();
   ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
+  bool converged = true;
   if (coupled) {
     interactions_->WeighCommonModes(-h * h, -h);
-    RefineExactly(b_, h, dv);
+    converged = RefineExactly(b_, h, dv);
   } else {
     cg_correction_.setZero();
     cg_previous_correction_.setZero();
+  }
+  if (!converged) {
+    // A solve that did not converge: the sub-step again as two halves (each nearer the
+    // last, better conditioned), or, at the deepest halving, accepted and counted.
+    if (halvings < kMaxHalvings) {
+      ++cg_halved_;
+      AdvanceHalves(loads, h, halvings, std::numeric_limits<double>::infinity(), state);
+      return;
+    }
+    ++cg_unconverged_;
+    ++state->unconverged_solves;
   }
   const bool correct_depth = ResolveImpacts(h, v, dv);
   if (tips && SolveTips(h, v, dv.data(), *state)) {
@@ -366,15 +392,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     const double unseen = UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
     if (unseen > 0.0 && (halvings == 0 || unseen < 0.5 * parent_unseen)) {
       ++halved_substeps_;
-      const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
-      tip_span_ = 0.5 * span;
-      tip_end_ = end - tip_span_;
-      ClearTipReleases();
-      AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
-      tip_end_ = end;
-      ClearTipReleases();
-      AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
-      tip_span_ = span;
+      AdvanceHalves(loads, h, halvings, unseen, state);
       return;
     }
   }

@@ -35,7 +35,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t cg_iterations() const { return cg_iterations_; }
   /// Sub-steps advanced so far.
   int64_t substeps() const { return substeps_; }
-  /// Sub-steps whose CG stopped at kMaxCgIterations before reaching kCgTolerance.
+  /// Sub-steps accepted with a CG that stopped at kMaxCgIterationsExtended before reaching
+  /// kCgTolerance, even at the deepest halving (also counted in State::unconverged_solves).
   int64_t cg_unconverged() const { return cg_unconverged_; }
   /// CG stops when the preconditioned residual norm falls below this fraction of b's, or of the
   /// sub-step's gravity impulse h W (in M^-1's norm, m (h g)^2: an RMS over the tube's mass) when
@@ -43,6 +44,14 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// iterations at 1 kHz).
   static constexpr double kCgTolerance = 1e-3;
   static constexpr int kMaxCgIterations = 60;
+  /// A solve still short of kCgTolerance after kMaxCgIterations goes on to this many; still
+  /// short, its sub-step is done again as two halves (as the linearization guard does, at most
+  /// kMaxHalvings deep); still short at that depth, it is accepted and counted (cg_unconverged).
+  static constexpr int kMaxCgIterationsExtended = 4 * kMaxCgIterations;
+  /// Solves that needed more than kMaxCgIterations, and sub-steps halved because a solve did not
+  /// converge within kMaxCgIterationsExtended, in all.
+  int64_t cg_extended() const { return cg_extended_; }
+  int64_t cg_halved() const { return cg_halved_; }
   /// Whether CG's stop also accepts a residual below kCgTolerance of the gravity impulse (on by
   /// default; off only to compare against the stricter stop, in tests and benchmarks).
   void set_gravity_floor(bool on) { gravity_floor_ = on; }
@@ -91,6 +100,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
   // parent_unseen: the unseen stretch of the sub-step these are halves of (infinite at the top).
   void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, double parent_unseen, State* state);
+  // The sub-step of length h done as two halves (the tools' targets half the way each).
+  void AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen, State* state);
   void BuildPattern();
   void AssembleSystem(double h);   // system_ = M + h D + h^2 K
   bool FactorSystem();
@@ -101,7 +112,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
   void ApplyCorrections(double* x);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
-  void RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv);
+  // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended).
+  bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv);
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
@@ -169,6 +181,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int last_cg_iterations_ = 0;
   double last_cg_stop_ = 0.0;
   int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
+  int64_t cg_extended_ = 0, cg_halved_ = 0;
   // Tips (three unknowns per tool): B (3N by 3T), Y = P^-1 B, C and C^-1 (block diagonal),
   // S = C - B' Y, the tips' right-hand side and K v rows, scratch of 3T. The target's path is
   // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).

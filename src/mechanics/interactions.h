@@ -113,7 +113,7 @@ class Interactions {
   /// solve whose end velocities are v + dv (#N by 3, dv's 3N values) for the tube and tip_v for
   /// the tips (3 per tool), releases the tool contacts whose linearized force at the sub-step's
   /// end would pull (a contact predicted to close that the tip stops short of), and stiffens those
-  /// whose law at the predicted end depth pushes more than 1 % beyond their linearization (the law
+  /// whose law at the predicted end depth pushes more than 5 % beyond their linearization (the law
   /// stiffens 100-fold within 0.6 mm); says whether any changed, so that the solve is done again.
   /// ClearTipReleases starts a sub-step with every contact as its start's law has it.
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);

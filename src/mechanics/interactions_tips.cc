@@ -128,7 +128,7 @@ bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv
       continue;
     }
     const Law end = ContactLaw(end_depth);
-    if (end_depth > 0.0 && end.force > 1.01 * linear && end.slope > pair.slope) {
+    if (end_depth > 0.0 && end.force > 1.05 * linear && end.slope > pair.slope) {
       tip_stiffened_.push_back({pair.candidate, end.slope});
       revised = true;
     }

@@ -30,6 +30,9 @@ struct State {
   int substeps = 0;        ///< sub-steps the last step took (more during impacts)
   /// Steps whose result was not finite; each one reset the state to the model's start.
   int64_t nonfinite_resets = 0;
+  /// Sub-steps whose linear solve stayed short of its tolerance even with more iterations and
+  /// halved sub-steps, and was accepted as it was (ImplicitEulerIntegrator::cg_unconverged).
+  int64_t unconverged_solves = 0;
 };
 
 /// The model's starting pose at rest, t = 0.
