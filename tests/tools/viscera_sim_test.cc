@@ -58,6 +58,8 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   EXPECT_NEAR(summary["simulated_seconds"].get<double>(), 0.5, 1e-12);
   EXPECT_EQ(summary["nonfinite_resets"], 0);
   EXPECT_EQ(summary["halved_substeps"], 0);  // a free fall turns no segment
+  EXPECT_EQ(summary["bdf2_substeps"], 49);   // every sub-step after the first (backward Euler)
+  EXPECT_EQ(summary["impact_redos"], 0);
 
   std::ifstream in(trace);
   std::vector<nlohmann::json> frames;

@@ -300,6 +300,9 @@ int Run(const Options& opt) {
   // sub-steps the implicit step's linearization guard did again as halves (docs/mechanics.md)
   const auto* implicit = dynamic_cast<const mechanics::ImplicitEulerIntegrator*>(&run.integrator());
   summary["halved_substeps"] = implicit ? implicit->halved_substeps() : 0;
+  // sub-steps taken as BDF2, and those done again as backward Euler for their impacts
+  summary["bdf2_substeps"] = implicit ? implicit->bdf2_substeps() : 0;
+  summary["impact_redos"] = implicit ? implicit->impact_redos() : 0;
   summary["final_energy"]["contact"] = e.contact;
   assessment::Report report = assessed.Report(0, opt.scene);
   report.sim_time = simulated;
