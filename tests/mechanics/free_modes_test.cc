@@ -271,6 +271,27 @@ TEST(FreeModes, BackwardEulerMissesTheDecayAt100Hz) {
   EXPECT_GT(swing.decay, 1.3 * Physics().mode.decay);
 }
 
+// BDF2 reads the last sub-step from the State: a copy of the state, stepped by another workspace,
+// goes on bit for bit as the original. The control: the same copy without its last sub-step
+// (last_h = 0, so its next sub-step is backward Euler) does not.
+TEST(FreeModes, ACopiedStateStepsOnBitForBit) {
+  const Model model(HangingLoop(IntegratorKind::kImplicitEuler, 100.0));
+  State s = InitialState(model);
+  s.q = Physics().q_eq + 0.01 * Eigen::Map<const Points>(Physics().mode.shape.data(), kPoints, 3);
+  Workspace ws(model);
+  for (int k = 0; k < 20; ++k) Step(model, {}, &s, &ws);
+  State copy = s, forgetful = s;
+  forgetful.last_h = 0.0;
+  Workspace other(model), third(model);
+  for (int k = 0; k < 20; ++k) {
+    Step(model, {}, &s, &ws);
+    Step(model, {}, &copy, &other);
+    Step(model, {}, &forgetful, &third);
+  }
+  EXPECT_TRUE((copy.q.array() == s.q.array()).all() && (copy.qd.array() == s.qd.array()).all());
+  EXPECT_GT((forgetful.q - s.q).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 // Figures for docs/mechanics.md: VISCERA_FREE_MODE_FIGURES=1 prints each rate and scheme.
 TEST(FreeModes, Figures) {
   if (!std::getenv("VISCERA_FREE_MODE_FIGURES")) GTEST_SKIP() << "set VISCERA_FREE_MODE_FIGURES=1 to print the table";
