@@ -350,7 +350,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
   if (multistep) {
     step_dq_ = w.history * state->last_dq + w.h_eff * (v + dv_points);
-    if (NeedsEndConstraints(h, step_dq_)) {
+    if (impact_redo_ && NeedsEndConstraints(h, step_dq_)) {
       // Impact and depth constraints hold the end velocity and let it move q by h v' (backward
       // Euler's kinematics); BDF2's motion would keep a third of the last sub-step's closing.
       ++impact_redos_;

@@ -47,6 +47,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t impact_redos() const { return impact_redos_; }
   /// Sub-steps taken as BDF2.
   int64_t bdf2_substeps() const { return bdf2_substeps_; }
+  /// Whether that is done (on by default; off only to show it is needed, in tests).
+  void set_impact_redo(bool on) { impact_redo_ = on; }
 
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
   /// damped explicit update). Should stay 0.
@@ -176,6 +178,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   Points impact_v_, impact_check_;
   int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;
   bool gravity_floor_ = true;
+  bool impact_redo_ = true;
   double weight_scale_ = 0.0;           // m |g|^2, m the whole tube's mass
   double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
