@@ -511,6 +511,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     RefreshToolGeometry();
   }
   LimitImpacts(h, &state->qd, nullptr);
+  if (!impact_set_.empty()) state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 
 void Interactions::ReleaseHeldSpheres() {

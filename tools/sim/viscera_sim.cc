@@ -305,6 +305,9 @@ int Run(const Options& opt) {
   summary["cg_extended"] = implicit ? implicit->cg_extended() : 0;
   summary["cg_halved"] = implicit ? implicit->cg_halved() : 0;
   summary["unconverged_solves"] = state.unconverged_solves;
+  // sub-steps taken as BDF2, and those done again as backward Euler for their impacts
+  summary["bdf2_substeps"] = implicit ? implicit->bdf2_substeps() : 0;
+  summary["impact_redos"] = implicit ? implicit->impact_redos() : 0;
   summary["final_energy"]["contact"] = e.contact;
   assessment::Report report = assessed.Report(0, opt.scene);
   report.sim_time = simulated;
