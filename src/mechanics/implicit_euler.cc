@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common/check.h"
+#include "mechanics/banded_cholesky.h"
 #include "mechanics/interactions.h"
 #include "mechanics/mass_solver.h"
 
@@ -19,6 +20,11 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       num_pins_(static_cast<int>(model.pins().size())),
       use_cholmod_(model.params().linear_solver == LinearSolverKind::kCholmod),
       guard_(model.params().linearization_guard),
+      // BDF2 steps where the impact and depth constraints would not act, and backward Euler
+      // where they would: without them (the limiter alone) nothing tells, and a landed pile
+      // stepped by BDF2 gained energy (docs/mechanics.md).
+      bdf2_(model.params().implicit_scheme == ImplicitScheme::kBdf2 &&
+            (interactions == nullptr || model.params().contacts.impact_constraints)),
       system_(model.num_points()),
       solver_(&common_),
       solve_work_(&common_),
@@ -28,6 +34,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   force_.setZero(n_, 3);
   kv_.setZero(n_, 3);
   step_dq_.setZero(n_, 3);
+  history_.setZero(n_, 3);
+  impact_check_.setZero(n_, 3);  // NeedsEndConstraints may be its first use, in any sub-step
   rhs_.setZero(3 * n_, 2 + 3 * num_pins_);
   schur_.setZero(3 * num_pins_, 3 * num_pins_);
   pin_rhs_.setZero(3 * num_pins_);
@@ -36,6 +44,11 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
   for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_, &cg_correction_, &cg_previous_correction_}) v->setZero(3 * n_);
+  num_tools_ = static_cast<int>(model.params().tools.size());
+  tip_B_.setZero(3 * n_, 3 * num_tools_);
+  tip_Y_.setZero(3 * n_, 3 * num_tools_);
+  for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
+  for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_}) v->setZero(3 * num_tools_);
   if (use_cholmod_) BuildPattern();
 }
 
@@ -62,16 +75,26 @@ void ImplicitEulerIntegrator::BuildPattern() {
   solver_.SetPattern(dim, col_ptr, row_index);
 }
 
-VISCERA_AVX_CLONE void ImplicitEulerIntegrator::AssembleSystem(double h) {
+VISCERA_AVX_CLONE void ImplicitEulerIntegrator::AssembleSystem(const StepWeights& w) {
   const Band& m = model_.mass_band();
-  const double h2 = h * h;
   for (int i = 0; i < n_; ++i) {
     for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
       Mat3& block = system_.block(i, d);
-      block = h * jac_.damping.block(i, d) + h2 * jac_.stiffness.block(i, d);
+      block = w.h_eff * jac_.damping.block(i, d) + w.stiffness * jac_.stiffness.block(i, d);
       block.diagonal().array() += m(i, d);
     }
   }
+}
+
+void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& state) {
+  // K Δq as K v was taken: the band, the rank-one part, without the self pairs' common modes.
+  jac_.stiffness.Multiply(state.last_dq, &history_);
+  const double c = jac_.rank1_coeff;
+  if (c > 0.0) history_ += (c * (jac_.rank1_u.array() * state.last_dq.array()).sum()) * jac_.rank1_u;
+  if (interactions_ != nullptr && interactions_->coupled_pairs() > 0) interactions_->AddCommonModeTerms(state.last_dq, &history_);
+  b_ -= (w.history * w.h_eff) * Eigen::Map<const VecX>(history_.data(), 3 * n_);
+  BandMultiply(model_.mass_band(), state.last_dqd, &history_);
+  b_ += w.history * Eigen::Map<const VecX>(history_.data(), 3 * n_);
 }
 
 bool ImplicitEulerIntegrator::FactorSystem() {
@@ -152,7 +175,10 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
     dv -= (rank1_w_ * u.dot(dv) / rank1_denom_) * rhs_.col(1);
   }
   // Pins: dv = x - Y S^-1 G x.
-  if (num_pins_ == 0) return;
+  if (num_pins_ == 0) {
+    if (tip_woodbury_) ApplyTipCorrection(x);
+    return;
+  }
   for (int r = 0; r < 3 * num_pins_; ++r) {
     const CurvePoint& at = model_.pins()[r / 3].at;
     double gx = 0.0;
@@ -161,6 +187,7 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
   }
   pin_lambda_ = schur_ldlt_.solve(pin_rhs_);
   dv.noalias() -= rhs_.rightCols(3 * num_pins_).lazyProduct(pin_lambda_);
+  if (tip_woodbury_) ApplyTipCorrection(x);
 }
 
 void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const {
@@ -169,13 +196,14 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   y->resize(3 * n_);
   system_.Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
+  if (tip_woodbury_) SubtractTipSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
     *y += (rank1_w_ * u.dot(x)) * u;
   }
 }
 
-void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv) {
+bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
@@ -201,7 +229,7 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   last_cg_stop_ = stop;
   cg_p_ = cg_z_;
   int it = 0;
-  while (it < kMaxCgIterations && rz > stop) {
+  while (it < kMaxCgIterationsExtended && rz > stop) {
     ++it;
     MultiplyExact(cg_p_, &cg_q_);
     const double pq = cg_p_.dot(cg_q_);
@@ -216,9 +244,10 @@ void ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
     cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
     rz = rz_next;
   }
-  if (it == kMaxCgIterations && rz > stop) ++cg_unconverged_;
+  if (it > kMaxCgIterations) ++cg_extended_;
   last_cg_iterations_ = it;
   cg_iterations_ += it;
+  return !(rz > stop);
 }
 
 namespace {
@@ -264,19 +293,41 @@ double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq)
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
-  AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), state);
+  ClearTipReleases();
+  AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), bdf2_, state);
+}
+
+void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
+                                            State* state) {
+  const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
+  tip_span_ = 0.5 * span;
+  tip_end_ = end - tip_span_;
+  ClearTipReleases();
+  AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, bdf2_, state);
+  tip_end_ = end;
+  ClearTipReleases();
+  AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, bdf2_, state);
+  tip_span_ = span;
 }
 
 void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings,
-                                             double parent_unseen, State* state) {
+                                             double parent_unseen, bool bdf2, State* state) {
   Points& q = state->q;
   Points& v = state->qd;
   ++substeps_;
+  const bool tips = HasTips(*state);
+  if (tips) interactions_->PlaceTips(*state, tip_end_);
+  // BDF2 builds on the last sub-step when it had this length (a halving, a change of the step's
+  // sub-steps, an impulse or a reset leave it nothing to build on). The tips' rows are backward
+  // Euler's: a sub-step with tips in the solve is one too.
+  const bool multistep = bdf2 && !tips && state->last_h == h && state->last_dq.rows() == n_ &&
+                         state->last_dqd.rows() == n_;
+  const StepWeights w = multistep ? Bdf2(h) : BackwardEuler(h);
   ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_, interactions_);
   const bool coupled = interactions_ != nullptr && interactions_->coupled_pairs() > 0;
 
-  // b = h (F - h K v), K including the rank-one part c u (u . v) and without the band's excess
-  // on self pairs' common motion.
+  // b = ĥ (F - ĥ K v) (+ BDF2's history), K including the rank-one part c u (u . v) and without
+  // the band's excess on self pairs' common motion.
   jac_.stiffness.Multiply(v, &kv_);
   const double c = jac_.rank1_coeff;
   if (c > 0.0) kv_ += (c * (jac_.rank1_u.array() * v.array()).sum()) * jac_.rank1_u;
@@ -284,9 +335,14 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     interactions_->WeighCommonModes(-1.0, 0.0);
     interactions_->AddCommonModeTerms(v, &kv_);
   }
+  if (tips) AddTipStiffness(*state);
   Eigen::Map<const VecX> force_flat(force_.data(), 3 * n_);
   Eigen::Map<const VecX> kv_flat(kv_.data(), 3 * n_);
-  b_ = h * (force_flat - h * kv_flat);
+  b_ = w.h_eff * (force_flat - w.h_eff * kv_flat);
+  if (multistep) AddHistory(w, *state);
+  tip_woodbury_ = false;
+  tips_linked_ = false;
+  if (tips) ReduceTips(h);
   rhs_.col(0) = b_;
   rhs_.col(1) = Eigen::Map<const VecX>(jac_.rank1_u.data(), 3 * n_);
   for (int p = 0; p < num_pins_; ++p) {
@@ -298,38 +354,76 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     }
   }
 
-  AssembleSystem(h);
+  AssembleSystem(w);
   if (!FactorSystem()) {
-    // Cannot happen for M + hD + h^2 K with K, D clamped PSD; count it and take an explicit
+    // Cannot happen for M + ĥ D + ĥ^2 K with K, D clamped PSD; count it and take an explicit
     // step rather than produce garbage.
     ++factorization_failures_;
     MassSolver fallback(model_);
     fallback.SolveConstrainedInPlace(&force_);  // allocates, but this path is an error
     v += h * force_;
     q += h * v;
+    if (tips) {
+      tips_linked_ = false;
+      b_.setZero();
+      SolveTips(h, v, b_.data(), *state);  // the tips alone, against their own rows
+      AdvanceTips(h, nullptr, state);
+    }
+    state->last_h = 0.0;
     return;
   }
   // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once; column 0 then gets their corrections.
-  rank1_w_ = h * h * c;
+  rank1_w_ = w.stiffness * c;
   SolveColumns();
   auto dv = rhs_.col(0);
   PrepareConstraints();
+  if (tips) PrepareTipCorrection();
   ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
+  bool converged = true;
   if (coupled) {
-    interactions_->WeighCommonModes(-h * h, -h);
-    RefineExactly(b_, h, dv);
+    interactions_->WeighCommonModes(-w.stiffness, -w.h_eff);
+    converged = RefineExactly(b_, h, dv);
   } else {
     cg_correction_.setZero();
     cg_previous_correction_.setZero();
   }
-  const bool correct_depth = ResolveImpacts(h, v, dv);
+  if (!converged) {
+    // A solve that did not converge: the sub-step again as two halves (each nearer the
+    // last, better conditioned), or, at the deepest halving, accepted and counted.
+    if (halvings < kMaxHalvings) {
+      ++cg_halved_;
+      AdvanceHalves(loads, h, halvings, std::numeric_limits<double>::infinity(), state);
+      return;
+    }
+    ++cg_unconverged_;
+    ++state->unconverged_solves;
+  }
+  const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
+  if (multistep) {
+    step_dq_ = w.history * state->last_dq + w.h_eff * (v + dv_points);
+    if (impact_redo_ && NeedsEndConstraints(h, step_dq_)) {
+      // Impact and depth constraints hold the end velocity and let it move q by h v' (backward
+      // Euler's kinematics); BDF2's motion would keep a third of the last sub-step's closing.
+      ++impact_redos_;
+      --substeps_;
+      AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
+      return;
+    }
+  }
+  const int64_t impacts_before = impact_substeps_;
+  const bool correct_depth = multistep ? false : ResolveImpacts(h, v, dv);
+  if (tips && SolveTips(h, v, dv.data(), *state)) {
+    ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
+    AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
+    return;
+  }
 
   // The step is one linearization: a segment turned far within it stretches by what the linear
   // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order),
   // and that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
   if (guard_ && halvings < kMaxHalvings) {
-    step_dq_ = h * (v + Eigen::Map<const Points>(dv.data(), n_, 3));
+    if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
     if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
     // Halving shrinks what the velocities and the forces move (4 to 16 times); what it does not
     // shrink (a position correction, a speed the step length does not set) it cannot mend, and
@@ -337,16 +431,31 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     const double unseen = UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
     if (unseen > 0.0 && (halvings == 0 || unseen < 0.5 * parent_unseen)) {
       ++halved_substeps_;
-      AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
-      AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, state);
+      AdvanceHalves(loads, h, halvings, unseen, state);
       return;
     }
   }
+  if (multistep) {
+    ++bdf2_substeps_;
+    q += step_dq_;
+    state->last_dq = step_dq_;
+  } else {
+    state->last_dq = q;  // then its motion, below
+  }
+  state->last_dqd = dv_points;
+  // An impulse or a position correction is not a motion to build on.
+  state->last_h = impact_substeps_ == impacts_before ? h : 0.0;
+  if (multistep) {
+    Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
+    return;
+  }
   // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
   // guard existed (and as it does with the guard off).
+  if (tips) AdvanceTips(h, correct_depth ? &depth_dq_ : nullptr, state);
   Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
   q += h * v;
   if (correct_depth) q += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
+  state->last_dq = q - state->last_dq;
 }
 
 }  // namespace viscera::mechanics

@@ -1,7 +1,9 @@
 #pragma once
-/// Linearly implicit (semi-implicit backward) Euler, as in Baraff & Witkin 1998:
+/// Linearly implicit (semi-implicit) backward Euler, as in Baraff & Witkin 1998:
 ///   (M + h D + h^2 K) dv = h (F(q, v) - h K v),   v' = v + dv,   q' = q + h v',
-/// with K = -dF/dq, D = -dF/dv and M the mass matrix acting on each axis. The 3N unknowns are
+/// with K = -dF/dq, D = -dF/dv and M the mass matrix acting on each axis, or by default its
+/// second-order sibling BDF2, which also reads the last sub-step (State::last_dq, last_dqd) and
+/// takes the same system with 2h/3 for h (StepWeights; docs/mechanics.md). The 3N unknowns are
 /// ordered x0 y0 z0 x1 ...; the matrix is block banded (|i - j| <= 3) and is factored either by
 /// a 3x3 block-band Cholesky or by CHOLMOD, whose symbolic analysis is done once and reused
 /// while the pattern holds (params().linear_solver; the faster is the default). The global
@@ -11,7 +13,8 @@
 /// upper bound, see Interactions::AddForces), and preconditioned conjugate gradients on the
 /// exact matrix, with that band solve as the preconditioner, removes the difference (the pair's
 /// artificial drag on common motion). docs/contacts.md: why CG and what it costs.
-/// Unconditionally stable for the linearized system; it damps high frequencies (first order).
+/// Both are unconditionally stable for the linearized system and damp high frequencies; backward
+/// Euler also damps a slow mode of frequency ω by h ω² / 2 (1/s), BDF2 by O(h³ ω⁴).
 #include <vector>
 
 #include "mechanics/block_band_cholesky.h"
@@ -27,6 +30,26 @@ class ImplicitEulerIntegrator final : public Integrator {
   explicit ImplicitEulerIntegrator(const Model& model, Interactions* interactions = nullptr);
   void Advance(std::span<const PointLoad> loads, double h, State* state) override;
 
+  /// The scheme's coefficients for one sub-step of h, with Δq, Δv the last sub-step's motion and
+  /// change of velocity (State::last_dq, last_dqd):
+  ///   (M + ĥ D + ĥ² K) dv = ĥ (F - ĥ K v) + μ (M Δv - ĥ K Δq),   v' = v + dv,   q' = q + μ Δq + ĥ v'.
+  /// Backward Euler: ĥ = h, μ = 0. BDF2 (q' = (4 q - q_prev) / 3 + (2h/3) v', the same for v and
+  /// M v' - (2h/3) F(q', v')), linearized at (q, v): ĥ = 2h/3, μ = 1/3.
+  struct StepWeights {
+    double h_eff;      // ĥ: D's weight in the matrix, F's in b, v''s in q'
+    double stiffness;  // ĥ²: K's weight in the matrix
+    double history;    // μ: the last sub-step's share of b and q'
+  };
+  static StepWeights BackwardEuler(double h) { return {h, h * h, 0.0}; }
+  static StepWeights Bdf2(double h) { return {2.0 * h / 3.0, 4.0 * h * h / 9.0, 1.0 / 3.0}; }
+  /// Sub-steps whose BDF2 step would have needed impact or depth constraints, done again as
+  /// backward Euler, whose end velocity moves q as those constraints assume.
+  int64_t impact_redos() const { return impact_redos_; }
+  /// Sub-steps taken as BDF2.
+  int64_t bdf2_substeps() const { return bdf2_substeps_; }
+  /// Whether that is done (on by default; off only to show it is needed, in tests).
+  void set_impact_redo(bool on) { impact_redo_ = on; }
+
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
   /// damped explicit update). Should stay 0.
   int64_t factorization_failures() const { return factorization_failures_; }
@@ -35,7 +58,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t cg_iterations() const { return cg_iterations_; }
   /// Sub-steps advanced so far.
   int64_t substeps() const { return substeps_; }
-  /// Sub-steps whose CG stopped at kMaxCgIterations before reaching kCgTolerance.
+  /// Sub-steps accepted with a CG that stopped at kMaxCgIterationsExtended before reaching
+  /// kCgTolerance, even at the deepest halving (also counted in State::unconverged_solves).
   int64_t cg_unconverged() const { return cg_unconverged_; }
   /// CG stops when the preconditioned residual norm falls below this fraction of b's, or of the
   /// sub-step's gravity impulse h W (in M^-1's norm, m (h g)^2: an RMS over the tube's mass) when
@@ -43,6 +67,14 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// iterations at 1 kHz).
   static constexpr double kCgTolerance = 1e-3;
   static constexpr int kMaxCgIterations = 60;
+  /// A solve still short of kCgTolerance after kMaxCgIterations goes on to this many; still
+  /// short, its sub-step is done again as two halves (as the linearization guard does, at most
+  /// kMaxHalvings deep); still short at that depth, it is accepted and counted (cg_unconverged).
+  static constexpr int kMaxCgIterationsExtended = 4 * kMaxCgIterations;
+  /// Solves that needed more than kMaxCgIterations, and sub-steps halved because a solve did not
+  /// converge within kMaxCgIterationsExtended, in all.
+  int64_t cg_extended() const { return cg_extended_; }
+  int64_t cg_halved() const { return cg_halved_; }
   /// Whether CG's stop also accepts a residual below kCgTolerance of the gravity impulse (on by
   /// default; off only to compare against the stricter stop, in tests and benchmarks).
   void set_gravity_floor(bool on) { gravity_floor_ = on; }
@@ -69,7 +101,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t impact_contacts() const { return impact_contacts_total_; }
 
   /// The last sub-step's system, read-only (bench/exact_system.h assembles it for a direct
-  /// solver): the band system P = M + h D + h^2 K with each self pair as 2 H per side; the
+  /// solver): the band system P = M + ĥ D + ĥ^2 K with each self pair as 2 H per side; the
   /// global stretching energy's rank-one term w u u^T (w = 0: none); the right-hand side b.
   /// The exact matrix is P + w u u^T minus the pairs' common modes (MultiplyExact).
   const BlockBand& band_system() const { return system_; }
@@ -77,7 +109,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   const Points& rank_one_u() const { return jac_.rank1_u; }
   const VecX& last_rhs() const { return b_; }
   /// y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
-  /// the common modes (as Interactions last weighed them: after Advance, with (h^2, h)).
+  /// the common modes (as Interactions last weighed them: after Advance, with (ĥ^2, ĥ)).
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
   /// The last sub-step's CG: its stop (on r^T M^-1 r, M the preconditioner) and its correction
   /// (exact answer minus the band's) with the one before. The next coupled sub-step starts from
@@ -90,9 +122,15 @@ class ImplicitEulerIntegrator final : public Integrator {
  private:
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
   // parent_unseen: the unseen stretch of the sub-step these are halves of (infinite at the top).
-  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, double parent_unseen, State* state);
+  // bdf2: whether this sub-step may be BDF2 (the scheme's, unless done again for its impacts).
+  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, double parent_unseen, bool bdf2,
+                      State* state);
+  // The sub-step of length h done as two halves (the tools' targets half the way each).
+  void AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen, State* state);
   void BuildPattern();
-  void AssembleSystem(double h);   // system_ = M + h D + h^2 K
+  void AssembleSystem(const StepWeights& w);   // system_ = M + ĥ D + ĥ^2 K
+  // b_ += μ (M Δv - ĥ K Δq) (BDF2); kv_'s common modes still weighed as for K v.
+  void AddHistory(const StepWeights& w, const State& state);
   bool FactorSystem();
   void SolveColumns();             // rhs_ <- system_^-1 rhs_
   void PrepareConstraints();       // after SolveColumns: the rank-one and pins' terms
@@ -101,11 +139,14 @@ class ImplicitEulerIntegrator final : public Integrator {
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
   void ApplyCorrections(double* x);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
-  void RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv);
+  // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended).
+  bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv);
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
   bool ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv);
+  // Whether a sub-step that moves q by `dq` would need impact or depth constraints.
+  bool NeedsEndConstraints(double h, const Points& dq);
   // One kind of end constraint on the velocity `base`: *delta = A^-1 J^T Λ (3N), or returns false
   // when no pair needs one.
   bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base, VecX* delta);
@@ -113,6 +154,21 @@ class ImplicitEulerIntegrator final : public Integrator {
   void ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end);
   // x (3N) <- J_i x, the normal speed of contact i.
   double ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const;
+  // The tools' tips in the solve (implicit_tips.cc): whether there are any; K v's tip rows and
+  // the links' part of kv_; the tips' rows and their elimination from b_; Woodbury's columns for
+  // the band solve; that correction on a band solution; y -= B C^-1 B' x; the tips' update.
+  bool HasTips(const State& state) const;
+  void ClearTipReleases();  // a new sub-step (or half): every tip contact acts again
+  void AddTipStiffness(const State& state);
+  void ReduceTips(double h);
+  void PrepareTipCorrection();
+  void ApplyTipCorrection(double* x) const;
+  void SubtractTipSchur(const double* x, double* y) const;
+  // dv_t for the tube's dv into tip_dv_; true when a tip contact would pull at the end and was
+  // released, or was stiffened (the sub-step is then solved again, at most kMaxTipRounds times).
+  bool SolveTips(double h, const Points& v, const double* dv, const State& state);
+  void AdvanceTips(double h, const VecX* depth_dq, State* state);
+  static constexpr int kMaxTipRounds = 4;
 
   const Model& model_;
   Interactions* interactions_;
@@ -120,6 +176,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int num_pins_;
   bool use_cholmod_;
   bool guard_;                   // params().linearization_guard
+  bool bdf2_;                    // params().implicit_scheme is BDF2, with impact constraints
   BlockBand system_;
   BlockBandCholesky band_factor_;
   CholmodCommon common_;
@@ -130,6 +187,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   StretchScratch scratch_;
   ForceJacobians jac_;
   Points force_, kv_;
+  Points history_;               // K Δq, then M Δv (AddHistory)
   Points step_dq_;               // the sub-step's motion, checked before it is accepted
   MatX rhs_;                     // 3N by (2 + 3 #pins): [r, u, G^T columns], solved in place
   MatX schur_;                   // 3 #pins square
@@ -147,6 +205,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   Points impact_v_, impact_check_;
   int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;
   bool gravity_floor_ = true;
+  bool impact_redo_ = true;
   double weight_scale_ = 0.0;           // m |g|^2, m the whole tube's mass
   double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
@@ -154,6 +213,19 @@ class ImplicitEulerIntegrator final : public Integrator {
   int last_cg_iterations_ = 0;
   double last_cg_stop_ = 0.0;
   int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
+  int64_t cg_extended_ = 0, cg_halved_ = 0;
+  // Tips (three unknowns per tool): B (3N by 3T), Y = P^-1 B, C and C^-1 (block diagonal),
+  // S = C - B' Y, the tips' right-hand side and K v rows, scratch of 3T. The target's path is
+  // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).
+  int num_tools_ = 0;
+  bool tips_linked_ = false, tip_woodbury_ = false;
+  MatX tip_B_, tip_Y_, tip_c_, tip_c_inv_, tip_S_;
+  Eigen::LDLT<MatX> tip_S_ldlt_;
+  VecX tip_b_, tip_kv_, tip_dv_, tip_v_;
+  int tip_rounds_ = 0;  // solves of this sub-step redone without pulling tip contacts
+  mutable VecX tip_tmp_, tip_tmp2_;
+  double tip_end_ = 1.0, tip_span_ = 1.0;
+  int64_t impact_redos_ = 0, bdf2_substeps_ = 0;
 };
 
 }  // namespace viscera::mechanics

@@ -89,6 +89,16 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
   return any;
 }
 
+bool ImplicitEulerIntegrator::NeedsEndConstraints(double h, const Points& dq) {
+  if (interactions_ == nullptr || !model_.params().contacts.impact_constraints) return false;
+  // The constraints bound where the sub-step leaves the pairs: the speed that moves q by dq.
+  impact_check_ = dq / h;
+  return interactions_->GatherEndConstraints(Interactions::EndConstraint::kImpact, h, impact_check_, impact_check_, true,
+                                             &impact_set_) ||
+         interactions_->GatherEndConstraints(Interactions::EndConstraint::kDepth, h, impact_check_, impact_check_, true,
+                                             &impact_set_);
+}
+
 bool ImplicitEulerIntegrator::ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv) {
   if (interactions_ == nullptr || !model_.params().contacts.impact_constraints) return false;
   // Impacts: their impulses stay in the velocity (inelastic, never a push apart).

@@ -75,6 +75,20 @@ Interactions::Interactions(const Model& model)
   grasp_offset_.assign(tools, Vec3::Zero());
   grasp_scale_.assign(tools, 0.0);
   held_sphere_.assign(tools, -1);
+  tips_in_solve_ = model.params().integrator == IntegratorKind::kImplicitEuler && model.params().contacts.tips_in_solve;
+  tip_from_.assign(tools, Vec3::Zero());
+  tip_to_.assign(tools, Vec3::Zero());
+  coupling_rows_.assign(tools, TipRows{});
+  tip_rows_.assign(tools, TipRows{});
+  coupling_saturated_.assign(tools, 0);
+  tip_links_.reserve(tools * (chain_.size() + 1));
+  tip_pairs_.reserve(tools * chain_.size());
+  tip_released_.reserve(tools * chain_.size());
+  tip_stiffened_.reserve(tools * chain_.size());
+  tip_activated_.reserve(tools * chain_.size());
+  hand_impulse_.assign(tools, Vec3::Zero());
+  hand_time_.assign(tools, 0.0);
+  hand_saturated_.assign(tools, 0);
   held_span_ = SelfSkip(chain_);
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
   sphere_k_.assign(chain_.size(), Mat3::Zero());
@@ -280,6 +294,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   EnsureGeometry();
   double energy = 0.0;
   pairs_.clear();
+  tip_links_.clear();
+  tip_pairs_.clear();
+  tip_rows_ = coupling_rows_;  // the coupling's part (PlaceTips); same size: no allocation
   // A pair apart by more than anything can close in the sub-step is one Evaluate leaves
   // inactive (most of the Verlet list's skin): skipped on its clearance alone. The margin
   // covers the rounding of Evaluate's closing speed.
@@ -288,20 +305,52 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   const double reach = speculative_h_ * (2.0 * fastest_sphere_ + tool_speed) * (1.0 + 1e-6);
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
-    if (geometry_[i].clearance > reach) continue;
     const ContactCandidate& c = list[i];
-    const Penalty p = Evaluate(c, geometry_[i]);
-    const Law law = ContactLaw(p.depth);
+    const bool activated = c.kind == ContactKind::kTool && !tip_activated_.empty() && TipActivated(static_cast<int>(i));
+    if (geometry_[i].clearance > reach && !activated) continue;
+    if (c.kind == ContactKind::kTool && !tip_released_.empty() &&
+        std::find(tip_released_.begin(), tip_released_.end(), static_cast<int>(i)) != tip_released_.end()) {
+      continue;
+    }
+    Penalty p = Evaluate(c, geometry_[i]);
+    if (activated && !p.active) {
+      // Its law (linear while apart) from the start, as a speculative pair's.
+      const double vn = (sphere_velocity_[c.a] - OtherVelocity(c, p.lever)).dot(p.normal);
+      p.force = (ContactLaw(p.depth).force - cp.damping * vn) * p.normal;
+      p.active = true;
+    }
+    Law law = ContactLaw(p.depth);
     if (p.depth > 0.0) energy += law.energy;
+    if (c.kind == ContactKind::kTool) {
+      for (const auto& [candidate, slope] : tip_stiffened_) {
+        if (candidate == static_cast<int>(i)) law.slope = std::max(law.slope, slope);
+      }
+    }
     if (!p.active) continue;
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
     if (self) AddToWindow(c.b, -p.force, F);
+    // A tool's contact pushes its tip back, moved there by the lever rule (the shaft pivots at
+    // the port, which takes the rest).
+    const bool tool = c.kind == ContactKind::kTool;
+    if (tool) {
+      tip_rows_[c.b].force -= p.lever * p.force;
+      tip_rows_[c.b].tissue += p.force;
+    }
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
     const Mat3 kn = law.slope * nn;
     const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+    if (tool && tips_in_solve_) {
+      // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
+      // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.
+      const collision::Sphere& sa = chain_.spheres()[c.a];
+      tip_rows_[c.b].k += (p.lever * p.lever) * kn;
+      tip_rows_[c.b].d += (p.lever * p.lever) * dn;
+      tip_links_.push_back({c.b, sa.first, sa.w, -p.lever * kn, -p.lever * dn});
+      tip_pairs_.push_back({static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
+    }
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
     // upper bound of the exact matrix, so a good preconditioner); the integrator removes the
@@ -338,9 +387,15 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     const Vec3 x = GraspStretch(static_cast<int>(t), q);
     energy += 0.5 * k * x.squaredNorm();
     for (int a = 0; a < 4; ++a) F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
+    tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
+    tip_rows_[t].tissue += k * x;
     if (K) {
       const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2), grasp_at_[t].w(3)};
       AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), nullptr, K, nullptr);
+      if (tips_in_solve_) {
+        tip_rows_[t].k += k * Mat3::Identity();
+        tip_links_.push_back({static_cast<int>(t), grasp_at_[t].first, w, -k * Mat3::Identity(), Mat3::Zero()});
+      }
     }
   }
   return energy;
@@ -397,6 +452,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const double h = model_.step_size();
   Configure(state.q, true);  // usually as EndStep left it: nothing to redo
   GatherVelocities(state.qd);
+  if (tips_in_solve_) SyncTools(state);
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin);
   EnsureGeometry();
@@ -409,6 +465,10 @@ int Interactions::RequiredSubsteps(State* state_in) {
     const ContactCandidate& c = list[i];
     const Penalty& p = geometry_[i];
     if (p.clearance >= margin) continue;  // the list's skin: too far to meet within the step
+    // A tip in the solve meets the tube within it (its contacts act speculatively on both): the
+    // step's rate, not the tool's approach, sets its sub-steps, so that the hand feels the same
+    // coupling near the tube as in free space.
+    if (tips_in_solve_ && c.kind == ContactKind::kTool) continue;
     const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
     closing = std::max(closing, -relative.dot(p.normal));
   }
@@ -439,12 +499,19 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   candidates_fresh_ = false;
   if (!state->tools.empty()) {
     // Tools move against the candidates of their current pose; then find those of the new one.
-    for (size_t t = 0; t < state->tools.size(); ++t) AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
+    for (size_t t = 0; t < state->tools.size(); ++t) {
+      if (tips_in_solve_) {
+        PrepareTool(static_cast<int>(t), h, state->q, &state->tools[t]);
+      } else {
+        AdvanceTool(static_cast<int>(t), h, state->q, state->qd, &state->tools[t]);
+      }
+    }
     substep_ = std::min(substep_ + 1, substeps_ - 1);
     UpdateCandidates(margin);
     RefreshToolGeometry();
   }
   LimitImpacts(h, &state->qd, nullptr);
+  if (!impact_set_.empty()) state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 
 void Interactions::ReleaseHeldSpheres() {
@@ -465,6 +532,7 @@ void Interactions::EndStep(State* state) {
   // Re-placed here rather than at the next step's start: the geometry found for the statistics
   // is then the next step's too.
   Configure(state->q, true);
+  if (tips_in_solve_) SyncTools(*state);
   ReleaseHeldSpheres();
   EnsureGeometry();
   ContactStats stats;
@@ -493,7 +561,16 @@ void Interactions::EndStep(State* state) {
     const double kc = ts.coupling_scale * tp.coupling_stiffness;
     Vec3 f = ts.target.tip.allFinite() ? Vec3(kc * (ts.tip - ts.target.tip)) : Vec3::Zero();
     f += ts.coupling_scale * tp.coupling_damping * ts.tip_velocity;
-    ts.clamped = f.norm() > tp.max_force;
+    bool saturated = false;
+    if (tips_in_solve_ && hand_time_[t] > 0.0) {
+      // The step's impulse on the hand over its length: what the solve's coupling applied.
+      f = hand_impulse_[t] / hand_time_[t];
+      saturated = hand_saturated_[t];
+    }
+    hand_impulse_[t].setZero();
+    hand_time_[t] = 0.0;
+    hand_saturated_[t] = 0;
+    ts.clamped = saturated || f.norm() > tp.max_force;
     if (ts.clamped) f *= tp.max_force / f.norm();
     ts.force = f;
     ts.torque = (ts.tip - tp.port).cross(f);

@@ -14,6 +14,9 @@
 namespace viscera::mechanics {
 
 enum class IntegratorKind { kRk4, kImplicitEuler };
+/// The implicit integrator's scheme: BDF2 (second order; backward Euler where it cannot build on
+/// the last sub-step) or backward Euler alone (first order, the more damped).
+enum class ImplicitScheme { kBdf2, kBackwardEuler };
 enum class MassSolverKind { kBanded, kCholmod };
 /// How the implicit integrator solves M + h D + h^2 K: 3x3 block-band Cholesky (valid while the
 /// pattern is the chain's band) or CHOLMOD (any pattern). docs/benchmarks.md compares them.
@@ -71,6 +74,10 @@ struct ContactParams {
   /// instead of being re-placed along its arc length at every sub-step, which slides them into
   /// each other while an impact stretches the tube (docs/contacts.md, "Impacts").
   bool spheres_follow_material = true;
+  /// Implicit integrator: each tool's tip is an unknown of the tube's solve, with its coupling and
+  /// every tip-tube contact (docs/contacts.md, "Tools and haptics"); false runs the tip in its own
+  /// cycles against the tube held still (not action-reaction; kept to compare against).
+  bool tips_in_solve = true;
 };
 
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.
@@ -87,6 +94,9 @@ struct ModelParams {
   /// more than ImplicitEulerIntegrator::kMaxUnseenStretch of its length is done again as two
   /// halves (docs/mechanics.md, "One linearization per sub-step").
   bool linearization_guard = true;
+  /// Implicit integrator: BDF2 damps a free swing of frequency ω by O(h³ ω⁴), backward Euler by
+  /// h ω² / 2 (docs/mechanics.md, "Integrators").
+  ImplicitScheme implicit_scheme = ImplicitScheme::kBdf2;
   Vec3 gravity{0.0, 0.0, -9.81};  ///< m/s^2
 
   // [intestine]

@@ -30,6 +30,14 @@ struct State {
   int substeps = 0;        ///< sub-steps the last step took (more during impacts)
   /// Steps whose result was not finite; each one reset the state to the model's start.
   int64_t nonfinite_resets = 0;
+  /// Sub-steps whose linear solve stayed short of its tolerance even with more iterations and
+  /// halved sub-steps, and was accepted as it was (ImplicitEulerIntegrator::cg_unconverged).
+  int64_t unconverged_solves = 0;
+  /// The implicit integrator's last sub-step, which its BDF2 builds on: how far it moved q and
+  /// changed q̇, and its length (0: none the next sub-step may build on).
+  Points last_dq;
+  Points last_dqd;
+  double last_h = 0.0;
 };
 
 /// The model's starting pose at rest, t = 0.
@@ -37,6 +45,8 @@ inline State InitialState(const Model& model) {
   State s;
   s.q = model.params().initial_q;
   s.qd = Points::Zero(model.num_points(), 3);
+  s.last_dq = Points::Zero(model.num_points(), 3);
+  s.last_dqd = Points::Zero(model.num_points(), 3);
   s.tools.resize(model.params().tools.size());
   for (size_t i = 0; i < s.tools.size(); ++i) {
     s.tools[i].tip = model.params().tools[i].port;

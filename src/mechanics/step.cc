@@ -17,6 +17,7 @@ void Step(const Model& model, const StepInputs& inputs, State* state, Workspace*
   if (!state->q.allFinite() || !state->qd.allFinite()) {
     state->q = model.params().initial_q;  // same size: no allocation
     state->qd.setZero();
+    state->last_h = 0.0;  // nothing for a BDF2 step to build on
     const State start = InitialState(model);  // allocates, but only on this error path
     state->tools = start.tools;
     ++state->nonfinite_resets;

@@ -60,6 +60,9 @@ void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelPa
                         {"cholmod", mechanics::LinearSolverKind::kCholmod}});
   p->gravity = r.Vector("gravity", Vec3(0.0, 0.0, -9.81));
   p->linearization_guard = r.Bool("linearization_guard", p->linearization_guard);
+  p->implicit_scheme = r.Choice<mechanics::ImplicitScheme>(
+      "implicit_scheme", {{"bdf2", mechanics::ImplicitScheme::kBdf2},
+                          {"backward_euler", mechanics::ImplicitScheme::kBackwardEuler}});
   r.Finish();
 }
 
@@ -379,15 +382,19 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
            &scene.model);
   scene.model.scope = ReadCamera(root);
   if (settle > 0.0) {
-    // The settle runs without the linearization guard, and is vetted so: it is how the scene
-    // reaches its start, not time anyone feels, and the shipped piles (on which the training
-    // task's gesture was designed, docs/training.md) are the plain step's.
+    // The settle runs without the linearization guard and with backward Euler alone, and is
+    // vetted so: it is how the scene reaches its start, not time anyone feels, and the shipped
+    // piles (on which the training task's gesture was designed, docs/training.md) are the plain
+    // step's.
     const bool guard = scene.model.linearization_guard;
+    const mechanics::ImplicitScheme scheme = scene.model.implicit_scheme;
     scene.model.linearization_guard = false;
     if (limits.check_stop) limits.check_stop();
+    scene.model.implicit_scheme = mechanics::ImplicitScheme::kBackwardEuler;
     if (limits.vet) limits.vet(scene.model, false);
     Settle(settle, limits.check_stop, &scene.model);
     scene.model.linearization_guard = guard;
+    scene.model.implicit_scheme = scheme;
   }
   if (limits.check_stop) limits.check_stop();
   if (limits.vet) limits.vet(scene.model, true);

@@ -42,18 +42,30 @@ TEST(Integrators, Rk4FreeFallIsExact) {
 }
 
 TEST(Integrators, ImplicitEulerFreeFallVelocityIsExact) {
-  ModelParams p = StraightChain(20);
-  p.gravity = Vec3(0.0, 0.0, -9.81);
-  p.stretch_stiffness = 100.0;
-  p.integrator = IntegratorKind::kImplicitEuler;
-  const Model model(p);
-  const State end = Simulate(model, 1.0, InitialState(model));
-  // Backward Euler: v_k = k h g exactly; z_k = h^2 g k (k + 1) / 2.
-  const double h = model.step_size();
-  const double k = 100.0;
-  for (int i = 0; i < 20; ++i) {
-    EXPECT_LT((end.qd.row(i).transpose() - p.gravity).norm(), 1e-9);
-    EXPECT_NEAR(end.q(i, 2), 0.5 * h * h * p.gravity.z() * k * (k + 1), 1e-9);
+  for (ImplicitScheme scheme : {ImplicitScheme::kBackwardEuler, ImplicitScheme::kBdf2}) {
+    ModelParams p = StraightChain(20);
+    p.gravity = Vec3(0.0, 0.0, -9.81);
+    p.stretch_stiffness = 100.0;
+    p.integrator = IntegratorKind::kImplicitEuler;
+    p.implicit_scheme = scheme;
+    const Model model(p);
+    const State end = Simulate(model, 1.0, InitialState(model));
+    // Both: v_k = k h g exactly. Backward Euler moves q by h v_k (z_k = h^2 g k (k + 1) / 2); BDF2,
+    // after a first backward Euler sub-step, by Δz_k = Δz_k-1 / 3 + (2h/3) v_k, which tends to the
+    // exact h^2 g (k - 1/2).
+    const double h = model.step_size();
+    const int k = 100;
+    double z = 0.0, dz = 0.0;
+    for (int j = 1; j <= k; ++j) {
+      const double vj = j * h * p.gravity.z();
+      dz = j == 1 || scheme == ImplicitScheme::kBackwardEuler ? h * vj : dz / 3.0 + 2.0 * h / 3.0 * vj;
+      z += dz;
+    }
+    if (scheme == ImplicitScheme::kBackwardEuler) EXPECT_NEAR(z, 0.5 * h * h * p.gravity.z() * k * (k + 1), 1e-12);
+    for (int i = 0; i < 20; ++i) {
+      EXPECT_LT((end.qd.row(i).transpose() - p.gravity).norm(), 1e-9);
+      EXPECT_NEAR(end.q(i, 2), z, 1e-9);
+    }
   }
 }
 

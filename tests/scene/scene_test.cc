@@ -68,8 +68,16 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
   EXPECT_EQ(calls[0].second, 1.0);      // the straight start
   EXPECT_TRUE(calls[1].first);
   EXPECT_LT(calls[1].second, 0.99);     // it fell while settling
-  // The settle runs without the linearization guard (scene.cc, Settle); what runs has it back.
-  EXPECT_TRUE(ParseScene("[simulation]\nsettle = 0.2\n" + kIntestine).model.linearization_guard);
+  // The settle runs without the linearization guard and with backward Euler (scene.cc, Settle);
+  // what runs has both back.
+  const Scene settled = ParseScene("[simulation]\nsettle = 0.2\n" + kIntestine);
+  EXPECT_TRUE(settled.model.linearization_guard);
+  EXPECT_EQ(settled.model.implicit_scheme, mechanics::ImplicitScheme::kBdf2);
+  // So the settled start is the same whichever scheme the scene runs.
+  const std::string implicit = "[simulation]\nsettle = 0.2\nintegrator = \"implicit\"\n";
+  const Scene bdf2 = ParseScene(implicit + kIntestine);
+  const Scene euler = ParseScene(implicit + "implicit_scheme = \"backward_euler\"\n" + kIntestine);
+  EXPECT_TRUE((bdf2.model.initial_q.array() == euler.model.initial_q.array()).all());
   calls.clear();
   ParseScene(kIntestine, "test.toml", limits);  // no settle: one call, on what runs
   ASSERT_EQ(calls.size(), 1u);
@@ -78,9 +86,12 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
 
 TEST(Scene, ReadsEverySimulationKey) {
   const Scene s = ParseScene("[simulation]\nrate_hz = 500\nsubsteps = 3\nintegrator = \"implicit\"\n"
-                             "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\nlinearization_guard = false\n" +
+                             "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\nlinearization_guard = false\n"
+                             "implicit_scheme = \"backward_euler\"\n" +
                              kIntestine);
   EXPECT_EQ(s.model.rate_hz, 500.0);
+  EXPECT_EQ(s.model.implicit_scheme, mechanics::ImplicitScheme::kBackwardEuler);
+  EXPECT_EQ(ParseScene(kIntestine).model.implicit_scheme, mechanics::ImplicitScheme::kBdf2);  // the default
   EXPECT_FALSE(s.model.linearization_guard);
   EXPECT_TRUE(ParseScene(kIntestine).model.linearization_guard);  // on by default
   EXPECT_EQ(s.model.substeps, 3);
@@ -101,6 +112,7 @@ TEST(Scene, WrongTypesAreNamedWithTheirValue) {
   ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, 1.0]"), {"intestine.shape.start", "[x, y, z]"});
   ExpectError("[simulation]\nintegrator = \"euler\"\n" + kIntestine, {"simulation.integrator", "euler", "rk4"});
   ExpectError("[simulation]\nlinearization_guard = 1\n" + kIntestine, {"simulation.linearization_guard"});
+  ExpectError("[simulation]\nimplicit_scheme = \"bdf3\"\n" + kIntestine, {"simulation.implicit_scheme", "bdf3", "bdf2"});
 }
 
 TEST(Scene, NonFiniteAndOutOfRangeValuesAreRejected) {

@@ -58,6 +58,8 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   EXPECT_NEAR(summary["simulated_seconds"].get<double>(), 0.5, 1e-12);
   EXPECT_EQ(summary["nonfinite_resets"], 0);
   EXPECT_EQ(summary["halved_substeps"], 0);  // a free fall turns no segment
+  EXPECT_EQ(summary["bdf2_substeps"], 49);   // every sub-step after the first (backward Euler)
+  EXPECT_EQ(summary["impact_redos"], 0);
 
   std::ifstream in(trace);
   std::vector<nlohmann::json> frames;
@@ -80,14 +82,20 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   }
   // The centre of mass moves exactly as a point under gravity with viscous friction
   // gamma = 0.5 / s: internal forces sum to zero, and so do the rows of their Jacobians. With
-  // the scene's linearly implicit Euler at h = 0.01 s that is v' = (v + h g) / (1 + h gamma),
-  // z' = z + h v' the implementation must match this recurrence.
+  // the scene's linearly implicit step at h = 0.01 s (BDF2 after a first backward Euler step),
+  // that is v' = (v + h g) / (1 + h gamma), dz' = h v' for the first step, then
+  // v' = ((4 v - v_prev) / 3 + (2h/3) g) / (1 + (2h/3) gamma), dz' = dz / 3 + (2h/3) v': the
+  // implementation must match this recurrence.
   ASSERT_EQ(summary["integrator"], "implicit");
-  const double g = 9.81, gamma = 0.5, h = 0.01;
-  double v = 0.0, drop = 0.0;
+  const double g = 9.81, gamma = 0.5, h = 0.01, h_bdf2 = 2.0 * h / 3.0;
+  double v = 0.0, v_prev = 0.0, dz = 0.0, drop = 0.0;
   for (int k = 0; k < 50; ++k) {
-    v = (v + h * g) / (1.0 + h * gamma);
-    drop += h * v;
+    const double v_next = k == 0 ? (v + h * g) / (1.0 + h * gamma)
+                                 : ((4.0 * v - v_prev) / 3.0 + h_bdf2 * g) / (1.0 + h_bdf2 * gamma);
+    dz = k == 0 ? h * v_next : dz / 3.0 + h_bdf2 * v_next;
+    v_prev = v;
+    v = v_next;
+    drop += dz;
   }
   // (the recurrence itself is within 2 % of g / gamma (t - (1 - exp(-gamma t)) / gamma): a
   // fact about the formula, not the program, so it is not asserted here)

@@ -70,6 +70,7 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
   line_ += "},\"step_us\":";
   Number(&line_, step_us);
   line_ += ",\"substeps\":" + std::to_string(state.substeps);
+  line_ += ",\"unconverged_solves\":" + std::to_string(state.unconverged_solves);
   if (interactions) {
     const auto& spheres = interactions->chain().spheres();
     centres_.resize(static_cast<Eigen::Index>(spheres.size()), 3);

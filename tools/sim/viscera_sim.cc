@@ -300,6 +300,14 @@ int Run(const Options& opt) {
   // sub-steps the implicit step's linearization guard did again as halves (docs/mechanics.md)
   const auto* implicit = dynamic_cast<const mechanics::ImplicitEulerIntegrator*>(&run.integrator());
   summary["halved_substeps"] = implicit ? implicit->halved_substeps() : 0;
+  // the linear solve's stops (docs/mechanics.md): solves that needed more than the usual
+  // iterations, sub-steps halved because a solve did not converge, and solves accepted short
+  summary["cg_extended"] = implicit ? implicit->cg_extended() : 0;
+  summary["cg_halved"] = implicit ? implicit->cg_halved() : 0;
+  summary["unconverged_solves"] = state.unconverged_solves;
+  // sub-steps taken as BDF2, and those done again as backward Euler for their impacts
+  summary["bdf2_substeps"] = implicit ? implicit->bdf2_substeps() : 0;
+  summary["impact_redos"] = implicit ? implicit->impact_redos() : 0;
   summary["final_energy"]["contact"] = e.contact;
   assessment::Report report = assessed.Report(0, opt.scene);
   report.sim_time = simulated;

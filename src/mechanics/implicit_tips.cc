@@ -1,0 +1,134 @@
+// ImplicitEulerIntegrator's tools (docs/contacts.md, "Tools and haptics"): each tool's tip is
+// three more unknowns of the implicit system,
+//   [A  B] [dv  ]   [b  ]
+//   [B' C] [dv_t] = [b_t],   C = m I + h D_tt + h^2 K_tt (3 x 3 per tool),
+// B the tip-tube contacts' and grasps' coupling. The tips are eliminated by a Schur complement:
+// (A - B C^-1 B') dv = b - B C^-1 b_t, then dv_t = C^-1 (b_t - B' dv). B has three columns per
+// tool: the band solve takes them by Woodbury's identity, as it takes the rank-one term and pins.
+#include <algorithm>
+
+#include "mechanics/implicit_euler.h"
+#include "mechanics/interactions.h"
+
+namespace viscera::mechanics {
+
+void ImplicitEulerIntegrator::ClearTipReleases() {
+  tip_rounds_ = 0;
+  if (interactions_ != nullptr) interactions_->ClearTipReleases();
+}
+
+bool ImplicitEulerIntegrator::HasTips(const State& state) const {
+  return interactions_ != nullptr && interactions_->tips_in_solve() && !state.tools.empty();
+}
+
+void ImplicitEulerIntegrator::AddTipStiffness(const State& state) {
+  // K v's rows of the tips and the links' part of the tube's: b = h (F - h K v) over both.
+  const auto& rows = interactions_->tip_rows();
+  for (int t = 0; t < num_tools_; ++t) {
+    tip_kv_.segment<3>(3 * t) = rows[t].present ? Vec3(rows[t].k * state.tools[t].tip_velocity) : Vec3::Zero();
+  }
+  for (const Interactions::TipLink& link : interactions_->tip_links()) {
+    const Vec3& vt = state.tools[link.tool].tip_velocity;
+    const Vec3 kvt = link.k * vt;
+    Vec3 window = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) {
+      kv_.row(link.first + i) += link.w[i] * kvt.transpose();
+      window += link.w[i] * state.qd.row(link.first + i).transpose();
+    }
+    tip_kv_.segment<3>(3 * link.tool) += link.k * window;  // K symmetric: the link's block is k'
+  }
+}
+
+void ImplicitEulerIntegrator::ReduceTips(double h) {
+  const auto& rows = interactions_->tip_rows();
+  tip_c_.setZero();
+  tip_c_inv_.setZero();
+  for (int t = 0; t < num_tools_; ++t) {
+    const Interactions::TipRows& r = rows[t];
+    if (!r.present) {
+      tip_b_.segment<3>(3 * t).setZero();  // not yet placed: held (no unknowns to speak of)
+      tip_c_.block<3, 3>(3 * t, 3 * t).setIdentity();
+      tip_c_inv_.block<3, 3>(3 * t, 3 * t).setIdentity();
+      continue;
+    }
+    tip_b_.segment<3>(3 * t) = h * (r.force - h * tip_kv_.segment<3>(3 * t));
+    const Mat3 c = r.mass * Mat3::Identity() + h * r.d + h * h * r.k;
+    tip_c_.block<3, 3>(3 * t, 3 * t) = c;
+    tip_c_inv_.block<3, 3>(3 * t, 3 * t) = c.inverse();
+  }
+  tips_linked_ = !interactions_->tip_links().empty();
+  if (!tips_linked_) return;
+  tip_B_.setZero();
+  for (const Interactions::TipLink& link : interactions_->tip_links()) {
+    const Mat3 block = h * link.d + h * h * link.k;
+    for (int i = 0; i < 4; ++i) tip_B_.block<3, 3>(3 * (link.first + i), 3 * link.tool) += link.w[i] * block;
+  }
+  tip_tmp_.noalias() = tip_c_inv_ * tip_b_;
+  b_.noalias() -= tip_B_ * tip_tmp_;
+}
+
+void ImplicitEulerIntegrator::PrepareTipCorrection() {
+  // Woodbury: (P - B C^-1 B')^-1 = P^-1 + Y S^-1 Y',  Y = P^-1 B,  S = C - B' Y, P the
+  // preconditioner with its rank-one term and pins (ApplyCorrections without this part yet).
+  tip_woodbury_ = false;
+  if (!tips_linked_) return;
+  for (int j = 0; j < 3 * num_tools_; ++j) {
+    tip_Y_.col(j) = tip_B_.col(j);
+    if (use_cholmod_) {
+      solver_.SolveInPlace(tip_Y_.col(j).data(), 1, &solve_one_work_);
+    } else {
+      band_factor_.SolveInPlace(tip_Y_.col(j).data());
+    }
+    ApplyCorrections(tip_Y_.col(j).data());
+  }
+  tip_S_ = tip_c_;
+  tip_S_.noalias() -= tip_B_.transpose() * tip_Y_;
+  tip_S_ldlt_.compute(tip_S_);
+  tip_woodbury_ = true;
+}
+
+void ImplicitEulerIntegrator::ApplyTipCorrection(double* x) const {
+  Eigen::Map<VecX> y(x, 3 * n_);
+  tip_tmp_.noalias() = tip_B_.transpose() * y;
+  tip_tmp2_ = tip_S_ldlt_.solve(tip_tmp_);
+  y.noalias() += tip_Y_ * tip_tmp2_;
+}
+
+void ImplicitEulerIntegrator::SubtractTipSchur(const double* x, double* y) const {
+  Eigen::Map<const VecX> xv(x, 3 * n_);
+  Eigen::Map<VecX> yv(y, 3 * n_);
+  tip_tmp_.noalias() = tip_B_.transpose() * xv;
+  tip_tmp2_.noalias() = tip_c_inv_ * tip_tmp_;
+  yv.noalias() -= tip_B_ * tip_tmp2_;
+}
+
+bool ImplicitEulerIntegrator::SolveTips(double h, const Points& v, const double* dv, const State& state) {
+  // dv_t = C^-1 (b_t - B' dv): the tips answer the tube's final velocities (impacts included).
+  tip_tmp_ = tip_b_;
+  if (tips_linked_) tip_tmp_.noalias() -= tip_B_.transpose() * Eigen::Map<const VecX>(dv, 3 * n_);
+  tip_dv_.noalias() = tip_c_inv_ * tip_tmp_;
+  if (!tips_linked_ || tip_rounds_ >= kMaxTipRounds) return false;
+  for (int t = 0; t < num_tools_; ++t) tip_v_.segment<3>(3 * t) = state.tools[t].tip_velocity + tip_dv_.segment<3>(3 * t);
+  return interactions_->ReviseTipContacts(h, v, dv, tip_v_);
+}
+
+void ImplicitEulerIntegrator::AdvanceTips(double h, const VecX* depth_dq, State* state) {
+  // The depth constraints' position correction moves the tube by h A^-1 J' Λ; in the system with
+  // the tips that is also -C^-1 B' of it for the tips (a sphere pushed back out of a wall carries
+  // the tip pressing on it; left behind, the tip sank into it by that much at every sub-step).
+  tip_tmp2_.setZero();
+  if (depth_dq != nullptr && tips_linked_) {
+    tip_tmp_.noalias() = tip_B_.transpose() * *depth_dq;
+    tip_tmp2_.noalias() = -tip_c_inv_ * tip_tmp_;
+  }
+  const auto& rows = interactions_->tip_rows();
+  for (int t = 0; t < num_tools_; ++t) {
+    if (!rows[t].present) continue;
+    ToolState& ts = state->tools[t];
+    ts.tip_velocity += tip_dv_.segment<3>(3 * t);
+    ts.tip += h * (ts.tip_velocity + tip_tmp2_.segment<3>(3 * t));
+    interactions_->TipAdvanced(t, h, &ts);
+  }
+}
+
+}  // namespace viscera::mechanics

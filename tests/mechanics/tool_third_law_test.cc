@@ -1,0 +1,120 @@
+// Newton's third law between the hand, the tool's tip and a free tube: a tool pushing a loop
+// that nothing else holds (no gravity, no drag) moves it along at the hand's speed, and the
+// impulse the hand gives equals the momentum the tube and the tip gain, at every speed the device
+// allows and every rate a session runs. The control: the tip integrated in its own cycles against
+// the tube held still (and the tube's solve holding the tool still) locks the contact at 100 Hz.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "mechanics/banded_cholesky.h"
+#include "mechanics/step.h"
+#include "scene/scene.h"
+
+namespace viscera::mechanics {
+namespace {
+
+// A free 40 cm, 100 g tube along x at z = 0, and a tool whose shaft comes down from above and
+// whose tip stands beside the tube's middle.
+std::string Scene(double rate_hz) {
+  return R"(
+[simulation]
+rate_hz = )" + std::to_string(rate_hz) + R"(
+integrator = "implicit"
+gravity = [0.0, 0.0, 0.0]
+[intestine]
+length = 0.4
+radius = 0.0125
+mass = 0.1
+control_points = 32
+stretch_stiffness = 100.0
+bend_stiffness = 1.0e-4
+continuous_stretch = 0.2
+damping = 0.0
+spring_damping = 2.0
+[intestine.shape]
+kind = "straight"
+start = [0.0, 0.0, 0.0]
+direction = [1.0, 0.0, 0.0]
+[contacts]
+self = false
+[[tool]]
+name = "pusher"
+port = [0.2, -0.05, 0.4]
+radius = 0.0025
+max_force = 5.0
+)";
+}
+
+struct Push {
+  double tube_speed = 0.0;  // the pushed part's mean speed along the push, last half (m/s)
+  double centre_speed = 0.0;  // the tube's centre of mass's, over the same time (m/s)
+  double hand = 0.0;        // impulse the hand gave along the push (N s)
+  double momentum = 0.0;    // the tube's and the tip's momentum along the push (N s)
+};
+
+// Pushes the tube's middle along +y at `speed` for long enough to move it 4 cm. The tube is
+// floppy: it drapes around the shaft, its ends trailing, so it is the pushed part that follows
+// the hand, and the whole tube's centre of mass that carries the hand's impulse.
+Push PushTube(double rate_hz, double speed, bool tips_in_solve) {
+  ModelParams params = scene::ParseScene(Scene(rate_hz)).model;
+  params.contacts.tips_in_solve = tips_in_solve;
+  const Model model(params);
+  State state = InitialState(model);
+  Workspace workspace(model);
+  const double reach = params.radius + params.tools[0].radius;
+  const Vec3 start(0.2, -reach - 0.001, 0.0);  // 1 mm short of the tube's side
+  const double duration = 0.04 / speed + 0.1;
+  const int steps = static_cast<int>(std::lround(duration * rate_hz));
+  const double dt = 1.0 / rate_hz;
+  Points scratch(model.num_points(), 3);
+  auto tube_momentum = [&] {
+    BandMultiply(model.mass_band(), state.qd, &scratch);
+    return scratch.col(1).sum();
+  };
+  auto tube_centre = [&] {
+    BandMultiply(model.mass_band(), state.q, &scratch);
+    return scratch.col(1).sum() / params.mass;
+  };
+  Push push;
+  double centre_half = 0.0, middle_half = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    ToolTarget target;
+    target.tip = start + Vec3(0.0, speed * (k + 1) * dt, 0.0);
+    target.jaw = 1.0;
+    Step(model, {{}, std::span<const ToolTarget>(&target, 1)}, &state, &workspace);
+    push.hand -= dt * state.tools[0].force.y();  // the hand feels the reaction of what it gives
+    if (k + 1 == steps / 2) centre_half = tube_centre(), middle_half = model.curve().Position(state.q, 0.5).y();
+  }
+  const double half = (steps - steps / 2) * dt;
+  push.tube_speed = (model.curve().Position(state.q, 0.5).y() - middle_half) / half;
+  push.centre_speed = (tube_centre() - centre_half) / half;
+  push.momentum = tube_momentum() + params.tools[0].mass * state.tools[0].tip_velocity.y();
+  EXPECT_TRUE(state.q.allFinite());
+  return push;
+}
+
+TEST(ToolThirdLaw, AFreeTubeFollowsThePushAndTheHandsImpulseIsItsMomentum) {
+  for (double rate : {100.0, 250.0, 1000.0}) {
+    for (double speed : {0.01, 0.08, 0.2, 0.5}) {
+      const Push p = PushTube(rate, speed, true);
+      std::printf("%6.0f Hz %4.0f cm/s: pushed part %.4f m/s (%.3f of the hand's; centre of mass %.3f), hand impulse %.5f N s, momentum %.5f N s\n",
+                  rate, 100 * speed, p.tube_speed, p.tube_speed / speed, p.centre_speed / speed, p.hand, p.momentum);
+      EXPECT_NEAR(p.tube_speed, speed, 0.1 * speed) << rate << " Hz, " << speed << " m/s: the tube did not follow";
+      EXPECT_NEAR(p.hand, p.momentum, 0.1 * std::abs(p.momentum)) << rate << " Hz, " << speed << " m/s";
+    }
+  }
+}
+
+TEST(ToolThirdLaw, WithTheTipInItsOwnCyclesTheContactLocksAt100Hz) {
+  // The control: the tube's solve holds the tool still and the tip's cycles hold the tube still.
+  const Push p = PushTube(100.0, 0.1, false);
+  std::printf("own cycles, 100 Hz 10 cm/s: pushed part %.4f m/s, hand impulse %.5f N s, momentum %.5f N s\n", p.tube_speed,
+              p.hand, p.momentum);
+  EXPECT_LT(p.tube_speed, 0.9 * 0.1) << "the pushed part followed";
+  EXPECT_GT(std::abs(p.hand - p.momentum), 0.1 * std::abs(p.momentum)) << "the hand's impulse matched";
+}
+
+}  // namespace
+}  // namespace viscera::mechanics
