@@ -44,6 +44,15 @@ def readme_command(commands, start):
 
 
 class ReadmeLoadTest(unittest.TestCase):
+    @staticmethod
+    def _host_stalled(root):
+        """Whether the last run's report flags host stalls (misses hitting most sessions at once)."""
+        try:
+            with open(os.path.join(root, "out", "report.json")) as f:
+                return bool(json.load(f)["overall"]["host_stalls"]["seconds"])
+        except (OSError, KeyError, ValueError):
+            return False
+
     def test_readme_load_test_passes_as_written_on_a_default_server(self):
         require_private_netns()
         with open(os.path.join(SOURCE_DIR, "README.md")) as f:
@@ -61,23 +70,29 @@ class ReadmeLoadTest(unittest.TestCase):
             try:
                 # README's user types the next command at once: the load tester waits for a
                 # server still measuring its capacity, so no wait here either
-                # into files: on a timeout, what it said so far shows where it was
-                with open(os.path.join(root, "loadtest.out"), "w+") as out, \
-                        open(os.path.join(root, "loadtest.err"), "w+") as errs:
-                    p = subprocess.Popen(shlex.split(load_cmd), cwd=root, env=env, stdout=out,
-                                         stderr=errs, stdin=subprocess.DEVNULL, text=True)
-                    try:
-                        p.wait(timeout=120)
-                    except subprocess.TimeoutExpired:
-                        p.send_signal(signal.SIGABRT)  # PYTHONFAULTHANDLER: where it was
+                # into files: on a timeout, what it said so far shows where it was.
+                # A run whose misses the tester attributes to host stalls (every session at once:
+                # the machine paused, README's user is told so) is run once more, as that user would.
+                for attempt in range(2):
+                    with open(os.path.join(root, "loadtest.out"), "w+") as out, \
+                            open(os.path.join(root, "loadtest.err"), "w+") as errs:
+                        p = subprocess.Popen(shlex.split(load_cmd), cwd=root, env=env, stdout=out,
+                                             stderr=errs, stdin=subprocess.DEVNULL, text=True)
                         try:
-                            p.wait(timeout=10)
+                            p.wait(timeout=120)
                         except subprocess.TimeoutExpired:
-                            p.kill()
-                            p.wait()
-                    out.seek(0)
-                    errs.seek(0)
-                    run = subprocess.CompletedProcess(p.args, p.returncode, out.read(), errs.read())
+                            p.send_signal(signal.SIGABRT)  # PYTHONFAULTHANDLER: where it was
+                            try:
+                                p.wait(timeout=10)
+                            except subprocess.TimeoutExpired:
+                                p.kill()
+                                p.wait()
+                        out.seek(0)
+                        errs.seek(0)
+                        run = subprocess.CompletedProcess(p.args, p.returncode, out.read(), errs.read())
+                    if run.returncode != 1 or attempt == 1 or not self._host_stalled(root):
+                        break
+                    print(f"host stalls on attempt {attempt + 1}, run again:\n{run.stdout}")
             finally:
                 server.terminate()
                 self.assertEqual(server.wait(timeout=30), 0)
