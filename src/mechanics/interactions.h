@@ -198,6 +198,10 @@ class Interactions {
   // @pre hk, hd symmetric (as every contact's blocks are).
   void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd, BlockBand* K,
                       BlockBand* D) const;
+  // What both AdvanceTool and PrepareTool do first: a tool's first active target places its tip,
+  // the coupling fades toward on (active) or off, the jaws and orientation follow the target.
+  // Returns false for a tool never yet active (nothing more to do); *active: the target's.
+  bool FollowTarget(int index, double h, ToolState* ts, bool* active);
   void AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts);
   // The implicit integrator's counterpart of AdvanceTool: the coupling's fade, the jaws, this
   // sub-step's target path and the grasp; the tip stays where it is (the solve moves it).

@@ -33,19 +33,8 @@ void Interactions::SyncTools(const State& state) {
 void Interactions::PrepareTool(int index, double h, const Points& q, ToolState* ts) {
   const ToolParams& tp = model_.params().tools[index];
   const ToolTarget& target = ts->target;
-  const bool active = target.active && target.tip.allFinite() && std::isfinite(target.jaw);
-  if (!ts->initialized) {
-    grasping_[index] = false;
-    capsules_[index].present = false;
-    if (!active) return;
-    ts->tip = target.tip;  // the tip starts at the first target
-    ts->tip_velocity.setZero();
-    ts->initialized = true;
-  }
-  const double goal = active ? 1.0 : 0.0;
-  ts->coupling_scale += (goal - ts->coupling_scale) * (1.0 - std::exp(-h / kCouplingTimeConstant));
-  ts->jaw = active ? std::clamp(target.jaw, 0.0, 1.0) : 1.0;
-  if (active) ts->orientation = target.orientation.normalized();
+  bool active = false;
+  if (!FollowTarget(index, h, ts, &active)) return;
   // The target moves across the step from where it was to where it is, as the device's hand did.
   const double f0 = static_cast<double>(substep_) / substeps_, f1 = static_cast<double>(substep_ + 1) / substeps_;
   tip_from_[index] = ts->target_from + f0 * (target.tip - ts->target_from);

@@ -45,15 +45,13 @@ double NearestAlongChain(const collision::SphereChain& chain, int k, const Vec3&
 
 }  // namespace
 
-void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {
-  const ToolParams& tp = model_.params().tools[index];
-  const ContactParams& cp = model_.params().contacts;
+bool Interactions::FollowTarget(int index, double h, ToolState* ts, bool* active_out) {
   const ToolTarget& target = ts->target;
   const bool active = target.active && target.tip.allFinite() && std::isfinite(target.jaw);
   if (!ts->initialized) {
     grasping_[index] = false;
     capsules_[index].present = false;
-    if (!active) return;
+    if (!active) return false;
     ts->tip = target.tip;  // the tip starts at the first target
     ts->tip_velocity.setZero();
     ts->initialized = true;
@@ -63,6 +61,16 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   ts->coupling_scale += (goal - ts->coupling_scale) * (1.0 - std::exp(-h / kCouplingTimeConstant));
   ts->jaw = active ? std::clamp(target.jaw, 0.0, 1.0) : 1.0;
   if (active) ts->orientation = target.orientation.normalized();
+  *active_out = active;
+  return true;
+}
+
+void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {
+  const ToolParams& tp = model_.params().tools[index];
+  const ContactParams& cp = model_.params().contacts;
+  const ToolTarget& target = ts->target;
+  bool active = false;
+  if (!FollowTarget(index, h, ts, &active)) return;
 
   // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
   // (the shaft pivots at the port): each contact's force at the start and its stiffness.
