@@ -25,6 +25,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       // stepped by BDF2 gained energy (docs/mechanics.md).
       bdf2_(model.params().implicit_scheme == ImplicitScheme::kBdf2 &&
             (interactions == nullptr || model.params().contacts.impact_constraints)),
+      stick_slip_(interactions != nullptr && model.params().contacts.friction_law == FrictionLaw::kStickSlip),
       system_(model.num_points()),
       solver_(&common_),
       solve_work_(&common_),
@@ -293,8 +294,9 @@ double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq)
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
-  ClearTipReleases();
+  ClearRevisions();
   AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), bdf2_, state);
+  if (stick_slip_) interactions_->UseFriction(nullptr, 0.0);  // State::friction may move
 }
 
 void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
@@ -302,10 +304,10 @@ void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, do
   const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
   tip_span_ = 0.5 * span;
   tip_end_ = end - tip_span_;
-  ClearTipReleases();
+  ClearRevisions();
   AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, bdf2_, state);
   tip_end_ = end;
-  ClearTipReleases();
+  ClearRevisions();
   AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, bdf2_, state);
   tip_span_ = span;
 }
@@ -317,6 +319,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   ++substeps_;
   const bool tips = HasTips(*state);
   if (tips) interactions_->PlaceTips(*state, tip_end_);
+  if (stick_slip_) interactions_->UseFriction(&state->friction, h);
   // BDF2 builds on the last sub-step when it had this length (a halving, a change of the step's
   // sub-steps, an impulse or a reset leave it nothing to build on). The tips' rows are backward
   // Euler's: a sub-step with tips in the solve is one too.
@@ -418,6 +421,12 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
     return;
   }
+  if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
+      interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
+    ++friction_rounds_;  // a contact sticks or slides where the solve ends: solved again
+    AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
+    return;
+  }
 
   // The step is one linearization: a segment turned far within it stretches by what the linear
   // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order),
@@ -447,6 +456,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   state->last_h = impact_substeps_ == impacts_before ? h : 0.0;
   if (multistep) {
     Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
+    if (stick_slip_) interactions_->AdvanceFriction(step_dq_, h, state);
     return;
   }
   // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
@@ -456,6 +466,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   q += h * v;
   if (correct_depth) q += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
   state->last_dq = q - state->last_dq;
+  if (stick_slip_) interactions_->AdvanceFriction(state->last_dq, h, state);
 }
 
 }  // namespace viscera::mechanics

@@ -158,7 +158,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // the links' part of kv_; the tips' rows and their elimination from b_; Woodbury's columns for
   // the band solve; that correction on a band solution; y -= B C^-1 B' x; the tips' update.
   bool HasTips(const State& state) const;
-  void ClearTipReleases();  // a new sub-step (or half): every tip contact acts again
+  // A new sub-step (or half): every tip contact acts again, every contact sticks or slides as
+  // its start has it.
+  void ClearRevisions();
   void AddTipStiffness(const State& state);
   void ReduceTips(double h);
   void PrepareTipCorrection();
@@ -169,6 +171,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool SolveTips(double h, const Points& v, const double* dv, const State& state);
   void AdvanceTips(double h, const VecX* depth_dq, State* state);
   static constexpr int kMaxTipRounds = 4;
+  // Solves of one sub-step redone while its contacts' stick or slip is revised
+  // (Interactions::ReviseFriction).
+  static constexpr int kMaxFrictionRounds = 3;
 
   const Model& model_;
   Interactions* interactions_;
@@ -177,6 +182,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool use_cholmod_;
   bool guard_;                   // params().linearization_guard
   bool bdf2_;                    // params().implicit_scheme is BDF2, with impact constraints
+  bool stick_slip_;              // contacts with stick-slip friction (State::friction's anchors)
   BlockBand system_;
   BlockBandCholesky band_factor_;
   CholmodCommon common_;
@@ -222,6 +228,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   MatX tip_B_, tip_Y_, tip_c_, tip_c_inv_, tip_S_;
   Eigen::LDLT<MatX> tip_S_ldlt_;
   VecX tip_b_, tip_kv_, tip_dv_, tip_v_;
+  int friction_rounds_ = 0;
   int tip_rounds_ = 0;  // solves of this sub-step redone without pulling tip contacts
   mutable VecX tip_tmp_, tip_tmp2_;
   double tip_end_ = 1.0, tip_span_ = 1.0;

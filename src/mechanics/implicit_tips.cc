@@ -12,9 +12,13 @@
 
 namespace viscera::mechanics {
 
-void ImplicitEulerIntegrator::ClearTipReleases() {
+void ImplicitEulerIntegrator::ClearRevisions() {
   tip_rounds_ = 0;
-  if (interactions_ != nullptr) interactions_->ClearTipReleases();
+  friction_rounds_ = 0;
+  if (interactions_ != nullptr) {
+    interactions_->ClearTipReleases();
+    interactions_->ClearFrictionRevisions();
+  }
 }
 
 bool ImplicitEulerIntegrator::HasTips(const State& state) const {

@@ -98,6 +98,11 @@ Interactions::Interactions(const Model& model)
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
+  const ContactParams& cp = model.params().contacts;
+  tangential_stiffness_ = cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : cp.stiffness;
+  friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  friction_revised_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);
 }
 
@@ -264,12 +269,17 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   // contact being found a step late and deep (which creates energy at every impact).
   const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
   if (p.depth <= 0.0 && !speculative) return p;
-  // Penalty spring and damping along the normal, regularized Coulomb friction.
+  // Penalty spring and damping along the normal; friction: the regularized law here, or the
+  // stick-slip law that AddForces adds (AddStickSlip).
   const double fn = ContactLaw(p.depth).force - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
-  const Vec3 vt = relative - vn * p.normal;
-  const double friction = cp.friction * std::max(fn, 0.0);
-  p.force = fn * p.normal - (friction / std::max(vt.norm(), kFrictionSlip)) * vt;
+  p.slip = relative - vn * p.normal;
+  p.normal_force = fn;
+  p.force = fn * p.normal;
+  if (anchors_ == nullptr) {
+    const double friction = Friction(c.kind) * std::max(fn, 0.0);
+    p.force -= (friction / std::max(p.slip.norm(), kFrictionSlip)) * p.slip;
+  }
   p.active = true;
   return p;
 }
@@ -294,6 +304,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   EnsureGeometry();
   double energy = 0.0;
   pairs_.clear();
+  friction_pairs_.clear();
   tip_links_.clear();
   tip_pairs_.clear();
   tip_rows_ = coupling_rows_;  // the coupling's part (PlaceTips); same size: no allocation
@@ -327,6 +338,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       }
     }
     if (!p.active) continue;
+    Mat3 friction_k = Mat3::Zero(), friction_d = Mat3::Zero();
+    if (anchors_ != nullptr) AddStickSlip(c, static_cast<int>(i), &p, &friction_k, &friction_d);
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
     if (self) AddToWindow(c.b, -p.force, F);
@@ -340,8 +353,12 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
-    const Mat3 kn = law.slope * nn;
-    const Mat3 dn = cp.damping * nn + (cp.friction * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+    // The regularized law's friction is viscous at the slip speed's slope (docs/contacts.md,
+    // "Friction's slope"); stick-slip friction is a spring while stuck and a constant force
+    // turning only sideways while sliding.
+    const Mat3 kn = law.slope * nn + friction_k;
+    const Mat3 dn = cp.damping * nn + (anchors_ != nullptr ? friction_d
+                                                           : Mat3((Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn)));
     if (tool && tips_in_solve_) {
       // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
       // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.

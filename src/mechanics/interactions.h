@@ -2,7 +2,8 @@
 /// Everything that touches the intestine from outside its own elasticity, for one simulation:
 /// the sphere chain and its contacts (self, environment, tools: penalty springs with damping and
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
-/// their virtual coupling and grasps, and the haptic output. Owned by the stepping thread's
+/// their virtual coupling and grasps, and the haptic output. With the implicit integrator friction
+/// has a static phase (docs/contacts.md, "Friction"). Owned by the stepping thread's
 /// Workspace; allocates nothing in steady state.
 #include <algorithm>
 #include <array>
@@ -126,6 +127,30 @@ class Interactions {
   /// hand feels it, enters the step's impulse (EndStep reports its mean, then clamps it).
   void TipAdvanced(int index, double h, ToolState* ts);
 
+  /// Stick-slip friction (docs/contacts.md, "Friction") in the next force evaluations of a
+  /// sub-step of length h, from the anchors it starts from; nullptr: the regularized law (RK4, or
+  /// the scene's friction_law). The anchors must outlive those evaluations.
+  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h) {
+    anchors_ = anchors;
+    friction_h_ = h;
+  }
+  /// Once a sub-step is accepted: each contact that friction held in the last force evaluation
+  /// moves its anchor by the contact's tangential motion over the sub-step (dq, #N by 3: how far
+  /// the sub-step moved q; a tool's tip moved by h times its new velocity), capped by the cone;
+  /// the other anchors are dropped. Replaces state->friction.
+  void AdvanceFriction(const Points& dq, double h, State* state);
+  /// After a solve whose end velocities are v + dv (#N by 3, dv's 3N values) and, for the tips,
+  /// their start velocities plus tip_dv (3 per tool; nullptr: none): a stuck contact whose spring
+  /// would end beyond the cone slides, and a sliding one whose motion the friction reversed
+  /// sticks (it would have stopped within the sub-step), in the next solve of the same sub-step.
+  /// Says whether any changed. ClearFrictionRevisions starts a sub-step with the start's choice.
+  bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
+  void ClearFrictionRevisions() { friction_revised_.clear(); }
+  /// The key a pair's anchor is found by: its kind and its two sides' indices.
+  static uint64_t FrictionKey(collision::ContactKind kind, int a, int b) {
+    return (static_cast<uint64_t>(kind) << 42) | (static_cast<uint64_t>(a) << 21) | static_cast<uint64_t>(b);
+  }
+
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
 
@@ -148,6 +173,8 @@ class Interactions {
     double depth = 0.0;         // penetration (m), > 0 when active
     double clearance = 0.0;     // signed distance beyond contact (m)
     double lever = 1.0;         // tool contacts: fraction along the shaft from the port
+    double normal_force = 0.0;  // N, the normal law's (with its damping) when active
+    Vec3 slip = Vec3::Zero();   // tangential relative velocity (m/s) when active
   };
   // The penalty law at a penetration depth > 0: force (N), slope (N/m), stored energy (J).
   struct Law {
@@ -165,6 +192,11 @@ class Interactions {
   bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres();
+  // The Coulomb coefficient of a kind of pair.
+  double Friction(collision::ContactKind kind) const;
+  // Stick-slip friction on an active pair (UseFriction's anchors): adds its tangential force to
+  // p->force, its stiffness to *k and its damping to *d, and keeps the pair for AdvanceFriction.
+  void AddStickSlip(const collision::ContactCandidate& c, int candidate, Penalty* p, Mat3* k, Mat3* d);
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
@@ -308,6 +340,28 @@ class Interactions {
   bool TipActivated(int candidate) const {
     return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) != tip_activated_.end();
   }
+  // Stick-slip friction: the anchors the sub-step starts from and its length (UseFriction), the
+  // pairs friction held in the last force evaluation, and the anchors being made from them.
+  const std::vector<FrictionAnchor>* anchors_ = nullptr;
+  double friction_h_ = 0.0;
+  double tangential_stiffness_ = 0.0;
+  struct FrictionPair {
+    uint64_t key = 0;
+    collision::ContactKind kind = collision::ContactKind::kSelf;
+    int tool = 0, first_a = 0, first_b = 0;
+    std::array<double, 4> w_a{}, w_b{};
+    double lever = 0.0;
+    Vec3 normal = Vec3::Zero();
+    Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
+    double limit = 0.0;           // N: mu f_n, f_n at the sub-step's start (lagged)
+    int candidate = 0;
+    bool stuck = false;
+    Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
+  };
+  std::vector<FrictionPair> friction_pairs_;
+  // Contacts whose stick or slip a solve of this sub-step revised (candidate, stuck).
+  std::vector<std::pair<int, bool>> friction_revised_;
+  std::vector<FrictionAnchor> next_anchors_;
   std::vector<Vec3> hand_impulse_;
   std::vector<double> hand_time_;
   std::vector<char> hand_saturated_;  // the coupling saturated in one of the step's sub-steps

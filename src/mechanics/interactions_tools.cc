@@ -140,8 +140,9 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       const double fn = law.force - cp.damping * vn;
       if (!(fn > 0.0) || tc.lever <= 0.0) continue;  // it would pull: the tube does not hold the tool
       const Vec3 vt = relative - vn * tc.normal;
-      const double slip_slope = cp.friction * fn / kFrictionSlip;  // the viscous slope, as AddForces
-      const Vec3 on_sphere = fn * tc.normal - (cp.friction * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
+      const double mu = Friction(ContactKind::kTool);
+      const double slip_slope = mu * fn / kFrictionSlip;  // the viscous slope, as AddForces
+      const Vec3 on_sphere = fn * tc.normal - (mu * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
       tissue -= tc.lever * on_sphere;  // on the tool, moved to the tip by the lever rule
       const Mat3 nn = tc.normal * tc.normal.transpose();
       stiffness += law.slope * (axis * axis.transpose());

@@ -52,12 +52,24 @@ struct MesenteryParams {
   double extra_slack = 0.0;
 };
 
+enum class FrictionLaw { kStickSlip, kRegularized };
+
 /// Penalty contacts of the sphere chain ([contacts]; France et al. 2005, section 3.5).
 struct ContactParams {
   bool self = false;        ///< self-contacts (scenes default to true)
   double stiffness = 500.0; ///< N/m per unit penetration
   double damping = 1.0;     ///< N s/m along the normal
-  double friction = 0.3;    ///< Coulomb coefficient, regularized below kFrictionSlip
+  /// Coulomb coefficients (docs/mechanics.md, "Tissue card"): the tube against the environment
+  /// (wet serosa on peritoneum), against itself (serosa on serosa) and against a tool's steel.
+  double friction = 0.3;
+  double self_friction = 0.3;
+  double tool_friction = 0.3;
+  /// Implicit integrator: Coulomb's law with a static phase (kStickSlip: a tangential spring to
+  /// where the contact stuck, capped by the cone; docs/contacts.md, "Friction"), or the
+  /// regularized law, viscous below kFrictionSlip (kRegularized: RK4 always uses it).
+  FrictionLaw friction_law = FrictionLaw::kStickSlip;
+  /// N/m: the stuck contact's tangential spring; 0: the normal stiffness.
+  double tangential_stiffness = 0.0;
   double margin = -1.0;     ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
   /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own
   /// window (false: cheaper, but a pair moving together is dragged; docs/contacts.md).

@@ -20,6 +20,13 @@ struct ContactStats {
   const char* deepest = "";
 };
 
+/// A contact that friction holds (docs/contacts.md, "Friction"): the stretch of its tangential
+/// spring, from where the contact stuck (sticking) or as far as the cone lets it (sliding).
+struct FrictionAnchor {
+  uint64_t key = 0;           ///< the pair: Interactions::FrictionKey(kind, a, b)
+  Vec3 stretch = Vec3::Zero();  ///< m, in the contact's tangent plane when last stepped
+};
+
 struct State {
   double t = 0.0;          ///< simulated time (s)
   Points q;                ///< control points (m), #N by 3
@@ -38,6 +45,9 @@ struct State {
   Points last_dq;
   Points last_dqd;
   double last_h = 0.0;
+  /// The implicit integrator's stick-slip friction: one anchor per contact that friction held in
+  /// the last sub-step, sorted by key (empty with the regularized law).
+  std::vector<FrictionAnchor> friction;
 };
 
 /// The model's starting pose at rest, t = 0.

@@ -20,6 +20,7 @@ void Step(const Model& model, const StepInputs& inputs, State* state, Workspace*
     state->last_h = 0.0;  // nothing for a BDF2 step to build on
     const State start = InitialState(model);  // allocates, but only on this error path
     state->tools = start.tools;
+    state->friction.clear();
     ++state->nonfinite_resets;
   }
   if (interactions) interactions->EndStep(state);

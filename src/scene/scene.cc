@@ -282,6 +282,12 @@ void ReadContacts(const toml::table& root, const SceneLimits& limits, ModelParam
   c.stiffness = Positive(r, "stiffness", c.stiffness);
   c.damping = NonNegative(r, "damping", c.damping);
   c.friction = NonNegative(r, "friction", c.friction);
+  c.self_friction = NonNegative(r, "self_friction", c.self_friction);
+  c.tool_friction = NonNegative(r, "tool_friction", c.tool_friction);
+  c.friction_law = r.Choice<mechanics::FrictionLaw>(
+      "friction_law", {{"stick_slip", mechanics::FrictionLaw::kStickSlip}, {"regularized", mechanics::FrictionLaw::kRegularized}},
+      c.friction_law);
+  c.tangential_stiffness = NonNegative(r, "tangential_stiffness", c.tangential_stiffness);
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
   ThrowUnless(limits.max_margin_radii <= 0.0 || c.margin <= limits.max_margin_radii * p->radius, "contacts.margin = ",
               c.margin, " m: above this server's limit of ", limits.max_margin_radii, " tube radii (",
