@@ -25,7 +25,10 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       // stepped by BDF2 gained energy (docs/mechanics.md).
       bdf2_(model.params().implicit_scheme == ImplicitScheme::kBdf2 &&
             (interactions == nullptr || model.params().contacts.impact_constraints)),
-      stick_slip_(interactions != nullptr && model.params().contacts.friction_law == FrictionLaw::kStickSlip),
+      // Stick-slip friction with the impact and depth constraints, as BDF2: held by the limiter
+      // alone, a jammed pile's stuck pairs were pushed deep in a 100 Hz step and gained energy.
+      stick_slip_(interactions != nullptr && model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
+                  model.params().contacts.impact_constraints),
       system_(model.num_points()),
       solver_(&common_),
       solve_work_(&common_),
@@ -294,7 +297,7 @@ double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq)
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
-  ClearRevisions();
+  ClearTipReleases();
   AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), bdf2_, state);
   if (stick_slip_) interactions_->UseFriction(nullptr, 0.0);  // State::friction may move
 }
@@ -304,10 +307,10 @@ void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, do
   const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
   tip_span_ = 0.5 * span;
   tip_end_ = end - tip_span_;
-  ClearRevisions();
+  ClearTipReleases();
   AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, bdf2_, state);
   tip_end_ = end;
-  ClearRevisions();
+  ClearTipReleases();
   AdvanceHalving(loads, 0.5 * h, halvings + 1, unseen, bdf2_, state);
   tip_span_ = span;
 }
@@ -423,7 +426,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
       interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
-    ++friction_rounds_;  // a contact sticks or slides where the solve ends: solved again
+    ++friction_rounds_;  // friction turned a sliding contact back: solved again with it stuck
+    ++friction_redos_;
     AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
     return;
   }

@@ -45,6 +45,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Sub-steps whose BDF2 step would have needed impact or depth constraints, done again as
   /// backward Euler, whose end velocity moves q as those constraints assume.
   int64_t impact_redos() const { return impact_redos_; }
+  /// Solves done again because friction turned a sliding contact back (Interactions::ReviseFriction).
+  int64_t friction_redos() const { return friction_redos_; }
   /// Sub-steps taken as BDF2.
   int64_t bdf2_substeps() const { return bdf2_substeps_; }
   /// Whether that is done (on by default; off only to show it is needed, in tests).
@@ -158,9 +160,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   // the links' part of kv_; the tips' rows and their elimination from b_; Woodbury's columns for
   // the band solve; that correction on a band solution; y -= B C^-1 B' x; the tips' update.
   bool HasTips(const State& state) const;
-  // A new sub-step (or half): every tip contact acts again, every contact sticks or slides as
-  // its start has it.
-  void ClearRevisions();
+  void ClearTipReleases();  // a new sub-step (or half): every tip contact acts again
   void AddTipStiffness(const State& state);
   void ReduceTips(double h);
   void PrepareTipCorrection();
@@ -171,7 +171,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool SolveTips(double h, const Points& v, const double* dv, const State& state);
   void AdvanceTips(double h, const VecX* depth_dq, State* state);
   static constexpr int kMaxTipRounds = 4;
-  // Solves of one sub-step redone while its contacts' stick or slip is revised
+  // Solves of one sub-step redone while friction turns sliding contacts back
   // (Interactions::ReviseFriction).
   static constexpr int kMaxFrictionRounds = 3;
 
@@ -232,7 +232,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int tip_rounds_ = 0;  // solves of this sub-step redone without pulling tip contacts
   mutable VecX tip_tmp_, tip_tmp2_;
   double tip_end_ = 1.0, tip_span_ = 1.0;
-  int64_t impact_redos_ = 0, bdf2_substeps_ = 0;
+  int64_t impact_redos_ = 0, bdf2_substeps_ = 0, friction_redos_ = 0;
 };
 
 }  // namespace viscera::mechanics

@@ -12,13 +12,10 @@
 
 namespace viscera::mechanics {
 
-void ImplicitEulerIntegrator::ClearRevisions() {
+void ImplicitEulerIntegrator::ClearTipReleases() {
   tip_rounds_ = 0;
   friction_rounds_ = 0;
-  if (interactions_ != nullptr) {
-    interactions_->ClearTipReleases();
-    interactions_->ClearFrictionRevisions();
-  }
+  if (interactions_ != nullptr) interactions_->ClearTipReleases();
 }
 
 bool ImplicitEulerIntegrator::HasTips(const State& state) const {

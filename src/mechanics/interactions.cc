@@ -99,10 +99,10 @@ Interactions::Interactions(const Model& model)
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
   const ContactParams& cp = model.params().contacts;
-  tangential_stiffness_ = cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : cp.stiffness;
+  tangential_stiffness_ = cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : kTangentialShare * cp.stiffness;
   friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  friction_revised_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  friction_stuck_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);
 }
 
@@ -302,7 +302,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   Configure(q, false);
   GatherVelocities(qd);
   EnsureGeometry();
-  double energy = 0.0;
+  double energy = friction_energy_;
   pairs_.clear();
   friction_pairs_.clear();
   tip_links_.clear();
@@ -339,7 +339,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
     if (!p.active) continue;
     Mat3 friction_k = Mat3::Zero(), friction_d = Mat3::Zero();
-    if (anchors_ != nullptr) AddStickSlip(c, static_cast<int>(i), &p, &friction_k, &friction_d);
+    if (anchors_ != nullptr) AddStickSlip(c, &p, &friction_k, &friction_d);
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
     if (self) AddToWindow(c.b, -p.force, F);

@@ -42,7 +42,8 @@ class Interactions {
   void BeginSubstep(std::span<const ToolTarget> targets, double h, State* state);
 
   /// Adds contact and grasp forces at (q, qd) to F (#N by 3), with the tools where
-  /// BeginSubstep left them; returns their energy (J). K, D as in ForceJacobians, kept in the
+  /// BeginSubstep left them; returns their energy (J), the stuck contacts' tangential springs'
+  /// included as the last sub-step left them. K, D as in ForceJacobians, kept in the
   /// chain's band: a self pair's coupling H enters as 2 H on each side's own window, which
   /// exceeds the exact (J_a - J_b)^T H (J_a - J_b) by the pair's common-mode term
   /// (J_a + J_b)^T H (J_a + J_b) (see AddCommonModeTerms; docs/contacts.md).
@@ -119,6 +120,7 @@ class Interactions {
   /// ClearTipReleases starts a sub-step with every contact as its start's law has it.
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);
   void ClearTipReleases() {
+    friction_stuck_.clear();
     tip_released_.clear();
     tip_stiffened_.clear();
     tip_activated_.clear();
@@ -136,16 +138,25 @@ class Interactions {
   }
   /// Once a sub-step is accepted: each contact that friction held in the last force evaluation
   /// moves its anchor by the contact's tangential motion over the sub-step (dq, #N by 3: how far
-  /// the sub-step moved q; a tool's tip moved by h times its new velocity), capped by the cone;
-  /// the other anchors are dropped. Replaces state->friction.
+  /// the sub-step moved q; a tool's tip moved by h times its new velocity), capped by the cone,
+  /// and is marked sliding or stuck as the sub-step ended it; the other anchors are dropped.
+  /// Replaces state->friction.
   void AdvanceFriction(const Points& dq, double h, State* state);
   /// After a solve whose end velocities are v + dv (#N by 3, dv's 3N values) and, for the tips,
-  /// their start velocities plus tip_dv (3 per tool; nullptr: none): a stuck contact whose spring
-  /// would end beyond the cone slides, and a sliding one whose motion the friction reversed
-  /// sticks (it would have stopped within the sub-step), in the next solve of the same sub-step.
-  /// Says whether any changed. ClearFrictionRevisions starts a sub-step with the start's choice.
+  /// their start velocities plus tip_dv (3 per tool; nullptr: none): a sliding contact that the
+  /// friction turned back faster than kFrictionReversal sticks in the next solve of the same
+  /// sub-step (a constant force that overshoots would do work: energy from nothing). Says whether
+  /// any did. ClearTipReleases also starts a sub-step with every contact as its start has it.
   bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
-  void ClearFrictionRevisions() { friction_revised_.clear(); }
+  /// m/s: a slower reversal is left to the next sub-step, which starts it stuck (its energy,
+  /// m v^2 / 2, is below 1e-9 J for a 10 g contact).
+  static constexpr double kFrictionReversal = 5e-4;
+  /// A stuck contact's tangential spring, as a share of the normal stiffness (unless the scene
+  /// sets contacts.tangential_stiffness): stiff enough that a contact moves only micrometres
+  /// before it slides (mu f_n / k_t), soft enough that a stuck pair turning within a 10 ms
+  /// sub-step does not push itself deeper (at the normal stiffness, a jammed pile held by the
+  /// limiter alone gained 7 mJ in one 100 Hz step; docs/contacts.md, "Friction").
+  static constexpr double kTangentialShare = 0.2;
   /// The key a pair's anchor is found by: its kind and its two sides' indices.
   static uint64_t FrictionKey(collision::ContactKind kind, int a, int b) {
     return (static_cast<uint64_t>(kind) << 42) | (static_cast<uint64_t>(a) << 21) | static_cast<uint64_t>(b);
@@ -196,7 +207,7 @@ class Interactions {
   double Friction(collision::ContactKind kind) const;
   // Stick-slip friction on an active pair (UseFriction's anchors): adds its tangential force to
   // p->force, its stiffness to *k and its damping to *d, and keeps the pair for AdvanceFriction.
-  void AddStickSlip(const collision::ContactCandidate& c, int candidate, Penalty* p, Mat3* k, Mat3* d);
+  void AddStickSlip(const collision::ContactCandidate& c, Penalty* p, Mat3* k, Mat3* d);
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
@@ -345,6 +356,7 @@ class Interactions {
   const std::vector<FrictionAnchor>* anchors_ = nullptr;
   double friction_h_ = 0.0;
   double tangential_stiffness_ = 0.0;
+  double friction_energy_ = 0.0;  // J: the tangential springs' as the last sub-step left them
   struct FrictionPair {
     uint64_t key = 0;
     collision::ContactKind kind = collision::ContactKind::kSelf;
@@ -354,13 +366,11 @@ class Interactions {
     Vec3 normal = Vec3::Zero();
     Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
     double limit = 0.0;           // N: mu f_n, f_n at the sub-step's start (lagged)
-    int candidate = 0;
     bool stuck = false;
     Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
   };
   std::vector<FrictionPair> friction_pairs_;
-  // Contacts whose stick or slip a solve of this sub-step revised (candidate, stuck).
-  std::vector<std::pair<int, bool>> friction_revised_;
+  std::vector<uint64_t> friction_stuck_;  // pairs ReviseFriction made stick in this sub-step
   std::vector<FrictionAnchor> next_anchors_;
   std::vector<Vec3> hand_impulse_;
   std::vector<double> hand_time_;

@@ -1,14 +1,15 @@
 // Coulomb friction with a static phase for the implicit step (docs/contacts.md, "Friction"). A
-// contact holds an anchor: the stretch s of a tangential spring k_t from where it stuck. At a
-// sub-step's start, with its normal force f_n (lagged: the start's), the trial force of the
-// spring moved by the tangential motion h v_t is -k_t (s + h v_t) - c v_t:
-// - within the cone (|trial| <= mu f_n) the contact sticks: a spring k_t and damper c in the
-//   tangent plane, linearized exactly, so a loop on a slope below atan mu holds still;
-// - outside, it slides: the force is mu f_n against the trial stretch's direction, constant in
-//   size, its only stiffness the turning of that direction (mu f_n / |trial| sideways). No
-//   viscous slope: the sliding force is the same at every step length.
+// contact holds an anchor: the stretch s of a tangential spring k_t from where it stuck, and
+// whether it slid in the last sub-step. With its normal force f_n (lagged: the sub-step start's):
+// - stuck, it is a spring k_t and damper c in the tangent plane, linearized exactly, so a loop
+//   on a slope below atan mu holds still;
+// - sliding, the force is mu f_n against the way the contact moves (its stretch moved by h v_t),
+//   constant in size, its only stiffness the turning of that direction (mu f_n / |trial|
+//   sideways). No viscous slope: the sliding force is the same at every step length.
 // Once the sub-step is accepted, each anchor moves with the contact's tangential motion and is
-// capped by the cone (a sliding contact drags its anchor along at mu f_n / k_t).
+// capped by the cone (a sliding contact drags its anchor along at mu f_n / k_t); a stuck spring
+// pulled beyond the cone slides from the next sub-step on, a sliding contact that friction turned
+// back sticks.
 #include <algorithm>
 
 #include "mechanics/interactions.h"
@@ -28,23 +29,29 @@ double Interactions::Friction(ContactKind kind) const {
   return cp.friction;
 }
 
-void Interactions::AddStickSlip(const ContactCandidate& c, int candidate, Penalty* p, Mat3* k, Mat3* d) {
+void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, Mat3* d) {
   const double limit = Friction(c.kind) * std::max(p->normal_force, 0.0);
   if (!(limit > 0.0)) return;
   const Vec3& n = p->normal;
   const Mat3 tangent = Mat3::Identity() - n * n.transpose();
   const uint64_t key = FrictionKey(c.kind, c.a, c.b);
-  Vec3 stretch = Vec3::Zero();
   const auto found = std::lower_bound(anchors_->begin(), anchors_->end(), key,
                                       [](const FrictionAnchor& a, uint64_t k) { return a.key < k; });
-  if (found != anchors_->end() && found->key == key) stretch = tangent * found->stretch;
+  const bool anchored = found != anchors_->end() && found->key == key;
   const double kt = tangential_stiffness_;
+  // The anchor's spring within this sub-step's cone: an impact's damping raises f_n for a
+  // sub-step, and the stretch it allowed would spring back beyond the cone once f_n fell.
+  Vec3 stretch = anchored ? Vec3(tangent * found->stretch) : Vec3::Zero();
+  const double size0 = kt * stretch.norm();
+  if (size0 > limit) stretch *= limit / size0;
   const double ct = model_.params().contacts.damping;
   const Vec3 trial = stretch + friction_h_ * p->slip;
-  bool stuck = (kt * trial + ct * p->slip).norm() <= limit;
-  for (const auto& [revised, stick] : friction_revised_) {
-    if (revised == candidate) stuck = stick;
-  }
+  // A contact sticks or slides as the last sub-step ended it (AdvanceFriction); a new one sticks
+  // if its trial force is within the cone. (The trial from the start's speed is a poor guess at
+  // 100 Hz: k_t h v_t exceeds the cone at 2 mm/s, and contacts that friction stops within a
+  // sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at mu 0.3.)
+  const bool stuck = (anchored ? !found->sliding : (kt * trial + ct * p->slip).norm() <= limit) ||
+                     std::find(friction_stuck_.begin(), friction_stuck_.end(), key) != friction_stuck_.end();
   Vec3 force, direction = Vec3::Zero();
   if (stuck) {
     // -k_t s - c v_t at the start; the solve's K and D make it -k_t (s + h v_t') - c v_t'.
@@ -58,7 +65,8 @@ void Interactions::AddStickSlip(const ContactCandidate& c, int candidate, Penalt
     direction = size > 0.0 ? Vec3(trial / size) : Vec3(p->slip.normalized());
     force = -limit * direction;
     if (size > 0.0) {
-      const Mat3 sideways = (limit / size) * (tangent - direction * direction.transpose());
+      // At most k_t: a trial stretch that the motion nearly cancels would glue the pair sideways.
+      const Mat3 sideways = std::min(limit / size, kt) * (tangent - direction * direction.transpose());
       force += sideways * (friction_h_ * p->slip);
       *k += sideways;
     }
@@ -80,56 +88,36 @@ void Interactions::AddStickSlip(const ContactCandidate& c, int candidate, Penalt
   pair.normal = n;
   pair.stretch = stretch;
   pair.limit = limit;
-  pair.candidate = candidate;
   pair.stuck = stuck;
   pair.direction = direction;
   friction_pairs_.push_back(pair);
 }
 
 bool Interactions::ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
-  auto window = [&](int first, const std::array<double, 4>& w) {
+  auto window_velocity = [&](int first, const std::array<double, 4>& w) {
     Vec3 m = Vec3::Zero();
     for (int i = 0; i < 4; ++i) m += w[i] * (v.row(first + i).transpose() + Eigen::Map<const Vec3>(dv + 3 * (first + i)));
     return m;
   };
-  const double kt = tangential_stiffness_;
-  const double ct = model_.params().contacts.damping;
   bool revised = false;
   for (const FrictionPair& pair : friction_pairs_) {
-    Vec3 relative = window(pair.first_a, pair.w_a);
-    if (pair.kind == ContactKind::kSelf) relative -= window(pair.first_b, pair.w_b);
+    if (pair.stuck) continue;
+    Vec3 relative = window_velocity(pair.first_a, pair.w_a);
+    if (pair.kind == ContactKind::kSelf) relative -= window_velocity(pair.first_b, pair.w_b);
     if (pair.kind == ContactKind::kTool) {
       Vec3 tip = tool_velocity_[pair.tool];
       if (tip_dv != nullptr) tip += Eigen::Map<const Vec3>(tip_dv + 3 * pair.tool);
       relative -= pair.lever * tip;
     }
-    const Vec3 slip = relative - pair.normal.dot(relative) * pair.normal;
-    bool stuck = pair.stuck;
-    if (pair.stuck) {
-      // Stuck, the spring ends beyond the cone (a little beyond: rounding is no reason to solve again).
-      stuck = (kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm() <= 1.001 * pair.limit;
-    } else {
-      // Sliding, the friction turned the motion back: the contact stopped within the sub-step.
-      stuck = slip.dot(pair.direction) < 0.0;
-    }
-    if (stuck == pair.stuck) continue;
-    // A contact revised before keeps that choice, unless made to stick and still beyond the
-    // cone: then it slides (no flip-flop between two solves).
-    auto known = std::find_if(friction_revised_.begin(), friction_revised_.end(),
-                              [&pair](const std::pair<int, bool>& r) { return r.first == pair.candidate; });
-    if (known == friction_revised_.end()) {
-      friction_revised_.push_back({pair.candidate, stuck});
-      revised = true;
-    } else if (known->second && !stuck) {
-      known->second = false;
-      revised = true;
-    }
+    if (relative.dot(pair.direction) >= -kFrictionReversal) continue;
+    friction_stuck_.push_back(pair.key);
+    revised = true;
   }
   return revised;
 }
 
 void Interactions::AdvanceFriction(const Points& dq, double h, State* state) {
-  auto moved = [&dq](int first, const std::array<double, 4>& w) {
+  auto window_motion = [&dq](int first, const std::array<double, 4>& w) {
     Vec3 m = Vec3::Zero();
     for (int i = 0; i < 4; ++i) m += w[i] * dq.row(first + i).transpose();
     return m;
@@ -137,14 +125,20 @@ void Interactions::AdvanceFriction(const Points& dq, double h, State* state) {
   const double kt = tangential_stiffness_;
   next_anchors_.clear();
   for (const FrictionPair& pair : friction_pairs_) {
-    Vec3 relative = moved(pair.first_a, pair.w_a);
-    if (pair.kind == ContactKind::kSelf) relative -= moved(pair.first_b, pair.w_b);
+    Vec3 relative = window_motion(pair.first_a, pair.w_a);
+    if (pair.kind == ContactKind::kSelf) relative -= window_motion(pair.first_b, pair.w_b);
     if (pair.kind == ContactKind::kTool) relative -= pair.lever * h * state->tools[pair.tool].tip_velocity;
-    Vec3 stretch = pair.stretch + relative - pair.normal.dot(relative) * pair.normal;
+    const Vec3 moved = relative - pair.normal.dot(relative) * pair.normal;
+    Vec3 stretch = pair.stretch + moved;
     const double size = kt * stretch.norm();
+    // The next sub-step starts as this one ended: a stuck spring pulled beyond the cone slides,
+    // a sliding contact that friction turned back sticks.
+    const bool sliding = pair.stuck ? size > pair.limit : moved.dot(pair.direction) >= 0.0;
     if (size > pair.limit) stretch *= pair.limit / size;
-    next_anchors_.push_back({pair.key, stretch});
+    next_anchors_.push_back({pair.key, stretch, sliding});
   }
+  friction_energy_ = 0.0;
+  for (const FrictionAnchor& anchor : next_anchors_) friction_energy_ += 0.5 * kt * anchor.stretch.squaredNorm();
   std::sort(next_anchors_.begin(), next_anchors_.end(),
             [](const FrictionAnchor& a, const FrictionAnchor& b) { return a.key < b.key; });
   state->friction.swap(next_anchors_);

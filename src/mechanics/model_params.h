@@ -68,7 +68,7 @@ struct ContactParams {
   /// where the contact stuck, capped by the cone; docs/contacts.md, "Friction"), or the
   /// regularized law, viscous below kFrictionSlip (kRegularized: RK4 always uses it).
   FrictionLaw friction_law = FrictionLaw::kStickSlip;
-  /// N/m: the stuck contact's tangential spring; 0: the normal stiffness.
+  /// N/m: the stuck contact's tangential spring; 0: a fifth of the normal stiffness.
   double tangential_stiffness = 0.0;
   double margin = -1.0;     ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
   /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own

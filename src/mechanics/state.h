@@ -25,6 +25,7 @@ struct ContactStats {
 struct FrictionAnchor {
   uint64_t key = 0;           ///< the pair: Interactions::FrictionKey(kind, a, b)
   Vec3 stretch = Vec3::Zero();  ///< m, in the contact's tangent plane when last stepped
+  bool sliding = false;         ///< it slid in the last sub-step (the next one starts so)
 };
 
 struct State {
