@@ -12,9 +12,8 @@
 //                              the pile sliding and settling, which takes until about 2.8 s).
 //                              The state is reset to the coil between iterations (not timed).
 //   BM_FallWholeLimiterOnly/n:N  the same with the impact limiter and the stiffening law alone
-//                              ([contacts] impact_constraints = false, spheres = "arc_length"): the
-//                              path before impacts were held inside the implicit solve (the
-//                              default now; until session 7 this row was BM_FallWholeHeld).
+//                              ([contacts] impact_constraints = false, spheres = "arc_length"),
+//                              without the impacts held inside the implicit solve (the default).
 //   BM_FallSettled/n:N/self:S  the settled pile: 3 simulated seconds of warm-up (not timed),
 //                              then one iteration = one step.
 // S = 1 is the scene as shipped; S = 0 turns self-contacts off (the plane stays) to show what
@@ -25,14 +24,14 @@
 //                              sub-step length; one iteration = the whole 5.5 s gesture. Counters
 //                              add p99_us (per step, thread CPU time), deepest_pct_r (deepest
 //                              pair at any step, % of the radius) and peak_force (N, on the hand).
-//   BM_PaperCoilFall/rate:R    the peers' benchmark (issue 10): bench/scenes/paper_coil.toml, the
+//   BM_PaperCoilFall/rate:R    the peers' benchmark: bench/scenes/paper_coil.toml, the
 //                              paper's 4 m, 250-point coil (EI 1.9e-3 N m^2) falling 30 cm, at
 //                              R Hz (the scene's sub-step length); one iteration = 2 simulated
 //                              seconds from the release (reset between iterations, not timed).
 //                              Counters add deepest_pct_r (deepest pair after any step, % of R),
 //                              deepest_at_s (when), end_pct_r (after the last step, at 2 s) and
 //                              x_pybullet: pybullet's CPU time per simulated second on this run
-//                              (2.46 s, from issue 10's table) over ours.
+//                              (2.46 s, from the requirements' table of peers) over ours.
 //   BM_CavityMesentery/term:T  scenes/cavity.toml settled, then one iteration = one
 //                              step (T = 0) or only the mesentery's force term with its
 //                              stiffness and damping blocks (T = 1, every tether taut: the
@@ -230,8 +229,9 @@ void BM_CavityClearing(benchmark::State& bench) {
   bench.counters["peak_force"] = peak;
 }
 
-// pybullet's capsule chain on the peers' benchmark, CPU seconds per simulated second: issue 10's
-// table (viscera 0.063 s, 39x faster). The fastest peer; MuJoCo's flex rod took 230x.
+// pybullet's capsule chain on the peers' benchmark, CPU seconds per simulated second: the
+// requirements' table of peers (viscera 0.063 s, 39x faster). The fastest peer; MuJoCo's flex
+// rod took 230x.
 constexpr double kPybulletSecondsPerSimulatedSecond = 0.063 * 39.0;
 
 void BM_PaperCoilFall(benchmark::State& bench) {

@@ -1,9 +1,10 @@
-// Would a direct solver of the coupled pairs beat the step's CG? (issue 10, item 1; figures and
-// the command in docs/contacts.md, "Why CG and not the alternatives").
+// Would a direct solver of the coupled pairs beat the step's CG? (the exact coupling of self
+// pairs; figures and the command in docs/contacts.md, "Why CG and not the alternatives").
 //
-// Runs the scenes the issue's cost rows are about, sub-step by sub-step as mechanics::Step does
-// (and checks at the end that Step's own run reaches the same state bit for bit), and after every
-// implicit sub-step takes the exact matrix A = A_s + w u u^T of that sub-step (exact_system.h):
+// Runs the scenes of the contact cost rows (docs/contacts.md, "Where it stands"), sub-step by
+// sub-step as mechanics::Step does (and checks at the end that Step's own run reaches the same
+// state bit for bit), and after every implicit sub-step takes the exact matrix A = A_s + w u u^T
+// of that sub-step (exact_system.h):
 //   sweep      every sub-step: the pairs, whether the pattern of A_s changed since the last
 //              sub-step, the step's CG iterations, and the cost of each way to solve A x = b:
 //                cg      the step's way: the band factor, its column solves (b, and u for the

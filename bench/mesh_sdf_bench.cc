@@ -1,7 +1,7 @@
 // Cost of building a mesh obstacle's distance field: scenes/cavity.toml's liver (scenes/liver.obj,
 // 320 triangles, as the scene scales and places it) sampled at `resolution` cells along its
-// longest side, by the brute force (every grid point against every triangle, what MeshSdf did
-// until session 7) and by the hierarchy MeshSdf uses now (collision/sdf_sampling.h). Both give
+// longest side, by the brute force (every grid point against every triangle, kept as the
+// reference) and by the hierarchy MeshSdf uses (collision/sdf_sampling.h). Both give
 // the same samples bit for bit (tests/collision/sdf_sampling_test.cc).
 //
 //   BM_LiverField/hierarchy:H/resolution:R   one iteration = the whole field; H = 0 brute

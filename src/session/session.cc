@@ -415,7 +415,7 @@ void Session::PublishSkeleton() {
   for (int i = 0; i < s.q.rows(); ++i) {
     for (int a = 0; a < 3; ++a) k.points[static_cast<size_t>(i)][a] = s.q(i, a);
   }
-  // collision spheres: equal spheres spread uniformly by arc length (DESIGN.md 1.2)
+  // collision spheres: equal spheres spread uniformly by arc length (docs/contacts.md, "Sphere chain")
   const double radius = model.params().radius;
   L.arc_table.Build(model.curve(), s.q);
   const double length = L.arc_table.total_length();

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Runs a command inside a private network namespace holding only loopback, with a
-# multicast route on lo (DESIGN.md section 5): nothing can leave this machine, and no
+# multicast route on lo: nothing can leave this machine, and no
 # other server on the host can answer. Usage: in_netns.sh COMMAND [ARGS...]
 set -eu
 if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Several "hosts" on one machine (DESIGN.md section 5): network namespaces joined by a bridge
+# Several "hosts" on one machine (docs/deployment.md): network namespaces joined by a bridge
 # with veth pairs, multicast routed only inside. viscerad runs on hosts 1 and 2, the load
 # tester on host 3; the test checks that the sessions spread over both servers and that poses
 # and forces flow between the hosts. The bridge's namespace has no other interface, so

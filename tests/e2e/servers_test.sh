@@ -1,6 +1,6 @@
 #!/bin/sh
 # End-to-end test of viscerad + `viscera servers` over real UDP multicast, inside a
-# private network namespace that holds only loopback (DESIGN.md section 5): nothing
+# private network namespace that holds only loopback: nothing
 # can leave this machine, and no other viscerad on the host can answer.
 # Usage: servers_test.sh found|none VISCERAD VISCERA
 set -eu

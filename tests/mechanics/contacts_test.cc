@@ -46,7 +46,7 @@ TEST(Contacts, FallSettlesOnItsPlaneWithoutSinkingIntoItOrItself) {
   const collision::SphereChain& chain = r.workspace->interactions()->chain();
   const double radius = chain.radius();
   const auto& spheres = chain.spheres();
-  // Tolerance from the issue: no sphere sinks by more than 20 % of the radius.
+  // Tolerance: no sphere sinks by more than 20 % of the radius.
   double lowest = 1.0, closest = 1.0;
   const int skip = static_cast<int>(std::floor(2.0 * radius / chain.spacing())) + 1;
   for (size_t a = 0; a < spheres.size(); ++a) {
@@ -116,7 +116,7 @@ TEST(Contacts, TheLimiterAloneNeverGainsEnergyOnTheShippedFallAndRerunsBitIdenti
   EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()), 0);
 }
 
-// Issue 10: no pair deeper than a tenth of the radius at the end of any step, on every shipped
+// The goal: no pair deeper than a tenth of the radius at the end of any step, on every shipped
 // scene with contacts, at its own rate and at 1 kHz, for 3 s from its start (the cavity from its
 // settled pile; the fall through its landing). A scene that starts with its tube overlapping
 // itself fails here: attached.toml's serpentine, with turns tighter than the tube (wavelength

@@ -1,8 +1,8 @@
-// Energy through an impact (issue 10: "energy on a 55 cm drop of scenes/fall.toml: +4 % in one
-// step at impact; goal: never grows without input"). The coil of scenes/fall.toml released with
-// its lowest point 55 cm above the plane (impact_test.cc's convention), no input: the total
-// energy (kinetic, gravity, elastic, contact) after each step must never exceed the step
-// before's by more than round-off, through the fall, the impact and the landing.
+// Energy through an impact (the goal: on a 55 cm drop of scenes/fall.toml the energy never grows
+// without input). The coil of scenes/fall.toml released with its lowest point 55 cm above the
+// plane (impact_test.cc's convention), no input: the total energy (kinetic, gravity, elastic,
+// contact) after each step must never exceed the step before's by more than round-off, through
+// the fall, the impact and the landing.
 #include <gtest/gtest.h>
 
 #include <cstdio>

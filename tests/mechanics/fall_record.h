@@ -1,7 +1,7 @@
 #pragma once
 // A fall without input, recorded step by step: the deepest pair and the total energy (kinetic,
 // gravity, elastic and contact: ComputeEnergies with the interactions) after every step. Used by
-// the issue-10 measurements of whole falls (the peers' benchmark, the 55 cm drop's energy).
+// the measurements of whole falls (the peers' benchmark, the 55 cm drop's energy).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -20,7 +20,7 @@ namespace {
 
 namespace reference {
 
-// The stretching energy's scalar code before its lanes (main 9c51277), with its scratch.
+// The stretching energy's scalar code before its lanes (commit 9c51277), with its scratch.
 struct Scratch {
   Points node_tangent;
   VecX node_speed;
@@ -169,7 +169,7 @@ double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Poin
 }
 
 
-// The springs' scalar code before its lanes (main 9c51277).
+// The springs' scalar code before its lanes (commit 9c51277).
 double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
                        BlockBand* K, BlockBand* D) {
   double energy = 0.0;

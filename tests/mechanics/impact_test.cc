@@ -1,6 +1,6 @@
 // Impacts: the coil of scenes/fall.toml dropped from 50 cm (it ships at ~5 cm), at every rate
 // a session may ask for. Measured by the deepest pair at the end of every step and the energy
-// of every step (no input after the release). Issue 10 asks for 10 % of the radius. The defaults
+// of every step (no input after the release). The goal is 10 % of the radius. The defaults
 // (impulses inside the implicit solve and spheres that follow the material, on top of the impact
 // limiter and the stiffening law) hold 6.3-8.7 %; the limiter and the law alone 12-17 % (from
 // 65-82 % without them). docs/contacts.md, "Impacts".
@@ -28,7 +28,7 @@ struct Drop {
   bool material = true;     // [contacts] spheres = "material" (the default)
 };
 
-// The impact limiter and the stiffening law alone (the defaults before session 7).
+// The impact limiter and the stiffening law alone (impact_constraints = false, spheres = "arc_length").
 Drop LimiterOnly(double rate_hz) {
   Drop d;
   d.rate_hz = rate_hz;

@@ -129,7 +129,7 @@ TEST(Mesentery, NoPartGoesFartherFromTheRootThanItsSlackWhileAToolPullsHard) {
   // farther from the root. Since the saturated coupling stopped bouncing the tip (it used to
   // yank the loop 36 mm past its slack), the attachments and the pile hold the free loop too:
   // 18.7 mm without, 15.1 mm with, so the control is only directional. A pull that separates them
-  // by the tolerance needs a loop the pile does not hold (open, issue 14).
+  // by the tolerance needs a loop the pile does not hold (not found yet).
   const PullRun free = Pull(false);
   std::printf("worst stretch past the slack: %.1f mm with the mesentery, %.1f mm without\n", run.worst_stretch * 1e3,
               free.worst_stretch * 1e3);

@@ -1,5 +1,5 @@
-// The peers' benchmark (issue 10): bench/scenes/paper_coil.toml, the paper's 4 m, 250-point coil
-// with EI = 1.9e-3 N m^2 falling 30 cm onto a plane, for 2 simulated seconds. Issue 10 asks for
+// The peers' benchmark: bench/scenes/paper_coil.toml, the paper's 4 m, 250-point coil
+// with EI = 1.9e-3 N m^2 falling 30 cm onto a plane, for 2 simulated seconds. The goal is
 // at most 10 % of R penetration at every step; the peers (pybullet, PyElastica) keep ~35 % of R.
 // Measured by the deepest pair at the end of every step, at every rate a session may ask for.
 #include <gtest/gtest.h>
@@ -62,7 +62,7 @@ TEST(PaperCoil, WithoutTheLimiterItSinksBeyondTheBound) {
   EXPECT_GT(r.Deepest(), 0.30) << Describe(r);  // twice the bound (47 % R)
 }
 
-// Issue 10's goal, with the defaults (impulses inside the implicit solve and spheres that follow
+// The goal, with the defaults (impulses inside the implicit solve and spheres that follow
 // the material): at most a tenth of the radius at every step and every rate (6.3-6.8 %), and no
 // step gains energy; the limiter alone reaches 10.1-13.0 % and 500 Hz gains 12 mJ in one step.
 TEST(PaperCoil, SinksAtMostATenthOfTheRadiusAtEveryStepAndRateAndNeverGainsEnergy) {

@@ -97,8 +97,8 @@ TEST_F(Tools, PushingGivesAnOpposingForceThatGrowsWithDepth) {
 
 // The tool coming down at 10 cm/s and pressing the tube into the table with the device's whole
 // 5 N, at 100 Hz and 1 kHz: the tube is trapped, so only the contact law stops the tool (measured:
-// 7.7 % of R at both rates). The control: the law linear everywhere (impact_depth = 0; tools'
-// contacts were linear until session 8) lets the tool sink by force / k (61 % of R at 1 kHz).
+// 7.7 % of R at both rates). The control: the law linear everywhere (impact_depth = 0) lets the
+// tool sink by force / k (61 % of R at 1 kHz).
 TEST_F(Tools, AToolPressingTheTubeIntoTheTableSinksAtMostATenthOfTheRadius) {
   auto deepest = [&](double rate_hz, double impact_depth, double* force) {
     ModelParams p = scene::ParseScene(kScene).model;

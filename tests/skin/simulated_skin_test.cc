@@ -58,7 +58,7 @@ TEST(SimulatedSkins, TheSettledPileGivesClosedSkinsWithTheTubesVolume) {
 
 // KNOWN FAILURE (ctest WILL_FAIL, tests/CMakeLists.txt). Missing capabilities, both needed:
 // a settled pile whose loops do not overlap (they sink into each other by ~17 % of R today,
-// and ring skins of overlapping loops must cross; issue 10 works on the sinking), and skins
+// and ring skins of overlapping loops must cross; docs/contacts.md), and skins
 // that do not cross themselves in bends tighter than R (ParametricSkinKnownFailure and
 // ConvolutionSkinKnownFailure). The implicit skin (one field, marching cubes) passes already.
 // When this starts passing, ctest reports a failure: drop the KnownFailure name then.

@@ -152,7 +152,7 @@ namespace {
 TEST(SoakRecords, OneRecordPerAnsweredSessionAndAtMostOneMorePerUnansweredCreate) {
   EXPECT_TRUE(RecordsAccountedFor(50, 50, 0));
   EXPECT_FALSE(RecordsAccountedFor(51, 50, 0));  // a record nobody asked for
-  EXPECT_TRUE(RecordsAccountedFor(51, 50, 1));   // the run of session 10: a lost reply
+  EXPECT_TRUE(RecordsAccountedFor(51, 50, 1));   // a loaded run's case: a lost reply
   EXPECT_TRUE(RecordsAccountedFor(50, 50, 1));   // the create itself was lost
   EXPECT_FALSE(RecordsAccountedFor(52, 50, 1));
   EXPECT_FALSE(RecordsAccountedFor(49, 50, 3));  // an answered session without its record
