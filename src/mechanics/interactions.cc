@@ -41,8 +41,8 @@ Interactions::Law Interactions::ContactLaw(double depth) const {
   const ContactParams& cp = model_.params().contacts;
   Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
   const double d1 = cp.impact_depth * radius_;
-  // Tools' contacts too: kept linear until session 8, a tool pressing a loop into the wall sank
-  // by its force over k (80 % of R at 5 N; docs/contacts.md, "Tools and haptics").
+  // Tools' contacts too: linear, a tool pressing a loop into the wall sank by its force over k
+  // (80 % of R at 5 N; docs/contacts.md, "Tools and haptics").
   if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
   const double s = (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
   const double e = depth - d1;
@@ -274,7 +274,9 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   const double fn = ContactLaw(p.depth).force - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
   p.slip = relative - vn * p.normal;
-  p.normal_force = fn;
+  // The friction cone's normal force is the penalty spring's alone: an impact's damping pushes
+  // for a sub-step, and a cone widened by it stored its closing speed in the stuck springs.
+  p.normal_force = std::min(fn, ContactLaw(p.depth).force);
   p.force = fn * p.normal;
   if (anchors_ == nullptr) {
     const double friction = Friction(c.kind) * std::max(fn, 0.0);

@@ -59,17 +59,12 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
     *k += kt * tangent;
     *d += ct * tangent;
   } else {
-    // mu f_n against the trial stretch, which h v_t already moved; the solve's K turns it with
-    // the rest of the motion, h (v_t' - v_t), so the start's force is the trial's plus K h v_t.
+    // mu f_n against the trial stretch (the stretch moved by h v_t), held over the sub-step:
+    // linearized, its turning with the motion is no longer dissipative (a slip that turned back
+    // within the sub-step got work from it: the shipped fall gained 1e-8 J a step).
     const double size = trial.norm();
     direction = size > 0.0 ? Vec3(trial / size) : Vec3(p->slip.normalized());
     force = -limit * direction;
-    if (size > 0.0) {
-      // At most k_t: a trial stretch that the motion nearly cancels would glue the pair sideways.
-      const Mat3 sideways = std::min(limit / size, kt) * (tangent - direction * direction.transpose());
-      force += sideways * (friction_h_ * p->slip);
-      *k += sideways;
-    }
   }
   p->force += force;
   const collision::Sphere& sa = chain_.spheres()[c.a];

@@ -1,5 +1,5 @@
 #pragma once
-/// Laparoscopic tools (France et al. 2005, Figure 4b; DESIGN.md 1.3): a shaft capsule from the
+/// Laparoscopic tools (France et al. 2005, Figure 4b): a shaft capsule from the
 /// trocar port to the tip, jaws at the tip. The device (a client) sets a target pose; the
 /// simulated tool follows it through a virtual coupling (spring-damper), so it cannot tunnel
 /// through tissue, and the coupling force is the force feedback.

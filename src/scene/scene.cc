@@ -346,6 +346,11 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
   const int stages = excess > 0.0 ? kTighten + 1 : 1;
   const int total_steps = static_cast<int>(std::lround(seconds * p->rate_hz));
   mechanics::State state = mechanics::InitialState(before);
+  // The settle stands for the minutes in which breathing and peristalsis lay the bowel where it
+  // rests: friction without a static phase, so that it creeps into the low places; the session
+  // then starts from that rest under Coulomb's law (docs/contacts.md, "Friction").
+  const mechanics::FrictionLaw law = p->contacts.friction_law;
+  p->contacts.friction_law = mechanics::FrictionLaw::kRegularized;
   for (int stage = 0; stage < stages; ++stage) {
     if (p->mesentery) p->mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
     const mechanics::Model model(*p);
@@ -358,6 +363,7 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
       mechanics::Step(model, {}, &state, &workspace);
     }
   }
+  p->contacts.friction_law = law;
   ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
   p->initial_q = state.q;
 }

@@ -15,19 +15,31 @@
 namespace viscera::mechanics {
 namespace {
 
-// A free 40 cm, 100 g tube along x at z = 0, and a tool whose shaft comes down from above and
-// whose tip stands beside the tube's middle.
-std::string Scene(double rate_hz) {
-  return R"(
+// A free tube along x at z = 0, and a tool whose shaft comes down from above and whose tip
+// stands beside the tube's middle. Two of them: a 40 cm, 100 g tube of 32 points pushed by a
+// slanted shaft, and a 30 cm, 80 g tube of 16 points with its self-contacts, pushed by a shaft
+// that stands upright over the tube's side.
+struct Setup {
+  double length, mass;
+  int points;
+  bool self;
+  Vec3 port;
+};
+const Setup kSlanted{0.4, 0.1, 32, false, Vec3(0.2, -0.05, 0.4)};
+const Setup kUpright{0.3, 0.08, 16, true, Vec3(0.15, -0.03, 0.3)};
+
+std::string Scene(const Setup& setup, double rate_hz) {
+  char text[1000];
+  std::snprintf(text, sizeof text, R"(
 [simulation]
-rate_hz = )" + std::to_string(rate_hz) + R"(
+rate_hz = %g
 integrator = "implicit"
 gravity = [0.0, 0.0, 0.0]
 [intestine]
-length = 0.4
+length = %g
 radius = 0.0125
-mass = 0.1
-control_points = 32
+mass = %g
+control_points = %d
 stretch_stiffness = 100.0
 bend_stiffness = 1.0e-4
 continuous_stretch = 0.2
@@ -38,13 +50,16 @@ kind = "straight"
 start = [0.0, 0.0, 0.0]
 direction = [1.0, 0.0, 0.0]
 [contacts]
-self = false
+self = %s
 [[tool]]
 name = "pusher"
-port = [0.2, -0.05, 0.4]
+port = [%g, %g, %g]
 radius = 0.0025
 max_force = 5.0
-)";
+)",
+                rate_hz, setup.length, setup.mass, setup.points, setup.self ? "true" : "false", setup.port.x(),
+                setup.port.y(), setup.port.z());
+  return text;
 }
 
 struct Push {
@@ -57,14 +72,14 @@ struct Push {
 // Pushes the tube's middle along +y at `speed` for long enough to move it 4 cm. The tube is
 // floppy: it drapes around the shaft, its ends trailing, so it is the pushed part that follows
 // the hand, and the whole tube's centre of mass that carries the hand's impulse.
-Push PushTube(double rate_hz, double speed, bool tips_in_solve) {
-  ModelParams params = scene::ParseScene(Scene(rate_hz)).model;
+Push PushTube(const Setup& setup, double rate_hz, double speed, bool tips_in_solve) {
+  ModelParams params = scene::ParseScene(Scene(setup, rate_hz)).model;
   params.contacts.tips_in_solve = tips_in_solve;
   const Model model(params);
   State state = InitialState(model);
   Workspace workspace(model);
   const double reach = params.radius + params.tools[0].radius;
-  const Vec3 start(0.2, -reach - 0.001, 0.0);  // 1 mm short of the tube's side
+  const Vec3 start(0.5 * setup.length, -reach - 0.001, 0.0);  // 1 mm short of the tube's side
   const double duration = 0.04 / speed + 0.1;
   const int steps = static_cast<int>(std::lround(duration * rate_hz));
   const double dt = 1.0 / rate_hz;
@@ -96,20 +111,24 @@ Push PushTube(double rate_hz, double speed, bool tips_in_solve) {
 }
 
 TEST(ToolThirdLaw, AFreeTubeFollowsThePushAndTheHandsImpulseIsItsMomentum) {
-  for (double rate : {100.0, 250.0, 1000.0}) {
-    for (double speed : {0.01, 0.08, 0.2, 0.5}) {
-      const Push p = PushTube(rate, speed, true);
-      std::printf("%6.0f Hz %4.0f cm/s: pushed part %.4f m/s (%.3f of the hand's; centre of mass %.3f), hand impulse %.5f N s, momentum %.5f N s\n",
-                  rate, 100 * speed, p.tube_speed, p.tube_speed / speed, p.centre_speed / speed, p.hand, p.momentum);
-      EXPECT_NEAR(p.tube_speed, speed, 0.1 * speed) << rate << " Hz, " << speed << " m/s: the tube did not follow";
-      EXPECT_NEAR(p.hand, p.momentum, 0.1 * std::abs(p.momentum)) << rate << " Hz, " << speed << " m/s";
+  for (const Setup& setup : {kSlanted, kUpright}) {
+    SCOPED_TRACE(setup.length);
+    for (double rate : {100.0, 250.0, 1000.0}) {
+      for (double speed : {0.01, 0.08, 0.2, 0.5}) {
+        const Push p = PushTube(setup, rate, speed, true);
+        std::printf("%2.0f cm tube, %6.0f Hz %4.0f cm/s: pushed part %.4f m/s (%.3f of the hand's; centre of mass %.3f), hand impulse %.5f N s, momentum %.5f N s\n",
+                    100 * setup.length, rate, 100 * speed, p.tube_speed, p.tube_speed / speed, p.centre_speed / speed, p.hand,
+                    p.momentum);
+        EXPECT_NEAR(p.tube_speed, speed, 0.1 * speed) << rate << " Hz, " << speed << " m/s: the tube did not follow";
+        EXPECT_NEAR(p.hand, p.momentum, 0.1 * std::abs(p.momentum)) << rate << " Hz, " << speed << " m/s";
+      }
     }
   }
 }
 
 TEST(ToolThirdLaw, WithTheTipInItsOwnCyclesTheContactLocksAt100Hz) {
   // The control: the tube's solve holds the tool still and the tip's cycles hold the tube still.
-  const Push p = PushTube(100.0, 0.1, false);
+  const Push p = PushTube(kSlanted, 100.0, 0.1, false);
   std::printf("own cycles, 100 Hz 10 cm/s: pushed part %.4f m/s, hand impulse %.5f N s, momentum %.5f N s\n", p.tube_speed,
               p.hand, p.momentum);
   EXPECT_LT(p.tube_speed, 0.9 * 0.1) << "the pushed part followed";
