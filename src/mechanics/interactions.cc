@@ -271,16 +271,18 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
   if (p.depth <= 0.0 && !speculative) return p;
   // Penalty spring and damping along the normal; friction: the regularized law here, or the
   // stick-slip law that AddForces adds (AddStickSlip).
-  const double fn = ContactLaw(p.depth).force - cp.damping * vn;
+  const double spring = ContactLaw(p.depth).force;
+  const double fn = spring - cp.damping * vn;
   if (fn <= 0.0 && !speculative) return p;
   p.slip = relative - vn * p.normal;
-  // The friction cone's normal force is the penalty spring's alone: an impact's damping pushes
-  // for a sub-step, and a cone widened by it stored its closing speed in the stuck springs.
-  p.normal_force = std::min(fn, ContactLaw(p.depth).force);
   p.force = fn * p.normal;
   if (anchors_ == nullptr) {
     const double friction = Friction(c.kind) * std::max(fn, 0.0);
     p.force -= (friction / std::max(p.slip.norm(), kFrictionSlip)) * p.slip;
+  } else {
+    // The friction cone's normal force is the penalty spring's alone: an impact's damping pushes
+    // for a sub-step, and a cone widened by it stored its closing speed in the stuck springs.
+    p.normal_force = std::min(fn, spring);
   }
   p.active = true;
   return p;
@@ -340,8 +342,13 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       }
     }
     if (!p.active) continue;
-    Mat3 friction_k = Mat3::Zero(), friction_d = Mat3::Zero();
-    if (anchors_ != nullptr) AddStickSlip(c, &p, &friction_k, &friction_d);
+    const bool stick_slip = anchors_ != nullptr;
+    Mat3 friction_k, friction_d;
+    if (stick_slip) {
+      friction_k.setZero();
+      friction_d.setZero();
+      AddStickSlip(c, &p, &friction_k, &friction_d);
+    }
     AddToWindow(c.a, p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
     if (self) AddToWindow(c.b, -p.force, F);
@@ -358,9 +365,14 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     // The regularized law's friction is viscous at the slip speed's slope (docs/contacts.md,
     // "Friction's slope"); stick-slip friction is a spring while stuck and a constant force
     // turning only sideways while sliding.
-    const Mat3 kn = law.slope * nn + friction_k;
-    const Mat3 dn = cp.damping * nn + (anchors_ != nullptr ? friction_d
-                                                           : Mat3((Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn)));
+    Mat3 kn = law.slope * nn;
+    Mat3 dn = cp.damping * nn;
+    if (stick_slip) {
+      kn += friction_k;
+      dn += friction_d;
+    } else {
+      dn += (Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+    }
     if (tool && tips_in_solve_) {
       // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
       // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.

@@ -184,7 +184,7 @@ class Interactions {
     double depth = 0.0;         // penetration (m), > 0 when active
     double clearance = 0.0;     // signed distance beyond contact (m)
     double lever = 1.0;         // tool contacts: fraction along the shaft from the port
-    double normal_force = 0.0;  // N, the normal law's (with its damping) when active
+    double normal_force = 0.0;  // N, stick-slip: the friction cone's normal force when active
     Vec3 slip = Vec3::Zero();   // tangential relative velocity (m/s) when active
   };
   // The penalty law at a penetration depth > 0: force (N), slope (N/m), stored energy (J).
