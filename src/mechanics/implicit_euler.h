@@ -70,6 +70,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// A solve still short of kCgTolerance after kMaxCgIterations goes on to this many; still
   /// short, its sub-step is done again as two halves (as the linearization guard does, at most
   /// kMaxHalvings deep); still short at that depth, it is accepted and counted (cg_unconverged).
+  /// ModelParams::cg_iteration_cap lowers it (tests).
   static constexpr int kMaxCgIterationsExtended = 4 * kMaxCgIterations;
   /// Solves that needed more than kMaxCgIterations, and sub-steps halved because a solve did not
   /// converge within kMaxCgIterationsExtended, in all.
