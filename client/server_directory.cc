@@ -26,6 +26,7 @@ void ServerDirectory::Observe(const viscera_proto::heartbeat_t& heartbeat) {
   info.rejected = heartbeat.rejected;
   info.record_free_bytes = heartbeat.record_free_bytes;
   info.not_ours = heartbeat.not_ours;
+  info.unconverged_solves = heartbeat.unconverged_solves;
   info.cores = heartbeat.cores;
   info.capacity = heartbeat.capacity;
   ++info.heartbeats;
@@ -69,6 +70,7 @@ nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers) {
                      {"rejected", s.rejected},
                      {"record_free_bytes", s.record_free_bytes},
                      {"not_ours", s.not_ours},
+                     {"unconverged_solves", s.unconverged_solves},
                      {"cores", s.cores},
                      {"capacity", s.capacity}});
   }

@@ -20,6 +20,7 @@ struct ServerInfo : bus::ServerLoad {
   int64_t rejected = 0;    ///< messages the server dropped since it started
   int64_t record_free_bytes = -1;  ///< on the server's record disk (-1: it records nothing)
   int64_t not_ours = 0;    ///< messages for sessions it does not run (not rejected)
+  int64_t unconverged_solves = 0;  ///< solves accepted short of tolerance, all its sessions
   int cores = 0;           ///< CPUs the server may run on (0: not announced)
   std::string capacity;    ///< why it holds max_sessions ("" : not announced)
 };
@@ -50,7 +51,8 @@ const ServerInfo* PickServer(const std::vector<ServerInfo>& servers);
 std::string ServersSummary(const std::vector<ServerInfo>& servers);
 
 /// A JSON array of objects (keys in this order): server_id, sessions, max_sessions, load,
-/// uptime_s, heartbeats, rejected, not_ours, cores, capacity.
+/// uptime_s, heartbeats, rejected, record_free_bytes, not_ours, unconverged_solves, cores,
+/// capacity.
 nlohmann::ordered_json ServersToJson(const std::vector<ServerInfo>& servers);
 
 /// A table with a header line, one line per server, columns aligned, then per server the

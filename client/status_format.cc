@@ -51,6 +51,7 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"messages_dropped", s.messages_dropped},
           {"nonfinite_dropped", s.nonfinite_dropped},
           {"record_failures", s.record_failures},
+          {"unconverged_solves", s.unconverged_solves},
           {"target_exposed", targets},
           {"frames", {{"skin", s.skin},
                       {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},
@@ -76,20 +77,21 @@ static std::string Whole(double v) {
 std::string StatusTable(const std::vector<session_status_t>& sessions) {
   std::string out;
   char line[768];
-  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s %7s  %s\n",
+  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s %7s %7s  %s\n",
                 "SESSION", "SCENE", "STATE", "SIM_TIME", "RATE_HZ", "MISSES", "P99_US", "FPS",
-                "REJECTED", "RECOVER", "LEASE", "LAST_ERROR");
+                "REJECTED", "RECOVER", "UNCONV", "LEASE", "LAST_ERROR");
   out += line;
   for (const session_status_t& s : sessions) {
     const std::string rate = Whole(s.achieved_rate_hz) + "/" + Whole(s.rate_hz);
     const std::string fps = s.frame_rate_hz > 0 ? Whole(s.achieved_frame_rate_hz) + "/" + Whole(s.frame_rate_hz) : "-";
     const std::string lease = s.lease_s > 0 ? Whole(s.lease_left_s) + "s" : "-";
-    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7s  %s\n",
+    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7lld %7s  %s\n",
                   static_cast<long long>(s.header.session_id), Printable(s.scene).c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),
                   static_cast<long long>(s.deadline_misses), s.step_cost_p99_us, fps.c_str(),
                   static_cast<long long>(s.rejected), static_cast<long long>(s.recoveries),
-                  lease.c_str(), Printable(s.last_error).c_str());
+                  static_cast<long long>(s.unconverged_solves), lease.c_str(),
+                  Printable(s.last_error).c_str());
     out += line;
   }
   return out;

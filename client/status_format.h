@@ -13,11 +13,12 @@ std::string StateName(int8_t state);
 
 /// Keys, in order: session, server_id, scene, state, sim_time (s), steps, rate_hz (achieved,
 /// Hz), configured_rate_hz, deadline_misses, jitter_p99_us, step_cost_p50_us,
-/// step_cost_p99_us, contacts, energy (J), tools, poses, rejected, recoveries, idle_events,
-/// last_error.
+/// step_cost_p99_us, step_wall_max_us, contacts, energy (J), tools, poses, rejected, replayed,
+/// lease_s, lease_left_s, recoveries, idle_events, messages_dropped, nonfinite_dropped,
+/// record_failures, unconverged_solves, target_exposed, frames, last_error.
 nlohmann::ordered_json StatusToJson(const viscera_proto::session_status_t& s);
 
-/// A header line and one line per session.
+/// A header line and one line per session (UNCONV: unconverged_solves).
 std::string StatusTable(const std::vector<viscera_proto::session_status_t>& sessions);
 
 }  // namespace viscera::client

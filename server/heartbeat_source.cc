@@ -73,6 +73,7 @@ viscera_proto::heartbeat_t HeartbeatSource::Next(int num_sessions, int64_t rejec
   msg.capacity = capacity_note_;
   msg.cores = 0;
   msg.not_ours = 0;
+  msg.unconverged_solves = 0;
 
   last_wall_ns_ = wall_ns;
   last_cpu_ns_ = cpu_ns;

@@ -135,6 +135,7 @@ void IoLoop::Run() {
         heartbeat.replayed = sessions_->replayed();
         heartbeat.cores = AvailableCores();
         heartbeat.not_ours = sessions_->not_ours();
+        heartbeat.unconverged_solves = sessions_->unconverged_solves();
         PutLimits(config_, &heartbeat);
         if (bus_->Publish(bus::kHeartbeatChannel, heartbeat)) {
           ++heartbeats_sent_;

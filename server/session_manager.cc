@@ -182,6 +182,12 @@ void SessionManager::StopAll() {
   num_sessions_ = 0;
 }
 
+int64_t SessionManager::unconverged_solves() const {
+  int64_t sum = ended_unconverged_solves_;
+  for (const auto& [id, running] : sessions_) sum += running.session->Status().unconverged_solves;
+  return sum;
+}
+
 session::Session* SessionManager::Find(int64_t id) {
   const auto it = sessions_.find(id);
   return it == sessions_.end() ? nullptr : it->second.session.get();
@@ -232,6 +238,7 @@ viscera_proto::session_status_t SessionManager::Retire(int64_t id) {
   if (it->second.exposure != nullptr) it->second.exposure->RequestStop();
   it->second.session->Stop();
   viscera_proto::session_status_t status = it->second.session->Status();
+  ended_unconverged_solves_ += status.unconverged_solves;
   retiring_.push_back(std::move(it->second));  // its render thread may be mid-frame
   sessions_.erase(it);
   num_sessions_ = static_cast<int>(sessions_.size());

@@ -94,6 +94,10 @@ class SessionManager {
   int64_t replayed() const { return replayed_.load(); }
   /// Sessions ended because their lease ran out.
   int64_t expired() const { return expired_.load(); }
+  /// Linear solves accepted short of their tolerance (session_status_t::unconverged_solves),
+  /// summed over the sessions running (as of their latest status) and those ended since start.
+  /// I/O thread only.
+  int64_t unconverged_solves() const;
 
  private:
   void Reply(const viscera_proto::session_request_t& request, int8_t result,
@@ -155,6 +159,7 @@ class SessionManager {
   std::atomic<int64_t> not_ours_{0};
   std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> expired_{0};
+  int64_t ended_unconverged_solves_ = 0;  // of the sessions retired (I/O thread)
   bus::ReplayGuard replay_;        // the request channel's senders
   bus::ReplayGuard replay_poses_;  // the pose channels': a pose flood cannot fill the other
   std::deque<int64_t> create_times_;  // creates accepted within the last minute (ns)

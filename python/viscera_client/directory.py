@@ -14,6 +14,7 @@ class ServerInfo:
     heartbeats: int = 0     # heard while listening
     rejected: int = 0       # messages the server dropped since it started
     not_ours: int = 0       # messages for sessions it does not run (not in rejected)
+    unconverged_solves: int = 0  # solves accepted short of tolerance, all its sessions since start
     cores: int = 0          # CPUs the server may run on (0: not announced)
     capacity: str = ""      # why it holds max_sessions (one line; "": not announced)
     limits: dict = field(default_factory=dict)  # max_rate_hz, max_session_load, ... (heartbeat)
@@ -39,6 +40,7 @@ def observe(servers, heartbeat):
     info.uptime_s = heartbeat.uptime_us * 1e-6
     info.rejected = heartbeat.rejected
     info.not_ours = getattr(heartbeat, "not_ours", 0)
+    info.unconverged_solves = getattr(heartbeat, "unconverged_solves", 0)
     info.cores = getattr(heartbeat, "cores", 0)
     info.capacity = getattr(heartbeat, "capacity", "")
     info.limits = {k: getattr(heartbeat, k) for k in LIMITS if hasattr(heartbeat, k)}

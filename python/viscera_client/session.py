@@ -64,6 +64,8 @@ class Status:
     rejected: int            #: messages of this session dropped as invalid
     lease_left_s: float      #: the session ends when this reaches 0 without client traffic
     last_error: str
+    #: linear solves accepted short of their tolerance since the session started (count)
+    unconverged_solves: int = 0
     raw: Any = field(repr=False, default=None)
 
     @classmethod
@@ -74,7 +76,8 @@ class Status:
                    sim_time=msg.sim_time, steps=msg.steps, rate_hz=msg.rate_hz,
                    achieved_rate_hz=msg.achieved_rate_hz, deadline_misses=msg.deadline_misses,
                    poses=msg.poses, rejected=msg.rejected, lease_left_s=msg.lease_left_s,
-                   last_error=msg.last_error, raw=msg)
+                   last_error=msg.last_error,
+                   unconverged_solves=getattr(msg, "unconverged_solves", 0), raw=msg)
 
     def __getattr__(self, name: str) -> Any:
         # only called for names the dataclass lacks: the message's other fields

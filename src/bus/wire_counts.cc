@@ -102,7 +102,8 @@ void Status(WireCursor& c) {
   for (int32_t i = 0; i < targets && c.ok(); ++i) c.String();
   c.Skip(static_cast<int64_t>(targets) * 3 * 8);  // exposed, max exposed, time to expose
   c.Skip(4 * 8);  // traction_force, traction_hold, regrasp_window, exposed_fraction
-  c.Skip(3 * 8);  // messages_dropped, nonfinite_dropped, record_failures
+  // messages_dropped, nonfinite_dropped, record_failures, unconverged_solves
+  c.Skip(4 * 8);
 }
 
 // Messages whose only arrays are the header's (and no strings).

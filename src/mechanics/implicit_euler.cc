@@ -233,7 +233,8 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   last_cg_stop_ = stop;
   cg_p_ = cg_z_;
   int it = 0;
-  while (it < kMaxCgIterationsExtended && rz > stop) {
+  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap : kMaxCgIterationsExtended;
+  while (it < cap && rz > stop) {
     ++it;
     MultiplyExact(cg_p_, &cg_q_);
     const double pq = cg_p_.dot(cg_q_);

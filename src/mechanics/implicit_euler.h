@@ -51,6 +51,11 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t bdf2_substeps() const { return bdf2_substeps_; }
   /// Whether that is done (on by default; off only to show it is needed, in tests).
   void set_impact_redo(bool on) { impact_redo_ = on; }
+  /// Whether impulses and depth corrections between parts of the tube, held inside the solve,
+  /// are kept from the momentum that the band system they act through gives them (it ties each
+  /// side of a self pair to the world; KeepPairsMomentum). On by default; off only to show it is
+  /// needed, in tests.
+  void set_impact_momentum_kept(bool on) { impact_momentum_kept_ = on; }
 
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
   /// damped explicit update). Should stay 0.
@@ -72,6 +77,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// A solve still short of kCgTolerance after kMaxCgIterations goes on to this many; still
   /// short, its sub-step is done again as two halves (as the linearization guard does, at most
   /// kMaxHalvings deep); still short at that depth, it is accepted and counted (cg_unconverged).
+  /// ModelParams::cg_iteration_cap lowers it (tests).
   static constexpr int kMaxCgIterationsExtended = 4 * kMaxCgIterations;
   /// Solves that needed more than kMaxCgIterations, and sub-steps halved because a solve did not
   /// converge within kMaxCgIterationsExtended, in all.
@@ -152,6 +158,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // One kind of end constraint on the velocity `base`: *delta = A^-1 J^T Λ (3N), or returns false
   // when no pair needs one.
   bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base, VecX* delta);
+  // delta (3N, from SolveEndConstraints on self pairs) less the momentum the band's excess on the
+  // pairs' common motion gave it (set_impact_momentum_kept).
+  void KeepPairsMomentum(double h, VecX* delta);
   // impact_columns_ from `first` to before `end` <- ApplyBandInverse of each.
   void ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end);
   // x (3N) <- J_i x, the normal speed of contact i.
@@ -212,6 +221,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;
   bool gravity_floor_ = true;
   bool impact_redo_ = true;
+  bool impact_momentum_kept_ = true;
   double weight_scale_ = 0.0;           // m |g|^2, m the whole tube's mass
   double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison

@@ -3,6 +3,7 @@
 // tube's stretching stiffness spreads a stopped sphere's correction along the chain.
 #include <algorithm>
 
+#include "mechanics/banded_cholesky.h"
 #include "mechanics/contact_impulses.h"
 #include "mechanics/implicit_euler.h"
 #include "mechanics/interactions.h"
@@ -13,6 +14,16 @@ namespace {
 // The set of contacts grows until the impulses leave no other pair beyond its bound; rarely
 // past two rounds.
 constexpr int kMaxImpactRounds = 4;
+
+// The tube's mass, 1^T M 1 (the sum of M's entries, from its upper band storage).
+double TotalMass(const Band& mass) {
+  const auto n = mass.rows();
+  double total = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (int d = 0; d <= kHalfBand && j + d < n; ++d) total += (d == 0 ? 1.0 : 2.0) * mass(j, d);
+  }
+  return total;
+}
 
 }  // namespace
 
@@ -85,8 +96,36 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
     impact_check_ = base + Eigen::Map<const Points>(delta->data(), n_, 3);
     any = true;
   }
-  if (any) impact_contacts_total_ += static_cast<int64_t>(impact_set_.size());
-  return any;
+  if (!any) return false;
+  impact_contacts_total_ += static_cast<int64_t>(impact_set_.size());
+  // Between two parts of a free tube an impulse moves no momentum to the world. Against an
+  // obstacle it does (and a translation would change that contact's speed); a tube held by pins,
+  // attachments, its mesentery or a tool gives the world momentum through them, and a translation
+  // would move it along those ties too.
+  const ModelParams& p = model_.params();
+  const bool free = model_.pins().empty() && p.attachments.empty() && !p.mesentery && p.tools.empty();
+  const bool only_self = std::all_of(impact_set_.begin(), impact_set_.end(),
+                                     [](const ImpactLimiter::Contact& c) { return c.b >= 0; });
+  if (impact_momentum_kept_ && free && only_self) KeepPairsMomentum(h, delta);
+  return true;
+}
+
+void ImplicitEulerIntegrator::KeepPairsMomentum(double h, VecX* delta) {
+  // delta = A^-1 J^T Λ through the band system, which holds each self pair's coupling H as 2 H
+  // on each side's own window: the exact matrix plus the pair's common mode (J_a + J_b)^T H
+  // (J_a + J_b), which ties the pair's common motion to the world. Summed over the points,
+  // A delta = J^T Λ gives M delta the momentum the exact matrix would (what the tube's other
+  // ties to the world take: mesentery, tools, drag) less the sum of that common mode's force,
+  // which no force gave: an arm hitting another at 1 kHz gained up to 1.5 times one arm's
+  // momentum from it (tests/mechanics/self_impact_momentum_test.cc). That momentum is taken out
+  // by a uniform velocity, which changes no pair's relative speed or gap: every constraint
+  // holds as solved.
+  if (interactions_->coupled_pairs() == 0) return;
+  interactions_->WeighCommonModes(-h * h, -h);  // backward Euler's, as the solve weighed them
+  impact_check_.setZero();                       // free after the rounds: scratch, no allocation
+  interactions_->AddCommonModeTerms(delta->data(), impact_check_.data());
+  const Vec3 drift = impact_check_.colwise().sum().transpose() / TotalMass(model_.mass_band());
+  for (int j = 0; j < n_; ++j) delta->segment<3>(3 * j) -= drift;
 }
 
 bool ImplicitEulerIntegrator::NeedsEndConstraints(double h, const Points& dq) {

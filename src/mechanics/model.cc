@@ -38,6 +38,7 @@ void ValidateMesentery(const MesenteryParams& m) {
 void Validate(const ModelParams& p) {
   RequirePositive("simulation.rate_hz", p.rate_hz);
   ThrowUnless(p.substeps >= 1, "simulation.substeps = ", p.substeps, ": must be >= 1");
+  ThrowUnless(p.cg_iteration_cap >= 0, "cg_iteration_cap = ", p.cg_iteration_cap, ": must be >= 0");
   ThrowUnless(p.gravity.allFinite(), "simulation.gravity must be finite");
   RequirePositive("intestine.length", p.length);
   RequirePositive("intestine.radius", p.radius);

@@ -110,6 +110,11 @@ struct ModelParams {
   /// Implicit integrator: BDF2 damps a free swing of frequency ω by O(h³ ω⁴), backward Euler by
   /// h ω² / 2 (docs/mechanics.md, "Integrators").
   ImplicitScheme implicit_scheme = ImplicitScheme::kBdf2;
+  /// Implicit integrator: the most conjugate-gradient iterations a linear solve may take before
+  /// it counts as not converged; 0: ImplicitEulerIntegrator::kMaxCgIterationsExtended (240).
+  /// Lowered only to drive solves down their unconverged path (the halvings, then a solve
+  /// accepted short and counted in State::unconverged_solves): tests, diagnosis.
+  int cg_iteration_cap = 0;
   Vec3 gravity{0.0, 0.0, -9.81};  ///< m/s^2
 
   // [intestine]

@@ -5,6 +5,7 @@
 #include <toml++/toml.h>
 
 #include "common/check.h"
+#include "mechanics/implicit_euler.h"
 #include "mechanics/step.h"
 #include "scene/camera_table.h"
 #include "scene/mesentery_table.h"
@@ -63,6 +64,13 @@ void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelPa
   p->implicit_scheme = r.Choice<mechanics::ImplicitScheme>(
       "implicit_scheme", {{"bdf2", mechanics::ImplicitScheme::kBdf2},
                           {"backward_euler", mechanics::ImplicitScheme::kBackwardEuler}});
+  // only ever lowered: a session may make its own solves cruder, never dearer
+  constexpr int kCap = mechanics::ImplicitEulerIntegrator::kMaxCgIterationsExtended;
+  if (r.Has("cg_iteration_cap")) {
+    p->cg_iteration_cap = r.Int("cg_iteration_cap");
+    ThrowUnless(p->cg_iteration_cap >= 1 && p->cg_iteration_cap <= kCap, "simulation.cg_iteration_cap = ",
+                p->cg_iteration_cap, ": expected 1..", kCap);
+  }
   r.Finish();
 }
 

@@ -461,6 +461,7 @@ void Session::PublishStatus(int64_t now_ns, bool summarize, int8_t new_state) {
     s.energy = mechanics::ComputeEnergies(*model_, st.q, st.qd).total();
     s.contacts = st.contacts.self + st.contacts.environment + st.contacts.tool;
     s.recoveries = L->stepper.recoveries();
+    s.unconverged_solves = st.unconverged_solves;  // the stepper keeps it through recoveries
     s.idle_events = L->idle_events;
     if (L->outbox != nullptr) {
       s.messages_dropped = L->outbox->dropped();

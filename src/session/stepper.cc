@@ -32,10 +32,12 @@ bool Stepper::Advance(std::span<const mechanics::ToolTarget> targets) {
   const double t = state_.t;
   const int64_t steps = state_.steps;
   const int64_t resets = state_.nonfinite_resets;
+  const int64_t unconverged = state_.unconverged_solves;
   state_ = last_good_;
   state_.t = t;
   state_.steps = steps;
   state_.nonfinite_resets = resets;
+  state_.unconverged_solves = unconverged;
   ++recoveries_;
   return true;
 }
@@ -44,10 +46,12 @@ void Stepper::Reset() {
   const double t = state_.t;
   const int64_t steps = state_.steps;
   const int64_t resets = state_.nonfinite_resets;
+  const int64_t unconverged = state_.unconverged_solves;
   state_ = mechanics::InitialState(model_);
   state_.t = t;
   state_.steps = steps;
   state_.nonfinite_resets = resets;
+  state_.unconverged_solves = unconverged;
   last_good_ = state_;
 }
 

@@ -3,6 +3,8 @@
 /// replay. It steps the model with the given tool targets and guards against blow-ups:
 /// a state (tube or tool forces) that is not finite or runs away (points beyond kMaxDistance or faster than
 /// kMaxSpeed) is replaced by the last good state, which is saved every kGoodEvery steps.
+/// The state's counters (steps, nonfinite_resets, unconverged_solves) carry on through a
+/// restore and a Reset: they count the whole run, never go back.
 /// Same model, same sequence of Advance / Reset calls -> the same states, bit for bit.
 #include <cstdint>
 #include <span>
@@ -25,10 +27,10 @@ class Stepper {
 
   /// One mechanics step with these targets (one per model tool, or empty to keep the
   /// previous ones). @return true when the step blew up and the last good state was
-  /// restored (its simulated time and step count carry on).
+  /// restored (its simulated time, step count and counters carry on).
   bool Advance(std::span<const mechanics::ToolTarget> targets);
 
-  /// Back to the model's starting state; time and step count carry on.
+  /// Back to the model's starting state; time, step count and counters carry on.
   void Reset();
 
   const mechanics::State& state() const { return state_; }

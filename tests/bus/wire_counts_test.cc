@@ -127,6 +127,39 @@ TEST(ArrayCountsFit, RefusesEveryArrayCountBeyondTheDatagram) {
   ExpectRefusesHostileCounts(record, 9);
 }
 
+// The counters appended at the end of session_status_t, inside a reply of several statuses: the
+// walk must step over every one of them (a walk that misses one reads the next status from the
+// wrong place and refuses every honest reply of two or more), and they decode intact.
+TEST(ArrayCountsFit, AReplysStatusesKeepTheirLastCounters) {
+  viscera_proto::session_reply_t reply{};
+  reply.header = MakeHeader(0, 0);
+  reply.num_sessions = 3;
+  for (int i = 0; i < 3; ++i) {
+    viscera_proto::session_status_t s = Status(i + 1);
+    s.messages_dropped = 11 + i;
+    s.nonfinite_dropped = 21 + i;
+    s.record_failures = 31 + i;
+    s.unconverged_solves = (int64_t{1} << 40) + i;
+    reply.sessions.push_back(s);
+  }
+  const auto bytes = Encode(reply);
+  ASSERT_TRUE(Fits<viscera_proto::session_reply_t>(bytes));
+  EXPECT_TRUE(CountsFitForFingerprint(bytes.data(), static_cast<int>(bytes.size())));
+  viscera_proto::session_reply_t decoded;
+  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(decoded.sessions.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(decoded.sessions[i].num_tools, i + 1);
+    EXPECT_EQ(decoded.sessions[i].record_failures, 31 + i);
+    EXPECT_EQ(decoded.sessions[i].unconverged_solves, (int64_t{1} << 40) + i);
+  }
+  // a status on its own: its walk ends exactly at the end (a byte more or less is refused)
+  const auto status = Encode(reply.sessions[2]);
+  EXPECT_TRUE(Fits<viscera_proto::session_status_t>(status));
+  const std::vector<uint8_t> short_by_one(status.begin(), status.end() - 1);
+  EXPECT_FALSE(Fits<viscera_proto::session_status_t>(short_by_one));
+}
+
 // LCM's string decode assigns length - 1 bytes: a zero length would ask for SIZE_MAX.
 TEST(ArrayCountsFit, RefusesAStringWithoutItsTerminator) {
   viscera_proto::heartbeat_t hb{};

@@ -17,6 +17,7 @@ viscera_proto::heartbeat_t Beat(const std::string& id, int sessions, float load,
   msg.uptime_us = 2'500'000;
   msg.cores = 2;
   msg.not_ours = 0;
+  msg.unconverged_solves = 0;
   msg.capacity = "";
   return msg;
 }
@@ -52,6 +53,7 @@ TEST(ServerDirectory, JsonAndTableListEveryServer) {
   viscera_proto::heartbeat_t alpha = Beat("alpha", 1, 0.5f, 0);
   alpha.capacity = "max 4 sessions: --max-sessions";
   alpha.not_ours = 7;
+  alpha.unconverged_solves = 5'000'000'000;  // beyond 32 bits
   directory.Observe(alpha);
   directory.Observe(Beat("a-much-longer-server-name", 2, 0.125f, 0));
   const auto servers = directory.Servers();
@@ -63,6 +65,8 @@ TEST(ServerDirectory, JsonAndTableListEveryServer) {
   EXPECT_EQ(json[1]["max_sessions"], 4);
   EXPECT_DOUBLE_EQ(json[1]["load"].get<double>(), 0.5);
   EXPECT_EQ(json[1]["not_ours"], 7);
+  EXPECT_EQ(json[1]["unconverged_solves"], 5'000'000'000);
+  EXPECT_EQ(json[0]["unconverged_solves"], 0);
   EXPECT_EQ(json[1]["cores"], 2);
   EXPECT_EQ(json[1]["capacity"], "max 4 sessions: --max-sessions");
 

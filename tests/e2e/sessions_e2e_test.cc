@@ -29,6 +29,7 @@
 #include "session/replay.h"
 #include "tests/common/eventually.h"
 #include "tests/e2e/e2e_harness.h"
+#include "tests/session/test_scenes.h"
 
 namespace viscera::e2e {
 namespace {
@@ -324,6 +325,48 @@ TEST(SessionsE2E, AMechanicalBlowUpIsRecoveredAndReported) {
   const json sg = Status(dir, good);
   EXPECT_EQ(sg["state"], "running");
   EXPECT_EQ(sg["recoveries"], 0);
+}
+
+// Solves accepted short of their tolerance (a scene that caps CG at one iteration): counted in
+// the session's status (JSON and table) and in the server's heartbeat, which keeps an ended
+// session's count.
+TEST(SessionsE2E, UnconvergedSolvesReachTheStatusAndTheServersHeartbeat) {
+  const std::string dir = ScratchDir();
+  const std::string coiled = dir + "/coiled.toml";
+  std::ofstream(coiled) << session::testing::UnconvergedSceneToml();
+  Daemon daemon("e2e-u", {"--max-session-load", "0"}, dir);
+  const int64_t id = Create(dir, "--scene-file " + coiled)["session"].get<int64_t>();
+  const json s = StatusWhen(dir, id, [](const json& s) { return s["unconverged_solves"].get<int64_t>() > 0; });
+  const int64_t seen = s["unconverged_solves"].get<int64_t>();
+
+  // the table: its UNCONV column, after RECOVER
+  const CliResult table = Viscera(dir, "status " + std::to_string(id));
+  ASSERT_EQ(table.rc, 0);
+  std::istringstream lines(table.out);
+  std::string header, row;
+  std::getline(lines, header);
+  std::getline(lines, row);
+  EXPECT_NE(header.find("RECOVER  UNCONV"), std::string::npos) << table.out;
+  std::istringstream fields(row);
+  std::vector<std::string> columns;
+  for (std::string f; fields >> f;) columns.push_back(f);
+  ASSERT_GE(columns.size(), 12u) << table.out;
+  EXPECT_GE(std::stoll(columns[10]), seen) << table.out;
+
+  // the heartbeat: at least what the status said, and no less once the session has ended
+  const auto server_count = [&] {
+    const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
+    return r.rc == 0 && !r.json().empty() ? r.json()[0]["unconverged_solves"].get<int64_t>() : int64_t{-1};
+  };
+  int64_t heard = -1;
+  EXPECT_TRUE(Eventually([&] { return (heard = server_count()) >= seen; }, 30.0)) << heard << " < " << seen;
+  const CliResult destroyed = Viscera(dir, "destroy " + std::to_string(id) + " --json");
+  ASSERT_EQ(destroyed.rc, 0);
+  const int64_t final_count = destroyed.json()["status"]["unconverged_solves"].get<int64_t>();
+  EXPECT_GE(final_count, seen);
+  EXPECT_TRUE(Eventually([&] { return (heard = server_count()) == final_count; }, 30.0))
+      << "the ended session's " << final_count << ", heard " << heard;
+  EXPECT_EQ(daemon.Stop(), 0);
 }
 
 TEST(SessionsE2E, WithAPreSharedKeyOnlyKeyHoldersCreateOrDrive) {

@@ -1,6 +1,7 @@
 """Unit tests of the Python client's parts that need no network: the MAC (against its
 definition and by tampering), the fast partial decoders (against lcm-gen's full decode),
 placement, and the load tester's statistics."""
+import dataclasses
 import hashlib
 import hmac
 import random
@@ -8,7 +9,8 @@ import struct
 import unittest
 
 import viscera_proto
-from viscera_client import MessageAuth, ServerInfo, make_header, pick_server, report_from_status
+from viscera_client import MessageAuth, ServerInfo, Status, make_header, pick_server, report_from_status
+from viscera_client.directory import observe
 from viscera_client.auth import mac_len_offset
 from viscera_client.fast import force_echo, frame_times
 from viscera_client.load.stats import SeqCounter, latency_summary, percentile
@@ -173,6 +175,29 @@ class AssessmentTest(unittest.TestCase):
                           r["tools"][0]["regrasps"]), (2, 3, 1))
         self.assertEqual(r["targets"][0]["time_to_expose_s"], 2.0)
         self.assertIsNone(r["targets"][1]["time_to_expose_s"])  # not exposed: null, as in C++
+
+
+class SolverCountTest(unittest.TestCase):
+    def test_status_carries_unconverged_solves_through_the_wire(self):
+        s = viscera_proto.session_status_t()
+        s.header = make_header(9, 0)
+        s.scene, s.state, s.unconverged_solves, s.record_failures = "fall", s.kRunning, 37, 2
+        status = Status.from_message(viscera_proto.session_status_t.decode(s.encode()))
+        # a field of the dataclass itself (in its repr and fields), not only read through `raw`
+        self.assertIn("unconverged_solves", [f.name for f in dataclasses.fields(Status)])
+        self.assertEqual(status.__dict__["unconverged_solves"], 37)
+        self.assertEqual(status.unconverged_solves, 37)
+        self.assertEqual(status.record_failures, 2)  # the field before it, read through raw
+
+    def test_heartbeat_carries_the_servers_total(self):
+        hb = viscera_proto.heartbeat_t()
+        hb.header = make_header(0, 0)
+        hb.server_id, hb.num_sessions, hb.max_sessions = "a", 1, 4
+        hb.not_ours, hb.unconverged_solves = 3, 1234567890123
+        servers = {}
+        observe(servers, viscera_proto.heartbeat_t.decode(hb.encode()))
+        self.assertEqual(servers["a"].unconverged_solves, 1234567890123)
+        self.assertEqual(servers["a"].not_ours, 3)
 
 
 if __name__ == "__main__":

@@ -87,9 +87,11 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
 TEST(Scene, ReadsEverySimulationKey) {
   const Scene s = ParseScene("[simulation]\nrate_hz = 500\nsubsteps = 3\nintegrator = \"implicit\"\n"
                              "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\nlinearization_guard = false\n"
-                             "implicit_scheme = \"backward_euler\"\n" +
+                             "implicit_scheme = \"backward_euler\"\ncg_iteration_cap = 3\n" +
                              kIntestine);
   EXPECT_EQ(s.model.rate_hz, 500.0);
+  EXPECT_EQ(s.model.cg_iteration_cap, 3);
+  EXPECT_EQ(ParseScene(kIntestine).model.cg_iteration_cap, 0);  // the default: the integrator's 240
   EXPECT_EQ(s.model.implicit_scheme, mechanics::ImplicitScheme::kBackwardEuler);
   EXPECT_EQ(ParseScene(kIntestine).model.implicit_scheme, mechanics::ImplicitScheme::kBdf2);  // the default
   EXPECT_FALSE(s.model.linearization_guard);
@@ -113,6 +115,9 @@ TEST(Scene, WrongTypesAreNamedWithTheirValue) {
   ExpectError("[simulation]\nintegrator = \"euler\"\n" + kIntestine, {"simulation.integrator", "euler", "rk4"});
   ExpectError("[simulation]\nlinearization_guard = 1\n" + kIntestine, {"simulation.linearization_guard"});
   ExpectError("[simulation]\nimplicit_scheme = \"bdf3\"\n" + kIntestine, {"simulation.implicit_scheme", "bdf3", "bdf2"});
+  // lowered only: a scene may not make its solves dearer than the shipped 240 iterations
+  ExpectError("[simulation]\ncg_iteration_cap = 241\n" + kIntestine, {"simulation.cg_iteration_cap", "241", "1..240"});
+  ExpectError("[simulation]\ncg_iteration_cap = 0\n" + kIntestine, {"simulation.cg_iteration_cap", "0", "1..240"});
 }
 
 TEST(Scene, NonFiniteAndOutOfRangeValuesAreRejected) {

@@ -15,7 +15,9 @@
 #include "bus/channels.h"
 #include "bus/header.h"
 #include "common/clock.h"
+#include "tests/common/eventually.h"
 #include "tests/server/manager_fixture.h"
+#include "tests/session/test_scenes.h"
 
 namespace viscera::server {
 namespace {
@@ -393,6 +395,42 @@ TEST_F(SessionManagerTest, TrafficForOtherServersSessionsIsNotRejected) {
   EXPECT_EQ(Ask(Request(42)).result, R::kBadRequest);
   EXPECT_EQ(manager_->rejected(), 2);
   EXPECT_EQ(manager_->not_ours(), 2);
+}
+
+// The heartbeat's unconverged_solves: the sessions' counts summed, those running (as of their
+// latest status) and those ended, so that it never goes back when a session ends.
+TEST_F(SessionManagerTest, UnconvergedSolvesAreSummedOverRunningAndEndedSessions) {
+  using R = viscera_proto::session_reply_t;
+  using Q = viscera_proto::session_request_t;
+  const auto pump = [&] {
+    bus_.Drain();
+    manager_->Poll();
+  };
+  int64_t ended = 0;
+  for (int round = 0; round < 2; ++round) {
+    auto create = Request(Q::kCreate);
+    create.scene_toml = session::testing::UnconvergedSceneToml();
+    const R created = Ask(create);
+    ASSERT_EQ(created.result, R::kOk) << created.message;
+    const int64_t id = created.header.session_id;
+    int64_t running = 0;
+    ASSERT_TRUE(viscera::testing::Eventually([&] {
+      const R status = Ask(Request(Q::kStatus, id));
+      running = status.num_sessions == 1 ? status.sessions[0].unconverged_solves : 0;
+      return running > 0;
+    }, 30.0, pump));
+    EXPECT_GE(manager_->unconverged_solves(), ended + running);  // its status may have moved on since
+    auto destroy = Request(Q::kDestroy, id);
+    destroy.header.token = created.header.token;
+    destroy.header.token_len = 16;
+    const R destroyed = Ask(destroy);
+    ASSERT_EQ(destroyed.result, R::kOk);
+    ASSERT_EQ(destroyed.num_sessions, 1);
+    EXPECT_GE(destroyed.sessions[0].unconverged_solves, running);  // the final status: never less
+    ended += destroyed.sessions[0].unconverged_solves;
+    EXPECT_EQ(manager_->num_sessions(), 0);
+    EXPECT_EQ(manager_->unconverged_solves(), ended) << "round " << round;
+  }
 }
 
 }  // namespace

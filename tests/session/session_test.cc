@@ -245,6 +245,48 @@ TEST(Session, ABlowUpIsRecoveredCountedAndReported) {
   EXPECT_TRUE(std::isfinite(s.energy));
 }
 
+// Solves that stay short of their tolerance (one CG iteration allowed) are counted in the status,
+// and the count only grows, through to the final status.
+TEST(Session, UnconvergedSolvesAreReportedInItsStatus) {
+  bus::LcmBus bus("memq://");
+  std::vector<session_status_t> statuses;
+  bus.Subscribe<session_status_t>(bus::SessionChannel(bus::kStatusPrefix, kId),
+                                  [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
+  Session session(Config(), testing::UnconvergedModel(), &bus, nullptr);
+  session.Start();
+  const auto pump = [&] { bus.Pump(2); };
+  ASSERT_TRUE(Eventually([&] { return !statuses.empty() && statuses.back().unconverged_solves > 0; }, 30.0, pump));
+  session.Stop();
+  bus.Drain();
+  ASSERT_EQ(statuses.back().state, session_status_t::kStopped);
+  EXPECT_GT(statuses.back().unconverged_solves, 0);
+  EXPECT_EQ(session.Status().unconverged_solves, statuses.back().unconverged_solves);
+  for (size_t i = 1; i < statuses.size(); ++i) {
+    EXPECT_GE(statuses[i].unconverged_solves, statuses[i - 1].unconverged_solves) << "status " << i;
+  }
+}
+
+// A blow-up restores the last good state (here the start, every step: the coil runs away under
+// 1e6 m/s²); the solves counted in the steps that blew up stay counted.
+TEST(Session, ABlowUpKeepsItsUnconvergedSolvesCounted) {
+  bus::LcmBus bus("memq://");
+  std::vector<session_status_t> statuses;
+  bus.Subscribe<session_status_t>(bus::SessionChannel(bus::kStatusPrefix, kId),
+                                  [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
+  Session session(Config(), testing::UnconvergedModel(-1e6), &bus, nullptr);
+  session.Start();
+  const auto pump = [&] { bus.Pump(2); };
+  ASSERT_TRUE(Eventually([&] { return statuses.size() >= 3 && statuses.back().recoveries >= 3; }, 30.0, pump));
+  session.Stop();
+  bus.Drain();
+  const session_status_t last = statuses.back();
+  EXPECT_GE(last.recoveries, 3);
+  EXPECT_GE(last.unconverged_solves, last.recoveries) << "each step that blew up had unconverged solves";
+  for (size_t i = 1; i < statuses.size(); ++i) {
+    EXPECT_GE(statuses[i].unconverged_solves, statuses[i - 1].unconverged_solves) << "status " << i;
+  }
+}
+
 // Copies the record at `from` to `to`, changing the last bit of force[2] in its
 // `which`-th force message: a replay must notice.
 void CopyWithOneForceBitFlipped(const std::string& from, const std::string& to, int which) {

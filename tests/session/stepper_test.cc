@@ -63,5 +63,41 @@ TEST(Stepper, ABlowUpRestoresTheLastGoodStateAndIsCounted) {
   EXPECT_LE(s.state().q.rowwise().norm().maxCoeff(), Stepper::kMaxDistance);
 }
 
+// The coiled scene's solves with one CG iteration: counted, and the count carries on through a
+// reset, as the step count does (a session's count never goes back).
+TEST(Stepper, UnconvergedSolvesAreCountedAndAResetKeepsTheCount) {
+  const auto model = testing::UnconvergedModel();
+  Stepper s(*model);
+  for (int k = 0; k < 5; ++k) s.Advance({});
+  const int64_t counted = s.state().unconverged_solves;
+  EXPECT_GT(counted, 0);
+  s.Reset();
+  EXPECT_EQ(s.state().unconverged_solves, counted);
+  s.Advance({});
+  EXPECT_GT(s.state().unconverged_solves, counted);
+  // the same coil with the shipped cap converges: the count is the cap's doing
+  const mechanics::Model shipped(scene::ParseScene(testing::CoiledSceneToml(), "coiled").model);
+  Stepper t(shipped);
+  for (int k = 0; k < 5; ++k) {
+    t.Advance({});
+    EXPECT_GT(t.state().contacts.self, 0) << "the turns press on each other";
+  }
+  EXPECT_EQ(t.state().unconverged_solves, 0);
+}
+
+// Every step of the coil under 1e6 m/s² runs away and is replaced by the last good state (the
+// start); the solves it counted before it ran away stay counted.
+TEST(Stepper, ARecoveryKeepsTheUnconvergedSolvesCounted) {
+  const auto model = testing::UnconvergedModel(-1e6);
+  Stepper s(*model);
+  int64_t last = 0;
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_TRUE(s.Advance({})) << "step " << k << " was meant to run away";
+    EXPECT_GT(s.state().unconverged_solves, last) << "step " << k;
+    last = s.state().unconverged_solves;
+  }
+  EXPECT_EQ(s.recoveries(), 5);
+}
+
 }  // namespace
 }  // namespace viscera::session

@@ -45,6 +45,33 @@ inline std::string UnstableSceneToml() {
          "amplitude = 0.05\nwavelength = 0.2\n";
 }
 
+/// A 0.5 m tube coiled tighter than its diameter (its turns press on each other from the start:
+/// self pairs in every implicit solve), falling under `gravity_z` (m/s²) onto a floor.
+inline std::string CoiledSceneToml(double gravity_z = -9.81) {
+  return "[simulation]\nrate_hz = 100\nintegrator = \"implicit\"\ngravity = [0.0, 0.0, " + std::to_string(gravity_z) +
+         "]\n[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.125\ncontrol_points = 40\n"
+         "stretch_stiffness = 100.0\nbend_stiffness = 1.0e-4\ncontinuous_stretch = 0.5\n"
+         "damping = 0.5\nspring_damping = 2.0\n"
+         "[intestine.shape]\nkind = \"helix\"\ncenter = [0.0, 0.0, 0.05]\naxis = [0.0, 0.0, 1.0]\n"
+         "radius = 0.03\npitch = 0.02\n"
+         "[[obstacle]]\nkind = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n";
+}
+
+/// The coiled scene with its conjugate gradients capped at one iteration ([simulation]
+/// cg_iteration_cap): a solve with self pairs falls short of its tolerance, is halved to the
+/// deepest and accepted short, and counted (State::unconverged_solves). With a gravity of
+/// -1e6 m/s² every step also runs away (a blow-up).
+inline std::string UnconvergedSceneToml(double gravity_z = -9.81) {
+  std::string toml = CoiledSceneToml(gravity_z);
+  const std::string simulation = "[simulation]\n";
+  toml.insert(simulation.size(), "cg_iteration_cap = 1\n");
+  return toml;
+}
+
+inline std::shared_ptr<const mechanics::Model> UnconvergedModel(double gravity_z = -9.81) {
+  return std::make_shared<const mechanics::Model>(scene::ParseScene(UnconvergedSceneToml(gravity_z), "coiled").model);
+}
+
 /// The small scene's model with `num_tools` tools (added in code: the [[tool]] scene key
 /// belongs to the mechanics work), each idle after `idle_timeout` s.
 inline std::shared_ptr<const mechanics::Model> SmallModel(int num_tools, double rate_hz = 100.0,
