@@ -103,6 +103,7 @@ Interactions::Interactions(const Model& model)
   friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
   friction_stuck_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  friction_slid_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);
 }
 

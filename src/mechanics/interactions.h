@@ -121,6 +121,7 @@ class Interactions {
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);
   void ClearTipReleases() {
     friction_stuck_.clear();
+    friction_slid_.clear();
     tip_released_.clear();
     tip_stiffened_.clear();
     tip_activated_.clear();
@@ -145,12 +146,16 @@ class Interactions {
   /// After a solve whose end velocities are v + dv (#N by 3, dv's 3N values) and, for the tips,
   /// their start velocities plus tip_dv (3 per tool; nullptr: none): a sliding contact that the
   /// friction turned back faster than kFrictionReversal sticks in the next solve of the same
-  /// sub-step (a constant force that overshoots would do work: energy from nothing). Says whether
-  /// any did. ClearTipReleases also starts a sub-step with every contact as its start has it.
+  /// sub-step (a constant force that overshoots would do work: energy from nothing), and a stuck
+  /// one held far beyond the cone (kFrictionOverload) slides. Says whether any changed. ClearTipReleases also starts a sub-step with every contact as its start has it.
   bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
   /// m/s: a slower reversal is left to the next sub-step, which starts it stuck (its energy,
   /// m v^2 / 2, is below 1e-9 J for a 10 g contact).
   static constexpr double kFrictionReversal = 5e-4;
+  /// A stuck contact whose spring and damper end the sub-step beyond this many times the cone
+  /// slides in the next solve of the same sub-step (closer to the cone, it slides from the next
+  /// sub-step on: a resting pile has many contacts at the cone's edge).
+  static constexpr double kFrictionOverload = 2.0;
   /// A stuck contact's tangential spring, as a share of the normal stiffness (unless the scene
   /// sets contacts.tangential_stiffness): stiff enough that a contact moves only micrometres
   /// before it slides (mu f_n / k_t), soft enough that a stuck pair turning within a 10 ms
@@ -371,6 +376,7 @@ class Interactions {
   };
   std::vector<FrictionPair> friction_pairs_;
   std::vector<uint64_t> friction_stuck_;  // pairs ReviseFriction made stick in this sub-step
+  std::vector<uint64_t> friction_slid_;   // ... and slide
   std::vector<FrictionAnchor> next_anchors_;
   std::vector<Vec3> hand_impulse_;
   std::vector<double> hand_time_;

@@ -50,7 +50,8 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
   // if its trial force is within the cone. (The trial from the start's speed is a poor guess at
   // 100 Hz: k_t h v_t exceeds the cone at 2 mm/s, and contacts that friction stops within a
   // sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at mu 0.3.)
-  const bool stuck = (anchored ? !found->sliding : (kt * trial + ct * p->slip).norm() <= limit) ||
+  const bool stuck = ((anchored ? !found->sliding : (kt * trial + ct * p->slip).norm() <= limit) &&
+                      std::find(friction_slid_.begin(), friction_slid_.end(), key) == friction_slid_.end()) ||
                      std::find(friction_stuck_.begin(), friction_stuck_.end(), key) != friction_stuck_.end();
   Vec3 force, direction = Vec3::Zero();
   if (stuck) {
@@ -94,15 +95,26 @@ bool Interactions::ReviseFriction(const Points& v, const double* dv, const doubl
     for (int i = 0; i < 4; ++i) m += w[i] * (v.row(first + i).transpose() + Eigen::Map<const Vec3>(dv + 3 * (first + i)));
     return m;
   };
+  const double kt = tangential_stiffness_;
+  const double ct = model_.params().contacts.damping;
   bool revised = false;
   for (const FrictionPair& pair : friction_pairs_) {
-    if (pair.stuck) continue;
     Vec3 relative = window_velocity(pair.first_a, pair.w_a);
     if (pair.kind == ContactKind::kSelf) relative -= window_velocity(pair.first_b, pair.w_b);
     if (pair.kind == ContactKind::kTool) {
       Vec3 tip = tool_velocity_[pair.tool];
       if (tip_dv != nullptr) tip += Eigen::Map<const Vec3>(tip_dv + 3 * pair.tool);
       relative -= pair.lever * tip;
+    }
+    if (pair.stuck) {
+      // Held stuck, the contact pushed well beyond the cone over the sub-step (a launched loop's
+      // stuck springs stopped it dead): it slides.
+      const Vec3 slip = relative - pair.normal.dot(relative) * pair.normal;
+      if ((kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm() <= kFrictionOverload * pair.limit) continue;
+      if (std::find(friction_slid_.begin(), friction_slid_.end(), pair.key) != friction_slid_.end()) continue;
+      friction_slid_.push_back(pair.key);
+      revised = true;
+      continue;
     }
     if (relative.dot(pair.direction) >= -kFrictionReversal) continue;
     friction_stuck_.push_back(pair.key);

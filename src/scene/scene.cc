@@ -90,8 +90,8 @@ double Positive(const TomlReader& r, const std::string& key, double fallback) {
   return r.Has(key) ? Positive(r, key) : r.Double(key, fallback);
 }
 
-// A tool parameter within [lo, hi]: what a haptic device and the coupling can render. A
-// stiffness of 1e308 or a mass of 1e-300 made every force sent non-finite.
+// A parameter within [lo, hi]: for a tool, what a haptic device and the coupling can render (a
+// stiffness of 1e308 or a mass of 1e-300 made every force sent non-finite).
 double Within(const TomlReader& r, const std::string& key, double fallback, double lo, double hi,
               const char* unit) {
   const double v = r.Double(key, fallback);
@@ -287,15 +287,17 @@ void ReadContacts(const toml::table& root, const SceneLimits& limits, ModelParam
   ThrowUnless(node->is_table(), "contacts: expected a table [contacts]");
   const TomlReader r(*node->as_table(), "contacts");
   c.self = r.Bool("self", true);
-  c.stiffness = Positive(r, "stiffness", c.stiffness);
-  c.damping = NonNegative(r, "damping", c.damping);
+  // Bounded by what the contacts can hold: at 1e6 N/m every closing pair is an impact, and the
+  // impulses' dense system over thousands of them took 7 GB and minutes per step.
+  c.stiffness = Within(r, "stiffness", c.stiffness, 1.0, 1e5, "N/m");
+  c.damping = Within(r, "damping", c.damping, 0.0, 1e3, "N s/m");
   c.friction = NonNegative(r, "friction", c.friction);
   c.self_friction = NonNegative(r, "self_friction", c.self_friction);
   c.tool_friction = NonNegative(r, "tool_friction", c.tool_friction);
   c.friction_law = r.Choice<mechanics::FrictionLaw>(
       "friction_law", {{"stick_slip", mechanics::FrictionLaw::kStickSlip}, {"regularized", mechanics::FrictionLaw::kRegularized}},
       c.friction_law);
-  c.tangential_stiffness = NonNegative(r, "tangential_stiffness", c.tangential_stiffness);
+  c.tangential_stiffness = Within(r, "tangential_stiffness", c.tangential_stiffness, 0.0, 1e5, "N/m");
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
   ThrowUnless(limits.max_margin_radii <= 0.0 || c.margin <= limits.max_margin_radii * p->radius, "contacts.margin = ",
               c.margin, " m: above this server's limit of ", limits.max_margin_radii, " tube radii (",

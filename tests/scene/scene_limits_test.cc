@@ -96,5 +96,17 @@ TEST(SceneLimits, ToolParametersAreRangeChecked) {
             std::string::npos);
 }
 
+TEST(SceneLimits, ContactParametersAreRangeChecked) {
+  // At 1e6 N/m every closing pair of a falling tube was an impact: their impulses' dense system
+  // took 7 GB, and a step minutes.
+  EXPECT_EQ(ErrorOf(kTube + "[contacts]\nstiffness = 1e5\ndamping = 1000\ntangential_stiffness = 1e5\n"), "");
+  EXPECT_NE(ErrorOf(kTube + "[contacts]\nstiffness = 1e6\n").find("contacts.stiffness = 1e+06: expected 1..100000 N/m"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kTube + "[contacts]\ndamping = 1e4\n").find("contacts.damping = 10000: expected 0..1000 N s/m"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(kTube + "[contacts]\ntangential_stiffness = 1e6\n").find("contacts.tangential_stiffness = 1e+06"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace viscera::scene
