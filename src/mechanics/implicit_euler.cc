@@ -427,7 +427,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
       interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
-    ++friction_rounds_;  // friction turned a sliding contact back: solved again with it stuck
+    ++friction_rounds_;  // a contact sticks or slides otherwise than solved: solved again
     ++friction_redos_;
     AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
     return;

@@ -45,7 +45,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Sub-steps whose BDF2 step would have needed impact or depth constraints, done again as
   /// backward Euler, whose end velocity moves q as those constraints assume.
   int64_t impact_redos() const { return impact_redos_; }
-  /// Solves done again because friction turned a sliding contact back (Interactions::ReviseFriction).
+  /// Solves done again because a contact's stick or slip was revised (Interactions::ReviseFriction).
   int64_t friction_redos() const { return friction_redos_; }
   /// Sub-steps taken as BDF2.
   int64_t bdf2_substeps() const { return bdf2_substeps_; }
@@ -180,7 +180,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool SolveTips(double h, const Points& v, const double* dv, const State& state);
   void AdvanceTips(double h, const VecX* depth_dq, State* state);
   static constexpr int kMaxTipRounds = 4;
-  // Solves of one sub-step redone while friction turns sliding contacts back
+  // Solves of one sub-step redone while its contacts' stick or slip is revised
   // (Interactions::ReviseFriction).
   static constexpr int kMaxFrictionRounds = 3;
 

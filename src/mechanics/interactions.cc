@@ -363,9 +363,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
-    // The regularized law's friction is viscous at the slip speed's slope (docs/contacts.md,
-    // "Friction's slope"); stick-slip friction is a spring while stuck and a constant force
-    // turning only sideways while sliding.
+    // The regularized law's friction is viscous at the slip speed's slope; stick-slip friction is
+    // a spring and damper while stuck and a constant force while sliding (docs/contacts.md,
+    // "Friction").
     Mat3 kn = law.slope * nn;
     Mat3 dn = cp.damping * nn;
     if (stick_slip) {

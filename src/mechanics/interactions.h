@@ -2,8 +2,8 @@
 /// Everything that touches the intestine from outside its own elasticity, for one simulation:
 /// the sphere chain and its contacts (self, environment, tools: penalty springs with damping and
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
-/// their virtual coupling and grasps, and the haptic output. With the implicit integrator friction
-/// has a static phase (docs/contacts.md, "Friction"). Owned by the stepping thread's
+/// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
+/// friction may have a static phase (contacts.friction_law; docs/contacts.md, "Friction"). Owned by the stepping thread's
 /// Workspace; allocates nothing in steady state.
 #include <algorithm>
 #include <array>
@@ -147,10 +147,11 @@ class Interactions {
   /// their start velocities plus tip_dv (3 per tool; nullptr: none): a sliding contact that the
   /// friction turned back faster than kFrictionReversal sticks in the next solve of the same
   /// sub-step (a constant force that overshoots would do work: energy from nothing), and a stuck
-  /// one held far beyond the cone (kFrictionOverload) slides. Says whether any changed. ClearTipReleases also starts a sub-step with every contact as its start has it.
+  /// one held far beyond the cone (kFrictionOverload) slides. Says whether any changed.
+  /// ClearTipReleases also starts a sub-step with every contact as its start has it.
   bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
   /// m/s: a slower reversal is left to the next sub-step, which starts it stuck (its energy,
-  /// m v^2 / 2, is below 1e-9 J for a 10 g contact).
+  /// m v^2 / 2, is about 1e-9 J for a 10 g contact).
   static constexpr double kFrictionReversal = 5e-4;
   /// A stuck contact whose spring and damper end the sub-step beyond this many times the cone
   /// slides in the next solve of the same sub-step (closer to the cone, it slides from the next

@@ -4,12 +4,12 @@
 // - stuck, it is a spring k_t and damper c in the tangent plane, linearized exactly, so a loop
 //   on a slope below atan mu holds still;
 // - sliding, the force is mu f_n against the way the contact moves (its stretch moved by h v_t),
-//   constant in size, its only stiffness the turning of that direction (mu f_n / |trial|
-//   sideways). No viscous slope: the sliding force is the same at every step length.
+//   constant over the sub-step, with no slope: the sliding force is the same at every step length.
 // Once the sub-step is accepted, each anchor moves with the contact's tangential motion and is
 // capped by the cone (a sliding contact drags its anchor along at mu f_n / k_t); a stuck spring
 // pulled beyond the cone slides from the next sub-step on, a sliding contact that friction turned
-// back sticks.
+// back sticks. Where the solve itself ends a contact far from its assumption (ReviseFriction),
+// the sub-step is solved again.
 #include <algorithm>
 
 #include "mechanics/interactions.h"
