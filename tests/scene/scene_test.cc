@@ -201,7 +201,7 @@ max_force = 4
   EXPECT_EQ(s.model.tools[0].max_force, 4.0);
   ExpectError(kIntestine + "\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n",
               {"tool[1].name", "share"});
-  ExpectError(bare + "\n[contacts]\nstiffness = 0\n", {"contacts.stiffness", "> 0"});
+  ExpectError(bare + "\n[contacts]\nstiffness = 0\n", {"contacts.stiffness", "expected 1..100000 N/m"});
 }
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
