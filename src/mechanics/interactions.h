@@ -376,6 +376,9 @@ class Interactions {
     Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
   };
   std::vector<FrictionPair> friction_pairs_;
+  // A friction pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N
+  // values, or nullptr), less lever times the tool's `tip` for a tool pair.
+  static Vec3 PairMotion(const FrictionPair& pair, const Points& x, const double* dx, const Vec3& tip);
   std::vector<uint64_t> friction_stuck_;  // pairs ReviseFriction made stick in this sub-step
   std::vector<uint64_t> friction_slid_;   // ... and slide
   std::vector<FrictionAnchor> next_anchors_;

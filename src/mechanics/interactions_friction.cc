@@ -89,34 +89,43 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
   friction_pairs_.push_back(pair);
 }
 
-bool Interactions::ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
-  auto window_velocity = [&](int first, const std::array<double, 4>& w) {
+Vec3 Interactions::PairMotion(const FrictionPair& pair, const Points& x, const double* dx, const Vec3& tip) {
+  auto window = [&](int first, const std::array<double, 4>& w) {
     Vec3 m = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) m += w[i] * (v.row(first + i).transpose() + Eigen::Map<const Vec3>(dv + 3 * (first + i)));
+    for (int i = 0; i < 4; ++i) {
+      Vec3 point = x.row(first + i).transpose();
+      if (dx != nullptr) point += Eigen::Map<const Vec3>(dx + 3 * (first + i));
+      m += w[i] * point;
+    }
     return m;
   };
+  Vec3 relative = window(pair.first_a, pair.w_a);
+  if (pair.kind == ContactKind::kSelf) relative -= window(pair.first_b, pair.w_b);
+  if (pair.kind == ContactKind::kTool) relative -= pair.lever * tip;
+  return relative - pair.normal.dot(relative) * pair.normal;
+}
+
+bool Interactions::ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
   const double kt = tangential_stiffness_;
   const double ct = model_.params().contacts.damping;
   bool revised = false;
   for (const FrictionPair& pair : friction_pairs_) {
-    Vec3 relative = window_velocity(pair.first_a, pair.w_a);
-    if (pair.kind == ContactKind::kSelf) relative -= window_velocity(pair.first_b, pair.w_b);
+    Vec3 tip = Vec3::Zero();
     if (pair.kind == ContactKind::kTool) {
-      Vec3 tip = tool_velocity_[pair.tool];
+      tip = tool_velocity_[pair.tool];
       if (tip_dv != nullptr) tip += Eigen::Map<const Vec3>(tip_dv + 3 * pair.tool);
-      relative -= pair.lever * tip;
     }
+    const Vec3 slip = PairMotion(pair, v, dv, tip);
     if (pair.stuck) {
       // Held stuck, the contact pushed well beyond the cone over the sub-step (a launched loop's
       // stuck springs stopped it dead): it slides.
-      const Vec3 slip = relative - pair.normal.dot(relative) * pair.normal;
       if ((kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm() <= kFrictionOverload * pair.limit) continue;
       if (std::find(friction_slid_.begin(), friction_slid_.end(), pair.key) != friction_slid_.end()) continue;
       friction_slid_.push_back(pair.key);
       revised = true;
       continue;
     }
-    if (relative.dot(pair.direction) >= -kFrictionReversal) continue;
+    if (slip.dot(pair.direction) >= -kFrictionReversal) continue;
     friction_stuck_.push_back(pair.key);
     revised = true;
   }
@@ -124,18 +133,11 @@ bool Interactions::ReviseFriction(const Points& v, const double* dv, const doubl
 }
 
 void Interactions::AdvanceFriction(const Points& dq, double h, State* state) {
-  auto window_motion = [&dq](int first, const std::array<double, 4>& w) {
-    Vec3 m = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) m += w[i] * dq.row(first + i).transpose();
-    return m;
-  };
   const double kt = tangential_stiffness_;
   next_anchors_.clear();
   for (const FrictionPair& pair : friction_pairs_) {
-    Vec3 relative = window_motion(pair.first_a, pair.w_a);
-    if (pair.kind == ContactKind::kSelf) relative -= window_motion(pair.first_b, pair.w_b);
-    if (pair.kind == ContactKind::kTool) relative -= pair.lever * h * state->tools[pair.tool].tip_velocity;
-    const Vec3 moved = relative - pair.normal.dot(relative) * pair.normal;
+    const Vec3 tip = pair.kind == ContactKind::kTool ? Vec3(h * state->tools[pair.tool].tip_velocity) : Vec3::Zero();
+    const Vec3 moved = PairMotion(pair, dq, nullptr, tip);
     Vec3 stretch = pair.stretch + moved;
     const double size = kt * stretch.norm();
     // The next sub-step starts as this one ended: a stuck spring pulled beyond the cone slides,
