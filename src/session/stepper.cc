@@ -20,6 +20,26 @@ bool Stepper::Sane(const mechanics::State& s) const {
   return s.qd.rowwise().norm().maxCoeff() <= kMaxSpeed;
 }
 
+namespace {
+
+// What a restored or reset state keeps of the one it replaces: its time and the counters of the
+// whole run, which never go back.
+struct RunCounters {
+  double t;
+  int64_t steps, nonfinite_resets, unconverged_solves;
+};
+
+RunCounters CountersOf(const mechanics::State& s) { return {s.t, s.steps, s.nonfinite_resets, s.unconverged_solves}; }
+
+void Carry(const RunCounters& c, mechanics::State* s) {
+  s->t = c.t;
+  s->steps = c.steps;
+  s->nonfinite_resets = c.nonfinite_resets;
+  s->unconverged_solves = c.unconverged_solves;
+}
+
+}  // namespace
+
 bool Stepper::Advance(std::span<const mechanics::ToolTarget> targets) {
   const int64_t resets_before = state_.nonfinite_resets;
   mechanics::Step(model_, mechanics::StepInputs{{}, targets}, &state_, &workspace_);
@@ -29,29 +49,17 @@ bool Stepper::Advance(std::span<const mechanics::ToolTarget> targets) {
     if (state_.steps % kGoodEvery == 0) last_good_ = state_;  // same sizes: no allocation
     return false;
   }
-  const double t = state_.t;
-  const int64_t steps = state_.steps;
-  const int64_t resets = state_.nonfinite_resets;
-  const int64_t unconverged = state_.unconverged_solves;
+  const RunCounters counters = CountersOf(state_);
   state_ = last_good_;
-  state_.t = t;
-  state_.steps = steps;
-  state_.nonfinite_resets = resets;
-  state_.unconverged_solves = unconverged;
+  Carry(counters, &state_);
   ++recoveries_;
   return true;
 }
 
 void Stepper::Reset() {
-  const double t = state_.t;
-  const int64_t steps = state_.steps;
-  const int64_t resets = state_.nonfinite_resets;
-  const int64_t unconverged = state_.unconverged_solves;
+  const RunCounters counters = CountersOf(state_);
   state_ = mechanics::InitialState(model_);
-  state_.t = t;
-  state_.steps = steps;
-  state_.nonfinite_resets = resets;
-  state_.unconverged_solves = unconverged;
+  Carry(counters, &state_);
   last_good_ = state_;
 }
 
