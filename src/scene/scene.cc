@@ -86,10 +86,6 @@ double Positive(const TomlReader& r, const std::string& key) {
   return v;
 }
 
-double Positive(const TomlReader& r, const std::string& key, double fallback) {
-  return r.Has(key) ? Positive(r, key) : r.Double(key, fallback);
-}
-
 // A parameter within [lo, hi]: for a tool, what a haptic device and the coupling can render (a
 // stiffness of 1e308 or a mass of 1e-300 made every force sent non-finite).
 double Within(const TomlReader& r, const std::string& key, double fallback, double lo, double hi,
