@@ -15,7 +15,7 @@ packages=(
   libsodium-dev libcli11-dev libboost-dev
   iproute2 util-linux python3 python3-venv
   chromium
-  clang libclang-rt-14-dev llvm ccache
+  clang libclang-rt-14-dev llvm ccache clang-format
 )
 
 missing=()
