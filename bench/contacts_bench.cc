@@ -46,12 +46,12 @@
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
+#include "fall_scene.h"
 #include "mechanics/implicit_euler.h"
 #include "mechanics/mesentery_forces.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
 #include "script/scripted_tools.h"
-#include "fall_scene.h"
 
 namespace viscera::mechanics {
 namespace {
@@ -105,8 +105,8 @@ struct Tally {
 //   resets           non-finite steps (must be 0, or the figures are meaningless)
 //   searches_per_step  broad-phase searches (Verlet list rebuilds) per step
 //   cg_per_substep   the exact coupling's CG iterations per integrator sub-step
-void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally, int64_t resets,
-            Workspace& workspace) {
+void Report(benchmark::State& bench, const Model& model, int spheres, const Tally& tally,
+            int64_t resets, Workspace& workspace) {
   const double steps = static_cast<double>(tally.steps);
   const double simulated = steps * model.step_size();
   const double n = model.num_points();
@@ -124,16 +124,20 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
   bench.counters["resets"] = static_cast<double>(resets);
   // Broad-phase searches per step (the Verlet list's rebuilds; since the workspace was made).
   if (workspace.interactions()) {
-    bench.counters["searches_per_step"] = static_cast<double>(workspace.interactions()->searches()) / steps;
-    bench.counters["partial_per_step"] = static_cast<double>(workspace.interactions()->partial_searches()) / steps;
+    bench.counters["searches_per_step"] =
+        static_cast<double>(workspace.interactions()->searches()) / steps;
+    bench.counters["partial_per_step"] =
+        static_cast<double>(workspace.interactions()->partial_searches()) / steps;
   }
-  if (const auto* implicit = dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
+  if (const auto* implicit =
+          dynamic_cast<const ImplicitEulerIntegrator*>(&workspace.integrator())) {
     // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
-    bench.counters["cg_per_substep"] = static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
+    bench.counters["cg_per_substep"] =
+        static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
     if (model.params().contacts.impact_constraints) {
       bench.counters["impact_substeps"] = static_cast<double>(implicit->impact_substeps()) / steps;
-      bench.counters["impact_contacts"] =
-          static_cast<double>(implicit->impact_contacts()) / std::max<int64_t>(1, implicit->impact_substeps());
+      bench.counters["impact_contacts"] = static_cast<double>(implicit->impact_contacts()) /
+                                          std::max<int64_t>(1, implicit->impact_substeps());
     }
   }
 }
@@ -191,12 +195,14 @@ void BM_FallSettled(benchmark::State& bench) {
     Step(model, {}, &state, &workspace);
     tally.Add(state);
   }
-  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets, workspace);
+  Report(bench, model, workspace.interactions()->chain().size(), tally, state.nonfinite_resets,
+         workspace);
   bench.counters["warmup_resets"] = static_cast<double>(resets_before);
 }
 
 void BM_CavityClearing(benchmark::State& bench) {
-  const Model model(SceneAtRate(VISCERA_SOURCE_DIR "/scenes/cavity.toml", static_cast<double>(bench.range(0))));
+  const Model model(
+      SceneAtRate(VISCERA_SOURCE_DIR "/scenes/cavity.toml", static_cast<double>(bench.range(0))));
   Workspace workspace(model);
   const State start = InitialState(model);
   std::vector<double> costs_us;
@@ -205,7 +211,8 @@ void BM_CavityClearing(benchmark::State& bench) {
   int64_t resets = 0;
   for (auto _ : bench) {
     bench.PauseTiming();
-    script::ScriptedTools scripted(model, script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv"));
+    script::ScriptedTools scripted(
+        model, script::ToolScript::Load(VISCERA_SOURCE_DIR "/scenes/clearing.csv"));
     const int64_t steps = static_cast<int64_t>(scripted.duration() * model.params().rate_hz + 0.5);
     costs_us.reserve(costs_us.size() + static_cast<size_t>(steps));
     State state = start;
@@ -213,7 +220,8 @@ void BM_CavityClearing(benchmark::State& bench) {
     for (int64_t i = 0; i < steps; ++i) {
       // The script's targets (aimed rows against the tube as it is): the device's work, not timed.
       bench.PauseTiming();
-      const std::span<const ToolTarget> targets = scripted.At(state.t + model.step_size(), workspace.interactions());
+      const std::span<const ToolTarget> targets =
+          scripted.At(state.t + model.step_size(), workspace.interactions());
       bench.ResumeTiming();
       const int64_t begin = ThreadCpuNanos();
       Step(model, {{}, targets}, &state, &workspace);
@@ -235,12 +243,14 @@ void BM_CavityClearing(benchmark::State& bench) {
 constexpr double kPybulletSecondsPerSimulatedSecond = 0.063 * 39.0;
 
 void BM_PaperCoilFall(benchmark::State& bench) {
-  const Model model(SceneAtRate(VISCERA_SOURCE_DIR "/bench/scenes/paper_coil.toml", static_cast<double>(bench.range(0))));
+  const Model model(SceneAtRate(VISCERA_SOURCE_DIR "/bench/scenes/paper_coil.toml",
+                                static_cast<double>(bench.range(0))));
   Workspace workspace(model);
   const State start = InitialState(model);
   const int64_t steps = static_cast<int64_t>(2.0 * model.params().rate_hz + 0.5);
   State state = start;
-  Step(model, {}, &state, &workspace);  // warm-up: the solvers and the contact buffers size themselves
+  Step(model, {}, &state,
+       &workspace);  // warm-up: the solvers and the contact buffers size themselves
   Tally tally;
   double end = 0.0;
   int64_t resets = 0;
@@ -262,7 +272,9 @@ void BM_PaperCoilFall(benchmark::State& bench) {
   bench.counters["deepest_at_s"] = tally.deepest_at;
   bench.counters["end_pct_r"] = 100.0 * end / radius;
   using C = benchmark::Counter;
-  bench.counters["x_pybullet"] = C(static_cast<double>(tally.steps) * model.step_size() * kPybulletSecondsPerSimulatedSecond, C::kIsRate);
+  bench.counters["x_pybullet"] =
+      C(static_cast<double>(tally.steps) * model.step_size() * kPybulletSecondsPerSimulatedSecond,
+        C::kIsRate);
 }
 
 void BM_CavityMesentery(benchmark::State& bench) {
@@ -298,7 +310,12 @@ BENCHMARK(BM_FallWholeLimiterOnly)->Arg(250)->ArgNames({"n"})->Unit(benchmark::k
 BENCHMARK(BM_FallSettled)->Apply(Sizes)->ArgNames({"n", "self"})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PaperCoilFall)->Arg(100)->Arg(1000)->ArgNames({"rate"})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CavityMesentery)->Arg(0)->Arg(1)->ArgNames({"term"})->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_CavityClearing)->Arg(100)->Arg(1000)->ArgNames({"rate"})->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_CavityClearing)
+    ->Arg(100)
+    ->Arg(1000)
+    ->ArgNames({"rate"})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace viscera::mechanics

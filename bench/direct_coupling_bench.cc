@@ -82,10 +82,21 @@ std::vector<Case> Cases() {
   const char* cavity = VISCERA_SOURCE_DIR "/scenes/cavity.toml";
   const char* clearing = VISCERA_SOURCE_DIR "/scenes/clearing.csv";
   return {
-      {"cavity100", SceneAtRate(cavity, 100), clearing, 5.5, {{"cavity 100 Hz, t=1.5 s", 1.5}, {"cavity 100 Hz, t=3.5 s", 3.5}}},
+      {"cavity100",
+       SceneAtRate(cavity, 100),
+       clearing,
+       5.5,
+       {{"cavity 100 Hz, t=1.5 s", 1.5}, {"cavity 100 Hz, t=3.5 s", 3.5}}},
       {"cavity1k", SceneAtRate(cavity, 1000), clearing, 5.5, {{"cavity 1 kHz, t=3.5 s", 3.5}}},
-      {"fall", FallParams(250), nullptr, 3.0, {{"fall, impact t=0.3 s", 0.3}, {"fall, settled t=2.9 s", 2.9}}},
-      {"coil", SceneAtRate(VISCERA_SOURCE_DIR "/bench/scenes/paper_coil.toml", 100), nullptr, 2.0,
+      {"fall",
+       FallParams(250),
+       nullptr,
+       3.0,
+       {{"fall, impact t=0.3 s", 0.3}, {"fall, settled t=2.9 s", 2.9}}},
+      {"coil",
+       SceneAtRate(VISCERA_SOURCE_DIR "/bench/scenes/paper_coil.toml", 100),
+       nullptr,
+       2.0,
        {{"coil, landing t=0.4 s", 0.4}}},
   };
 }
@@ -109,7 +120,8 @@ void Run(const Case& c, const Observer& observe) {
     for (int64_t i = 0; i < steps; ++i) {
       const double t = state.t + model.step_size();
       Interactions* aiming = reference_interactions ? reference_interactions : &interactions;
-      const auto targets = scripted ? scripted->At(t, aiming) : std::span<const mechanics::ToolTarget>{};
+      const auto targets =
+          scripted ? scripted->At(t, aiming) : std::span<const mechanics::ToolTarget>{};
       step({{}, targets}, &state);
     }
     return state;
@@ -118,7 +130,8 @@ void Run(const Case& c, const Observer& observe) {
     const int substeps = interactions.RequiredSubsteps(state);
     const double h = model.step_size() / substeps;
     for (int k = 0; k < substeps; ++k) {
-      interactions.BeginSubstep(k == 0 ? inputs.tools : std::span<const mechanics::ToolTarget>{}, h, state);
+      interactions.BeginSubstep(k == 0 ? inputs.tools : std::span<const mechanics::ToolTarget>{}, h,
+                                state);
       integrator.Advance(inputs.loads, h, state);
       observe(integrator, interactions, state->t + model.step_size());
     }
@@ -142,15 +155,17 @@ struct IcVariant {
   IcOrdering ordering;
   int fill;
 };
-const IcVariant kIcVariants[] = {{IcOrdering::kNatural, 0}, {IcOrdering::kNatural, 5}, {IcOrdering::kNatural, 20},
-                                 {IcOrdering::kAmd, 0},     {IcOrdering::kAmd, 5},     {IcOrdering::kAmd, 20}};
+const IcVariant kIcVariants[] = {{IcOrdering::kNatural, 0},  {IcOrdering::kNatural, 5},
+                                 {IcOrdering::kNatural, 20}, {IcOrdering::kAmd, 0},
+                                 {IcOrdering::kAmd, 5},      {IcOrdering::kAmd, 20}};
 constexpr int kIcMaxIterations = 500;  // well past the step's 60: how many it would need
 
 struct IcSweep {
   std::string name;
   int64_t iterations = 0, unconverged = 0, failures = 0;
-  double nonzeros = 0.0, flops = 0.0, factor_us = 0.0, iteration_us = 0.0, total_us = 0.0, cg_us = 0.0;
-  double iterating_us = 0.0;         // (iterations + 1) iterations: IC's cost with a free factorization
+  double nonzeros = 0.0, flops = 0.0, factor_us = 0.0, iteration_us = 0.0, total_us = 0.0,
+         cg_us = 0.0;
+  double iterating_us = 0.0;  // (iterations + 1) iterations: IC's cost with a free factorization
   double worst_band_residual = 0.0;  // r^T P^-1 r / stop at IC's exit, P the band preconditioner
 };
 
@@ -164,7 +179,8 @@ struct Sweep {
   std::vector<std::pair<int, int>> last_blocks, analysed_blocks;
   // The step's warm start: the correction it extrapolates for the next sub-step, and this one's.
   VecX next_extrapolated, extrapolated;
-  int64_t start_mismatches = 0;  // band CG from the rebuilt start took other than the step's iterations
+  int64_t start_mismatches =
+      0;  // band CG from the rebuilt start took other than the step's iterations
   std::vector<IcSweep> ic;
 };
 
@@ -179,7 +195,8 @@ struct IcRun {
 struct CgStart {
   VecX x, r;
 };
-CgStart StepStart(const ImplicitEulerIntegrator& integrator, const BandPreconditioner& band, const VecX& extrapolated) {
+CgStart StepStart(const ImplicitEulerIntegrator& integrator, const BandPreconditioner& band,
+                  const VecX& extrapolated) {
   CgStart start{CgWarmStart(band, integrator.last_rhs(), extrapolated), {}};
   integrator.MultiplyExact(start.x, &start.r);
   start.r = integrator.last_rhs() - start.r;
@@ -197,14 +214,18 @@ IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const
   run.nonzeros = static_cast<double>(ic.factor_nonzeros());
   run.flops = ic.factor_flops();
   VecX x = start.x, r = start.r;
-  run.iterations = ContinueCg(integrator, ic, integrator.last_cg_stop(), 0.0, kIcMaxIterations, &x, &r);
+  run.iterations =
+      ContinueCg(integrator, ic, integrator.last_cg_stop(), 0.0, kIcMaxIterations, &x, &r);
   VecX z = r;
   band.Apply(&z);
   run.band_residual = r.dot(z) / integrator.last_cg_stop();
   constexpr int kTimedIterations = 8;
   VecX cg_x;
-  run.iteration_us = MedianMicros(3, [&] { SolveByCg(integrator, ic, integrator.last_rhs(), 0.0, kTimedIterations, &cg_x); }) /
-                     kTimedIterations;
+  run.iteration_us =
+      MedianMicros(
+          3,
+          [&] { SolveByCg(integrator, ic, integrator.last_rhs(), 0.0, kTimedIterations, &cg_x); }) /
+      kTimedIterations;
   return run;
 }
 
@@ -225,7 +246,8 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   const SparseUpper a = AssembleExact(integrator, interactions);
   const std::vector<std::pair<int, int>> blocks = CoupledBlocks(a);
   const bool changed = blocks != s->last_blocks;
-  const bool outgrown = !std::includes(s->analysed_blocks.begin(), s->analysed_blocks.end(), blocks.begin(), blocks.end());
+  const bool outgrown = !std::includes(s->analysed_blocks.begin(), s->analysed_blocks.end(),
+                                       blocks.begin(), blocks.end());
   s->pattern_changes += changed;
   s->outgrown += outgrown;
   if (outgrown) s->analysed_blocks = blocks;
@@ -242,12 +264,20 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   VecX x = b, z(a.n), cg_x(a.n);
   const double analysis = MedianMicros(3, [&] { direct.Analyze(a); });
   const double numeric = MedianMicros(3, [&] { VISCERA_DEMAND(direct.Factorize(a)); });
-  const double solve = MedianMicros(3, [&] { x = b; direct.Solve(&x); });
-  const double band_factor = MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); });
-  const double band_solve = MedianMicros(3, [&] { x = b; factor.SolveInPlace(x.data()); });
+  const double solve = MedianMicros(3, [&] {
+    x = b;
+    direct.Solve(&x);
+  });
+  const double band_factor =
+      MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); });
+  const double band_solve = MedianMicros(3, [&] {
+    x = b;
+    factor.SolveInPlace(x.data());
+  });
   constexpr int kTimedIterations = 8;
   const double iteration =
-      MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, kTimedIterations, &cg_x); }) / kTimedIterations;
+      MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, kTimedIterations, &cg_x); }) /
+      kTimedIterations;
   const double cg_path = band_factor + columns * band_solve + (cg + 1) * iteration;
   s->cg_us += cg_path;
   s->direct_us += numeric + columns * solve + (changed ? analysis : 0.0);
@@ -269,7 +299,8 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
     s->start_mismatches += again != cg;
   }
   if (s->ic.empty()) {
-    for (const IcVariant& v : kIcVariants) s->ic.push_back({IncompleteCholeskyPreconditioner(v.ordering, v.fill).name()});
+    for (const IcVariant& v : kIcVariants)
+      s->ic.push_back({IncompleteCholeskyPreconditioner(v.ordering, v.fill).name()});
   }
   for (size_t i = 0; i < std::size(kIcVariants); ++i) {
     const IcRun run = RunIc(kIcVariants[i], integrator, a, band, start);
@@ -294,33 +325,42 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
 void PrintSweep(const Case& c, const Sweep& s) {
   const double coupled = static_cast<double>(std::max<int64_t>(1, s.coupled));
   std::printf(
-      "%-10s sub-steps %lld, coupled %lld, pairs %.0f, CG it %.2f | pattern changed %.1f %%, outgrew the analysed "
-      "%.1f %% | per coupled sub-step: CG path %.1f us, direct %.1f us (analysis on outgrowth: %.1f us; "
+      "%-10s sub-steps %lld, coupled %lld, pairs %.0f, CG it %.2f | pattern changed %.1f %%, "
+      "outgrew the analysed "
+      "%.1f %% | per coupled sub-step: CG path %.1f us, direct %.1f us (analysis on outgrowth: "
+      "%.1f us; "
       "analysis alone %.1f us) | direct/CG %.2f | worst residual %.1e\n",
-      c.name.c_str(), static_cast<long long>(s.substeps), static_cast<long long>(s.coupled), s.pairs / coupled,
-      static_cast<double>(s.cg_iterations) / coupled, 100.0 * static_cast<double>(s.pattern_changes) / coupled,
+      c.name.c_str(), static_cast<long long>(s.substeps), static_cast<long long>(s.coupled),
+      s.pairs / coupled, static_cast<double>(s.cg_iterations) / coupled,
+      100.0 * static_cast<double>(s.pattern_changes) / coupled,
       100.0 * static_cast<double>(s.outgrown) / coupled, s.cg_us / coupled, s.direct_us / coupled,
-      s.direct_outgrown_us / coupled, s.analysis_us / coupled, s.direct_us / s.cg_us, s.worst_residual);
-  std::printf("  warm start rebuilt: band CG took the step's iterations on %lld of %lld coupled sub-steps\n",
-              static_cast<long long>(s.coupled - s.start_mismatches), static_cast<long long>(s.coupled));
-  std::printf("  %-14s %8s %7s %9s %8s %12s %10s %8s %7s %13s %6s %12s\n", "preconditioner", "nnz(L)", "Mflop",
-              "factor_us", "CG it", "iteration_us", "total_us", "CG path", "/CG", "iterating/CG", "fails",
-              "band r/stop");
+      s.direct_outgrown_us / coupled, s.analysis_us / coupled, s.direct_us / s.cg_us,
+      s.worst_residual);
+  std::printf(
+      "  warm start rebuilt: band CG took the step's iterations on %lld of %lld coupled "
+      "sub-steps\n",
+      static_cast<long long>(s.coupled - s.start_mismatches), static_cast<long long>(s.coupled));
+  std::printf("  %-14s %8s %7s %9s %8s %12s %10s %8s %7s %13s %6s %12s\n", "preconditioner",
+              "nnz(L)", "Mflop", "factor_us", "CG it", "iteration_us", "total_us", "CG path", "/CG",
+              "iterating/CG", "fails", "band r/stop");
   for (const IcSweep& ic : s.ic) {
     const double factored = static_cast<double>(std::max<int64_t>(1, s.coupled - ic.failures));
-    std::printf("  %-14s %8.0f %7.3f %9.1f %8.2f %12.2f %10.1f %8.1f %7.2f %13.2f %6lld %12.2f%s\n", ic.name.c_str(),
-                ic.nonzeros / factored, ic.flops / factored * 1e-6, ic.factor_us / factored,
-                static_cast<double>(ic.iterations) / factored, ic.iteration_us / factored, ic.total_us / factored,
-                ic.cg_us / factored, ic.total_us / ic.cg_us, ic.iterating_us / ic.cg_us,
+    std::printf("  %-14s %8.0f %7.3f %9.1f %8.2f %12.2f %10.1f %8.1f %7.2f %13.2f %6lld %12.2f%s\n",
+                ic.name.c_str(), ic.nonzeros / factored, ic.flops / factored * 1e-6,
+                ic.factor_us / factored, static_cast<double>(ic.iterations) / factored,
+                ic.iteration_us / factored, ic.total_us / factored, ic.cg_us / factored,
+                ic.total_us / ic.cg_us, ic.iterating_us / ic.cg_us,
                 static_cast<long long>(ic.failures), ic.worst_band_residual,
-                ic.unconverged > 0 ? (" (" + std::to_string(ic.unconverged) + " unconverged)").c_str() : "");
+                ic.unconverged > 0
+                    ? (" (" + std::to_string(ic.unconverged) + " unconverged)").c_str()
+                    : "");
   }
   std::fflush(stdout);
 }
 
 // One snapshot in detail: every ordering, both factorizations, the band, Woodbury's parts.
-void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Interactions& interactions,
-              const VecX& extrapolated) {
+void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator,
+              Interactions& interactions, const VecX& extrapolated) {
   const SparseUpper a = AssembleExact(integrator, interactions);
   const int pairs = interactions.coupled_pairs();
   const VecX& b = integrator.last_rhs();
@@ -333,10 +373,14 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
   integrator.MultiplyExact(probe, &theirs);
   const double mismatch = (mine - theirs).norm() / theirs.norm();
   VISCERA_DEMAND(mismatch < 1e-12);
-  std::printf("\n%s: 3N = %d, pairs %d, CG iterations %d, nnz(A_s upper) %lld (band %d), off-band blocks %zu, "
-              "|A x - MultiplyExact x| / |.| = %.1e\n",
-              name.c_str(), a.n, pairs, integrator.last_cg_iterations(), static_cast<long long>(a.nonzeros()),
-              a.col_ptr[a.n] - static_cast<int>(9 * CoupledBlocks(a).size()), CoupledBlocks(a).size(), mismatch);
+  std::printf(
+      "\n%s: 3N = %d, pairs %d, CG iterations %d, nnz(A_s upper) %lld (band %d), off-band blocks "
+      "%zu, "
+      "|A x - MultiplyExact x| / |.| = %.1e\n",
+      name.c_str(), a.n, pairs, integrator.last_cg_iterations(),
+      static_cast<long long>(a.nonzeros()),
+      a.col_ptr[a.n] - static_cast<int>(9 * CoupledBlocks(a).size()), CoupledBlocks(a).size(),
+      mismatch);
 
   struct Row {
     Ordering ordering;
@@ -346,7 +390,8 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
   };
   std::vector<Row> rows;
   for (bool super : {false, true}) {
-    for (Ordering o : {Ordering::kNatural, Ordering::kAmd, Ordering::kMetis, Ordering::kNesdis}) rows.push_back(Row{o, super, {}, {}, {}});
+    for (Ordering o : {Ordering::kNatural, Ordering::kAmd, Ordering::kMetis, Ordering::kNesdis})
+      rows.push_back(Row{o, super, {}, {}, {}});
   }
   std::vector<double> band_factor, band_solve, iteration, woodbury_dense;
   mechanics::CholmodCommon common;
@@ -367,31 +412,47 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
       r.lnz = direct.factor_nonzeros();
       r.flops = direct.factor_flops();
       r.factor.push_back(MedianMicros(3, [&] { VISCERA_DEMAND(direct.Factorize(a)); }));
-      r.solve.push_back(MedianMicros(3, [&] { x = b; direct.Solve(&x); }));
+      r.solve.push_back(MedianMicros(3, [&] {
+        x = b;
+        direct.Solve(&x);
+      }));
     }
-    band_factor.push_back(MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); }));
-    band_solve.push_back(MedianMicros(3, [&] { x = b; factor.SolveInPlace(x.data()); }));
-    iteration.push_back(MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, 8, &cg_x); }) / 8.0);
+    band_factor.push_back(
+        MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); }));
+    band_solve.push_back(MedianMicros(3, [&] {
+      x = b;
+      factor.SolveInPlace(x.data());
+    }));
+    iteration.push_back(MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, 8, &cg_x); }) /
+                        8.0);
     woodbury_dense.push_back(MedianMicros(1, [&] { llt.compute(spd); }));
   }
-  std::printf("  %-8s %-11s %10s %9s %10s %10s %9s\n", "ordering", "factor", "analyse_us", "nnz(L)", "Mflop",
-              "numeric_us", "solve_us");
+  std::printf("  %-8s %-11s %10s %9s %10s %10s %9s\n", "ordering", "factor", "analyse_us", "nnz(L)",
+              "Mflop", "numeric_us", "solve_us");
   for (const Row& r : rows) {
     std::printf("  %-8s %-11s %10.1f %9.0f %10.3f %10.1f %9.1f\n", OrderingName(r.ordering),
-                r.supernodal ? "supernodal" : "simplicial", Quantile(r.analyse, 0.5), r.lnz, r.flops * 1e-6,
-                Quantile(r.factor, 0.5), Quantile(r.solve, 0.5));
+                r.supernodal ? "supernodal" : "simplicial", Quantile(r.analyse, 0.5), r.lnz,
+                r.flops * 1e-6, Quantile(r.factor, 0.5), Quantile(r.solve, 0.5));
   }
-  const double bf = Quantile(band_factor, 0.5), bs = Quantile(band_solve, 0.5), it = Quantile(iteration, 0.5);
+  const double bf = Quantile(band_factor, 0.5), bs = Quantile(band_solve, 0.5),
+               it = Quantile(iteration, 0.5);
   const int cg = integrator.last_cg_iterations(), columns = w > 0.0 ? 2 : 1;
-  std::printf("  band: factor %.1f us, solve %.1f us, CG iteration %.1f us; this sub-step's CG path %.1f us\n", bf, bs,
-              it, bf + columns * bs + (cg + 1) * it);
-  std::printf("  Woodbury (rank %d to %d): %d to %d band solves %.0f to %.0f us, + dense LLT of order %d: %.0f us\n",
-              pairs, capacitance, pairs, capacitance, pairs * bs, capacitance * bs, capacitance,
-              Quantile(woodbury_dense, 0.5));
+  std::printf(
+      "  band: factor %.1f us, solve %.1f us, CG iteration %.1f us; this sub-step's CG path %.1f "
+      "us\n",
+      bf, bs, it, bf + columns * bs + (cg + 1) * it);
+  std::printf(
+      "  Woodbury (rank %d to %d): %d to %d band solves %.0f to %.0f us, + dense LLT of order %d: "
+      "%.0f us\n",
+      pairs, capacitance, pairs, capacitance, pairs * bs, capacitance * bs, capacitance,
+      Quantile(woodbury_dense, 0.5));
   // IC in place of the band preconditioner, from the step's start to its stop.
-  const double level_zero = LevelZeroMultiplyAdds(a, false), band_part = LevelZeroMultiplyAdds(a, true);
-  std::printf("  level-0 IC, chain's order: %.0f multiply-adds, %.0f of them the band's (the band factor's: %.1f us)\n",
-              level_zero, band_part, bf);
+  const double level_zero = LevelZeroMultiplyAdds(a, false),
+               band_part = LevelZeroMultiplyAdds(a, true);
+  std::printf(
+      "  level-0 IC, chain's order: %.0f multiply-adds, %.0f of them the band's (the band "
+      "factor's: %.1f us)\n",
+      level_zero, band_part, bf);
   const CgStart start = StepStart(integrator, band, extrapolated);
   for (const IcVariant& v : kIcVariants) {
     const IcRun run = RunIc(v, integrator, a, band, start);
@@ -400,10 +461,12 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
       std::printf("  %s: the factorization failed\n", name.c_str());
       continue;
     }
-    std::printf("  %s: nnz(L) %.0f, %.3f Mflop, factor %.1f us, %d CG iterations (the step's %d), iteration %.1f us, "
-                "total %.1f us\n",
-                name.c_str(), run.nonzeros, run.flops * 1e-6, run.factor_us, run.iterations, cg, run.iteration_us,
-                run.factor_us + (run.iterations + 1) * run.iteration_us);
+    std::printf(
+        "  %s: nnz(L) %.0f, %.3f Mflop, factor %.1f us, %d CG iterations (the step's %d), "
+        "iteration %.1f us, "
+        "total %.1f us\n",
+        name.c_str(), run.nonzeros, run.flops * 1e-6, run.factor_us, run.iterations, cg,
+        run.iteration_us, run.factor_us + (run.iterations + 1) * run.iteration_us);
   }
   std::fflush(stdout);
 }
@@ -411,7 +474,8 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator, Inte
 int Main(int argc, char** argv) {
   std::vector<std::string> wanted(argv + 1, argv + argc);
   for (const Case& c : Cases()) {
-    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), c.name) == wanted.end()) continue;
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), c.name) == wanted.end())
+      continue;
     Sweep sweep;
     size_t next_snapshot = 0;
     Run(c, [&](ImplicitEulerIntegrator& integrator, Interactions& interactions, double t) {

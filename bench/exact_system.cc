@@ -86,8 +86,8 @@ DirectSolver::~DirectSolver() {
 void DirectSolver::Analyze(const SparseUpper& a) {
   cholmod_free_factor(&factor_, common_);
   cholmod_free_sparse(&a_, common_);
-  a_ = cholmod_allocate_sparse(a.n, a.n, a.row.size(), /*sorted=*/1, /*packed=*/1, /*stype=*/1, CHOLMOD_REAL,
-                               common_);
+  a_ = cholmod_allocate_sparse(a.n, a.n, a.row.size(), /*sorted=*/1, /*packed=*/1, /*stype=*/1,
+                               CHOLMOD_REAL, common_);
   VISCERA_DEMAND(a_ != nullptr);
   std::copy(a.col_ptr.begin(), a.col_ptr.end(), static_cast<int*>(a_->p));
   std::copy(a.row.begin(), a.row.end(), static_cast<int*>(a_->i));
@@ -97,7 +97,10 @@ void DirectSolver::Analyze(const SparseUpper& a) {
   common_->nmethods = 1;
   common_->postorder = 1;
   switch (ordering_) {
-    case Ordering::kNatural: common_->method[0].ordering = CHOLMOD_NATURAL; common_->postorder = 0; break;
+    case Ordering::kNatural:
+      common_->method[0].ordering = CHOLMOD_NATURAL;
+      common_->postorder = 0;
+      break;
     case Ordering::kAmd: common_->method[0].ordering = CHOLMOD_AMD; break;
     case Ordering::kMetis: common_->method[0].ordering = CHOLMOD_METIS; break;
     case Ordering::kNesdis: common_->method[0].ordering = CHOLMOD_NESDIS; break;
@@ -122,7 +125,8 @@ void DirectSolver::Solve(VecX* x) {
   rhs.x = x->data();
   rhs.xtype = CHOLMOD_REAL;
   rhs.dtype = CHOLMOD_DOUBLE;
-  VISCERA_DEMAND(cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &x_, nullptr, &y_, &e_, common_));
+  VISCERA_DEMAND(
+      cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &x_, nullptr, &y_, &e_, common_));
   std::memcpy(x->data(), x_->x, sizeof(double) * x->size());
 }
 
@@ -148,8 +152,9 @@ void BandPreconditioner::Apply(VecX* x) const {
   if (w_ > 0.0) *x -= (w_ * u_.dot(*x) / denominator_) * z_;
 }
 
-int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
-               double stop, double relative, int max_iterations, VecX* x, VecX* r) {
+int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator,
+               const Preconditioner& preconditioner, double stop, double relative,
+               int max_iterations, VecX* x, VecX* r) {
   VecX z = *r, q(r->size());
   preconditioner.Apply(&z);
   VecX p = z;
@@ -173,8 +178,9 @@ int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preco
   return it;
 }
 
-int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
-              const VecX& b, double tolerance, int max_iterations, VecX* x) {
+int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator,
+              const Preconditioner& preconditioner, const VecX& b, double tolerance,
+              int max_iterations, VecX* x) {
   x->setZero(b.size());
   VecX r = b;
   return ContinueCg(integrator, preconditioner, 0.0, tolerance, max_iterations, x, &r);

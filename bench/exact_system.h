@@ -101,12 +101,14 @@ class BandPreconditioner final : public Preconditioner {
 /// RefineExactly: from *x with *r = b - A *x, until r^T M^-1 r falls to max(stop, relative^2
 /// times its start) or after max_iterations (or when p^T A p is not positive). Updates x and r;
 /// returns the iterations.
-int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
-               double stop, double relative, int max_iterations, VecX* x, VecX* r);
+int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator,
+               const Preconditioner& preconditioner, double stop, double relative,
+               int max_iterations, VecX* x, VecX* r);
 
 /// ContinueCg from x = 0, until the preconditioned residual is `tolerance` of b's (in that norm).
-int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator, const Preconditioner& preconditioner,
-              const VecX& b, double tolerance, int max_iterations, VecX* x);
+int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator,
+              const Preconditioner& preconditioner, const VecX& b, double tolerance,
+              int max_iterations, VecX* x);
 
 /// The start of the last sub-step's CG: the band's answer plus the correction extrapolated from
 /// the two sub-steps before, `extrapolated` (read from the integrator after the sub-step before:

@@ -22,9 +22,11 @@ inline mechanics::ModelParams FallParams(int n) {
   text << file.rdbuf();
   const std::regex key(R"(control_points\s*=\s*[0-9]+)");
   ThrowUnless(std::regex_search(text.str(), key), kFallScene, ": no intestine.control_points");
-  const std::string resized = std::regex_replace(text.str(), key, "control_points = " + std::to_string(n),
-                                                 std::regex_constants::format_first_only);
-  mechanics::ModelParams params = scene::ParseScene(resized, "fall.toml, " + std::to_string(n) + " points").model;
+  const std::string resized =
+      std::regex_replace(text.str(), key, "control_points = " + std::to_string(n),
+                         std::regex_constants::format_first_only);
+  mechanics::ModelParams params =
+      scene::ParseScene(resized, "fall.toml, " + std::to_string(n) + " points").model;
   VISCERA_DEMAND(params.initial_q.rows() == n);
   return params;
 }

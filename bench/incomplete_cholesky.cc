@@ -41,7 +41,8 @@ IncompleteCholeskyPreconditioner::IncompleteCholeskyPreconditioner(IcOrdering or
     : ordering_(ordering), fill_(fill) {}
 
 std::string IncompleteCholeskyPreconditioner::name() const {
-  return std::string("IC ") + (ordering_ == IcOrdering::kAmd ? "AMD" : "natural") + " +" + std::to_string(fill_);
+  return std::string("IC ") + (ordering_ == IcOrdering::kAmd ? "AMD" : "natural") + " +" +
+         std::to_string(fill_);
 }
 
 bool IncompleteCholeskyPreconditioner::Factor(const SparseUpper& a, double w, const VecX& u) {
@@ -51,7 +52,8 @@ bool IncompleteCholeskyPreconditioner::Factor(const SparseUpper& a, double w, co
   if (ordering_ == IcOrdering::kAmd) {
     Eigen::AMDOrdering<int>()(upper.selfadjointView<Eigen::Upper>(), permutation_);
     permuted_.resize(a.n, a.n);
-    permuted_.selfadjointView<Eigen::Lower>() = upper.selfadjointView<Eigen::Upper>().twistedBy(permutation_);
+    permuted_.selfadjointView<Eigen::Lower>() =
+        upper.selfadjointView<Eigen::Upper>().twistedBy(permutation_);
   } else {
     permutation_.resize(0);
     permuted_ = SparseMatrix(upper.transpose());
@@ -74,7 +76,8 @@ bool IncompleteCholeskyPreconditioner::Factor(const SparseUpper& a, double w, co
 double IncompleteCholeskyPreconditioner::factor_flops() const {
   double flops = 0.0;
   for (int col = 0; col < l_.cols(); ++col) {
-    const double below = static_cast<double>(l_.outerIndexPtr()[col + 1] - l_.outerIndexPtr()[col] - 1);
+    const double below =
+        static_cast<double>(l_.outerIndexPtr()[col + 1] - l_.outerIndexPtr()[col] - 1);
     flops += below * (below + 1.0);
   }
   return flops;
@@ -104,7 +107,9 @@ void IncompleteCholeskyPreconditioner::Apply(VecX* x) const {
 }
 
 double LevelZeroMultiplyAdds(const SparseUpper& a, bool band_only) {
-  auto kept = [&](int row, int col) { return !band_only || col / 3 - row / 3 < mechanics::BlockBand::kWidth; };
+  auto kept = [&](int row, int col) {
+    return !band_only || col / 3 - row / 3 < mechanics::BlockBand::kWidth;
+  };
   // below[k]: the rows under the diagonal of L's column k (A_s's upper triangle by rows).
   std::vector<std::vector<int>> below(a.n);
   for (int col = 0; col < a.n; ++col) {

@@ -43,7 +43,7 @@ class IncompleteCholeskyPreconditioner final : public Preconditioner {
   IcOrdering ordering_;
   int fill_;
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> permutation_;  // empty: natural
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> permuted_;                  // lower, padded
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> permuted_;                 // lower, padded
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::NaturalOrdering<int>> ict_;
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> l_;
   VecX scale_;

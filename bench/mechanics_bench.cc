@@ -10,12 +10,12 @@
 #include <string>
 
 #include "common/check.h"
+#include "fall_scene.h"
 #include "mechanics/forces.h"
 #include "mechanics/mass_solver.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
-#include "fall_scene.h"
 
 namespace viscera::mechanics {
 namespace {
@@ -74,7 +74,8 @@ void RunSteps(benchmark::State& bench, ModelParams params) {
   bench.counters["n"] = model.num_points();
   bench.counters["substeps"] = model.params().substeps;
   bench.counters["h_rate"] = h_rate;
-  bench.counters["cpu_per_sim_s"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  bench.counters["cpu_per_sim_s"] =
+      benchmark::Counter(simulated, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   bench.counters["realtime_x"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate);
   bench.counters["resets"] = static_cast<double>(resets);
 }
@@ -84,7 +85,8 @@ void RunSteps(benchmark::State& bench, ModelParams params) {
 void BM_FallImplicit(benchmark::State& bench) {
   ModelParams params = FallParams(static_cast<int>(bench.range(0)));
   params.integrator = IntegratorKind::kImplicitEuler;
-  params.linear_solver = bench.range(1) == 0 ? LinearSolverKind::kBlockBand : LinearSolverKind::kCholmod;
+  params.linear_solver =
+      bench.range(1) == 0 ? LinearSolverKind::kBlockBand : LinearSolverKind::kCholmod;
   RunSteps(bench, std::move(params));
 }
 
@@ -167,11 +169,20 @@ void SizesTimesTwo(benchmark::internal::Benchmark* b) {
   }
 }
 
-BENCHMARK(BM_FallImplicit)->Apply(SizesTimesTwo)->ArgNames({"n", "cholmod"})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FallImplicit)
+    ->Apply(SizesTimesTwo)
+    ->ArgNames({"n", "cholmod"})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FallRk4Stable)->Apply(Sizes)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Rk4OneSubstep)->Apply(Sizes)->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_Forces)->Apply(SizesTimesTwo)->ArgNames({"n", "jacobians"})->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_MassSolve)->Apply(SizesTimesTwo)->ArgNames({"n", "cholmod"})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Forces)
+    ->Apply(SizesTimesTwo)
+    ->ArgNames({"n", "jacobians"})
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_MassSolve)
+    ->Apply(SizesTimesTwo)
+    ->ArgNames({"n", "cholmod"})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RhsCopy)->Apply(Sizes)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

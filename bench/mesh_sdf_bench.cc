@@ -24,12 +24,14 @@ void BM_LiverField(benchmark::State& state) {
   const bool hierarchy = state.range(0) != 0;
   const int resolution = static_cast<int>(state.range(1));
   // the scene's placement; the field built here is thrown away, only its mesh is kept
-  const MeshSdf liver = MeshSdf::FromObj(VISCERA_SOURCE_DIR "/scenes/liver.obj", 0.06, Vec3(0.07, 0.0, 0.245), 8);
+  const MeshSdf liver =
+      MeshSdf::FromObj(VISCERA_SOURCE_DIR "/scenes/liver.obj", 0.06, Vec3(0.07, 0.0, 0.245), 8);
   const SdfGrid grid = GridAround(liver.vertices(), resolution);
   SamplingStats stats;
   for (auto _ : state) {
-    std::vector<double> samples = hierarchy ? SampleWithHierarchy(liver.vertices(), liver.faces(), grid, {}, &stats)
-                                            : SampleBruteForce(liver.vertices(), liver.faces(), grid);
+    std::vector<double> samples =
+        hierarchy ? SampleWithHierarchy(liver.vertices(), liver.faces(), grid, {}, &stats)
+                  : SampleBruteForce(liver.vertices(), liver.faces(), grid);
     benchmark::DoNotOptimize(samples.data());
   }
   state.counters["samples"] = static_cast<double>(grid.size());

@@ -34,14 +34,16 @@ int main(int argc, char** argv) {
   std::vector<Figures> figures(margins_us.size());
   for (int round = 0; round < static_cast<int>(std::ceil(seconds)); ++round) {
     for (size_t m = 0; m < margins_us.size(); ++m) {
-      viscera::Pacer pacer({.period_ns = period, .spin_ns = static_cast<int64_t>(margins_us[m] * 1e3)});
+      viscera::Pacer pacer(
+          {.period_ns = period, .spin_ns = static_cast<int64_t>(margins_us[m] * 1e3)});
       Figures& f = figures[m];
       const int64_t cpu0 = viscera::ThreadCpuNanos(), wall0 = viscera::MonotonicNanos();
       pacer.Start();
       int64_t prev = 0;
       for (int64_t k = 0; k < slice; ++k) {
         const int64_t wake = pacer.Wait();
-        if (prev > 0) f.error_us.push_back(std::abs(static_cast<double>(wake - prev - period)) * 1e-3);
+        if (prev > 0)
+          f.error_us.push_back(std::abs(static_cast<double>(wake - prev - period)) * 1e-3);
         prev = wake;
         pacer.Advance(viscera::MonotonicNanos());
       }
@@ -51,8 +53,8 @@ int main(int argc, char** argv) {
       f.late += pacer.late_wakeups();
     }
   }
-  std::printf("%-9s %9s %9s %9s %8s %8s %6s\n", "spin_us", "err_p50", "err_p99", "err_max", "misses",
-              "late", "cpu");
+  std::printf("%-9s %9s %9s %9s %8s %8s %6s\n", "spin_us", "err_p50", "err_p99", "err_max",
+              "misses", "late", "cpu");
   for (size_t m = 0; m < margins_us.size(); ++m) {
     const Figures& f = figures[m];
     double max = 0.0;

@@ -78,9 +78,10 @@ void BM_Frame(benchmark::State& state) {
   const Points& q0 = cavity.poses.front();
   const bool framing = state.range(5) == 0;
   const Laparoscope scope =
-      framing ? FramingLaparoscope(q0.colwise().minCoeff().transpose(), q0.colwise().maxCoeff().transpose(),
-                                   options.width, options.height)
-              : SceneLaparoscope(cavity.params, q0, options.width, options.height);
+      framing
+          ? FramingLaparoscope(q0.colwise().minCoeff().transpose(),
+                               q0.colwise().maxCoeff().transpose(), options.width, options.height)
+          : SceneLaparoscope(cavity.params, q0, options.width, options.height);
   double skin_ms = 0.0, render_ms = 0.0, encode_ms = 0.0, bytes = 0.0;
   size_t k = 0;
   const int64_t cpu0 = ProcessCpuNanos();
@@ -93,8 +94,9 @@ void BM_Frame(benchmark::State& state) {
   }
   const double cpu_ms = static_cast<double>(ProcessCpuNanos() - cpu0) * 1e-6;
   const double n = static_cast<double>(state.iterations());
-  state.SetLabel(options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : "") +
-                 (options.scene.textures ? ", textured" : ", plain") + (framing ? ", framing camera" : ""));
+  state.SetLabel(
+      options.skin + (state.range(3) > 0 ? ", " + std::to_string(state.range(3)) + " sides" : "") +
+      (options.scene.textures ? ", textured" : ", plain") + (framing ? ", framing camera" : ""));
   state.counters["cpu_ms"] = cpu_ms / n;
   state.counters["skin_ms"] = skin_ms / n;
   state.counters["render_ms"] = render_ms / n;

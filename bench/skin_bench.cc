@@ -24,8 +24,8 @@
 
 #include "skin/convolution_skin.h"
 #include "skin/hybrid_skin.h"
-#include "skin/skin.h"
 #include "skin/skeletons.h"  // tests/skin/skeletons.h
+#include "skin/skin.h"
 
 namespace viscera::skin {
 namespace {
@@ -40,7 +40,8 @@ std::vector<Points> MovingSpiral(double length) {
   std::vector<Points> poses;
   for (int f = 0; f < kPoses; ++f) {
     Points q = base;
-    for (int i = 0; i < n; ++i) q(i, 2) += 0.5 * kR * std::sin(0.2 * i + 2.0 * std::numbers::pi * f / kPoses);
+    for (int i = 0; i < n; ++i)
+      q(i, 2) += 0.5 * kR * std::sin(0.2 * i + 2.0 * std::numbers::pi * f / kPoses);
     poses.push_back(q);
   }
   return poses;
@@ -76,13 +77,14 @@ const FallPile& Fall() {
     double motion = 0.0;
     for (size_t f = 1; f < p.frames.size(); ++f)
       motion = std::max(motion, (p.frames[f] - p.frames[f - 1]).rowwise().norm().maxCoeff());
-    std::fprintf(stderr,
-                 "fall.toml settled at t = %.2f s: %d control points, radius %.4f m, x [%.3f, %.3f], "
-                 "y [%.3f, %.3f], z [%.3f, %.3f] m; largest control-point move per step over the last "
-                 "%d steps %.3g mm\n",
-                 state.t, static_cast<int>(q.rows()), p.radius, q.col(0).minCoeff(), q.col(0).maxCoeff(),
-                 q.col(1).minCoeff(), q.col(1).maxCoeff(), q.col(2).minCoeff(), q.col(2).maxCoeff(),
-                 kFallFrames, motion * 1e3);
+    std::fprintf(
+        stderr,
+        "fall.toml settled at t = %.2f s: %d control points, radius %.4f m, x [%.3f, %.3f], "
+        "y [%.3f, %.3f], z [%.3f, %.3f] m; largest control-point move per step over the last "
+        "%d steps %.3g mm\n",
+        state.t, static_cast<int>(q.rows()), p.radius, q.col(0).minCoeff(), q.col(0).maxCoeff(),
+        q.col(1).minCoeff(), q.col(1).maxCoeff(), q.col(2).minCoeff(), q.col(2).maxCoeff(),
+        kFallFrames, motion * 1e3);
     return p;
   }();
   return pile;
@@ -99,11 +101,12 @@ void Run(benchmark::State& state, Skin* skin, const std::vector<Points>& poses) 
     evaluations += skin->stats().field_evaluations;
     benchmark::DoNotOptimize(mesh.positions.data());
   }
-  state.counters["meshes/s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["meshes/s"] =
+      benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["triangles"] = mesh.num_triangles();
   state.counters["vertices"] = mesh.num_vertices();
-  state.counters["evals/vertex"] =
-      static_cast<double>(evaluations) / std::max<double>(1.0, state.iterations() * mesh.num_vertices());
+  state.counters["evals/vertex"] = static_cast<double>(evaluations) /
+                                   std::max<double>(1.0, state.iterations() * mesh.num_vertices());
 }
 
 void BM_Parametric(benchmark::State& state) {
@@ -114,7 +117,11 @@ void BM_Parametric(benchmark::State& state) {
   auto skin = MakeSkin("parametric", o);
   Run(state, skin.get(), MovingSpiral(4.0));
 }
-BENCHMARK(BM_Parametric)->Args({8, 16})->Args({12, 16})->Args({12, 32})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Parametric)
+    ->Args({8, 16})
+    ->Args({12, 16})
+    ->Args({12, 32})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_Convolution(benchmark::State& state) {
   SkinOptions o;
@@ -143,7 +150,12 @@ void BM_Implicit(benchmark::State& state) {
   auto skin = MakeSkin("implicit", o);
   Run(state, skin.get(), MovingSpiral(4.0));
 }
-BENCHMARK(BM_Implicit)->Args({50, 1})->Args({50, 0})->Args({25, 1})->Args({25, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Implicit)
+    ->Args({50, 1})
+    ->Args({50, 0})
+    ->Args({25, 1})
+    ->Args({25, 0})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_Hybrid(benchmark::State& state) {
   SkinOptions o;
@@ -165,7 +177,11 @@ void BM_FallParametric(benchmark::State& state) {
   auto skin = MakeSkin("parametric", o);
   Run(state, skin.get(), Fall().frames);
 }
-BENCHMARK(BM_FallParametric)->Args({8, 16})->Args({12, 16})->Args({12, 32})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FallParametric)
+    ->Args({8, 16})
+    ->Args({12, 16})
+    ->Args({12, 32})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_FallConvolution(benchmark::State& state) {
   SkinOptions o;
@@ -194,7 +210,12 @@ void BM_FallImplicit(benchmark::State& state) {
   auto skin = MakeSkin("implicit", o);
   Run(state, skin.get(), Fall().frames);
 }
-BENCHMARK(BM_FallImplicit)->Args({50, 1})->Args({50, 0})->Args({25, 1})->Args({25, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FallImplicit)
+    ->Args({50, 1})
+    ->Args({50, 0})
+    ->Args({25, 1})
+    ->Args({25, 0})
+    ->Unit(benchmark::kMillisecond);
 
 // Focus at the pile's centroid (viscera-sim's default for --skin hybrid), radius in cm. The
 // pile is about 20 cm across, so a focus of 10 cm plus the 5 cm band already covers all of it.

@@ -7,8 +7,8 @@
 #include <string>
 
 #include "common/check.h"
-#include "skin/skin.h"
 #include "skin/skeletons.h"  // tests/skin/skeletons.h
+#include "skin/skin.h"
 
 namespace {
 
@@ -18,7 +18,8 @@ int Run(const std::string& dir) {
   constexpr double kR = 0.0125;
   const Points spiral = testing::FlatSpiral(94, 1.5, 4 * kR, 2.4 * kR);
   const Points hairpin = testing::Hairpin(60, 12 * kR, 1.6 * kR);
-  auto write = [&](const std::string& name, SkinOptions options, const Points& q, const std::string& file) {
+  auto write = [&](const std::string& name, SkinOptions options, const Points& q,
+                   const std::string& file) {
     options.radius = kR;
     auto skin = MakeSkin(name, options);
     skin->Bind(static_cast<int>(q.rows()));

@@ -40,7 +40,8 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
   const std::string force_channel = bus::SessionChannel(bus::kForcePrefix, options.session_id);
   const bus::SubscriptionId sub = client.bus().Subscribe<viscera_proto::force_feedback_t>(
       force_channel, [&](const viscera_proto::force_feedback_t& f, int64_t recv_utime) {
-        if (f.header.session_id != options.session_id || !bus::HeaderProblem(f.header).empty()) return;
+        if (f.header.session_id != options.session_id || !bus::HeaderProblem(f.header).empty())
+          return;
         ++r.forces_received;
         const Vec3 force(f.force[0], f.force[1], f.force[2]);
         force_sum += force.norm();
@@ -72,7 +73,8 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
     skeleton_sub = client.bus().Subscribe<viscera_proto::skeleton_state_t>(
         bus::SessionChannel(bus::kSkeletonPrefix, options.session_id),
         [&](const viscera_proto::skeleton_state_t& s, int64_t) {
-          if (s.header.session_id != options.session_id || !bus::HeaderProblem(s.header).empty()) return;
+          if (s.header.session_id != options.session_id || !bus::HeaderProblem(s.header).empty())
+            return;
           tube.centre_line.resize(s.spheres.size());
           for (size_t i = 0; i < s.spheres.size(); ++i) {
             tube.centre_line[i] = Vec3(s.spheres[i][0], s.spheres[i][1], s.spheres[i][2]);
@@ -94,7 +96,8 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
     const double t = static_cast<double>(k) / options.pose_rate_hz;
     for (const auto& [name, index] : tools) {
       const script::ToolKeyframe key = player.At(name, t, tube);
-      bus::FillToolPose(options.session_id, seq, options.token, index, key.tip, key.orientation, key.jaw, &pose);
+      bus::FillToolPose(options.session_id, seq, options.token, index, key.tip, key.orientation,
+                        key.jaw, &pose);
       pose.header.sender = sender;
       if (targets.size() < 1'000'000) targets[seq] = key.tip;
       ++seq;

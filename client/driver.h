@@ -28,19 +28,19 @@ struct DriveOptions {
 struct DriveResult {
   int64_t poses_sent = 0;
   int64_t forces_received = 0;
-  int64_t poses_answered = 0;       ///< poses some force message echoed
-  double max_force_n = 0.0;         ///< largest |F| over the tools (N)
-  std::string tool_at_max;          ///< the tool that felt it
-  double mean_force_n = 0.0;        ///< mean |F| over every force message (N)
-  Vec3 force_at_max = Vec3::Zero(); ///< the force vector when |F| peaked (N)
-  Vec3 tip_at_max = Vec3::Zero();   ///< simulated tip then (m)
+  int64_t poses_answered = 0;         ///< poses some force message echoed
+  double max_force_n = 0.0;           ///< largest |F| over the tools (N)
+  std::string tool_at_max;            ///< the tool that felt it
+  double mean_force_n = 0.0;          ///< mean |F| over every force message (N)
+  Vec3 force_at_max = Vec3::Zero();   ///< the force vector when |F| peaked (N)
+  Vec3 tip_at_max = Vec3::Zero();     ///< simulated tip then (m)
   Vec3 target_at_max = Vec3::Zero();  ///< the pose target then (m)
   double round_trip_p50_us = 0.0;
   double round_trip_p99_us = 0.0;
   double round_trip_max_us = 0.0;
-  int64_t clamped = 0;              ///< force messages with the clamp flag
+  int64_t clamped = 0;  ///< force messages with the clamp flag
   int64_t last_step = 0;
-  double duration_s = 0.0;          ///< wall time driving (s)
+  double duration_s = 0.0;  ///< wall time driving (s)
 };
 
 /// Drives `script` over its duration.

@@ -30,26 +30,33 @@ using viscera_proto::jpeg_frame_t;
 // A frame message at most: a 4096 x 4096 JPEG at quality 100 is about 8 MB.
 constexpr int kMaxFrameMessageBytes = 16 << 20;
 
-void PrintSummary(const FrameListenOptions& o, const FrameStreamStats& s, const std::string& where) {
+void PrintSummary(const FrameListenOptions& o, const FrameStreamStats& s,
+                  const std::string& where) {
   const double total = static_cast<double>(s.received + s.lost);
   const double loss_pct = total > 0 ? 100.0 * static_cast<double>(s.lost) / total : 0.0;
   const double mean_kb = s.received > 0 ? static_cast<double>(s.bytes) / s.received / 1024.0 : 0.0;
   if (o.json) {
-    nlohmann::ordered_json j = {{"session", o.session_id},        {"frames", s.received},
-                                {"lost", s.lost},                 {"loss_percent", loss_pct},
-                                {"server_dropped", s.server_dropped}, {"seconds", s.seconds},
-                                {"rate_hz", s.rate_hz},           {"mean_kb", mean_kb},
-                                {"age_p50_ms", s.age_p50_ms},     {"age_p99_ms", s.age_p99_ms},
+    nlohmann::ordered_json j = {{"session", o.session_id},
+                                {"frames", s.received},
+                                {"lost", s.lost},
+                                {"loss_percent", loss_pct},
+                                {"server_dropped", s.server_dropped},
+                                {"seconds", s.seconds},
+                                {"rate_hz", s.rate_hz},
+                                {"mean_kb", mean_kb},
+                                {"age_p50_ms", s.age_p50_ms},
+                                {"age_p99_ms", s.age_p99_ms},
                                 {"output", where}};
     std::cout << j.dump(2) << "\n";
     return;
   }
-  std::printf("%lld frames in %.2f s (%.1f fps) -> %s\n", static_cast<long long>(s.received), s.seconds,
-              s.rate_hz, where.c_str());
-  std::printf("lost on the way %lld (%.2f %%), dropped by the server's renderer %lld, "
-              "mean %.1f kB, age p50 %.1f ms p99 %.1f ms\n",
-              static_cast<long long>(s.lost), loss_pct, static_cast<long long>(s.server_dropped),
-              mean_kb, s.age_p50_ms, s.age_p99_ms);
+  std::printf("%lld frames in %.2f s (%.1f fps) -> %s\n", static_cast<long long>(s.received),
+              s.seconds, s.rate_hz, where.c_str());
+  std::printf(
+      "lost on the way %lld (%.2f %%), dropped by the server's renderer %lld, "
+      "mean %.1f kB, age p50 %.1f ms p99 %.1f ms\n",
+      static_cast<long long>(s.lost), loss_pct, static_cast<long long>(s.server_dropped), mean_kb,
+      s.age_p50_ms, s.age_p99_ms);
 }
 
 // Pumps the session's frames into `on_frame` until the count or duration is reached, a
@@ -115,7 +122,8 @@ int SaveFrames(const FrameListenOptions& options, const std::string& dir) {
     char name[32];
     std::snprintf(name, sizeof(name), "/frame_%06lld.jpg", static_cast<long long>(index++));
     std::ofstream out(dir + name, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(frame.data.data()), static_cast<std::streamsize>(frame.data.size()));
+    out.write(reinterpret_cast<const char*>(frame.data.data()),
+              static_cast<std::streamsize>(frame.data.size()));
     if (!out.good()) {
       std::fprintf(stderr, "viscera: cannot write %s%s\n", dir.c_str(), name);
       return false;
@@ -129,8 +137,8 @@ namespace {
 // The session's configured frame rate (Hz) from its status, or 0 when no server answers.
 double SessionFrameRate(const FrameListenOptions& o) {
   SessionClient client(o.url, o.auth);
-  const auto replies = client.Request(MakeRequest(viscera_proto::session_request_t::kStatus, o.session_id),
-                                      o.timeout_s);
+  const auto replies = client.Request(
+      MakeRequest(viscera_proto::session_request_t::kStatus, o.session_id), o.timeout_s);
   for (const viscera_proto::session_reply_t& r : replies) {
     if (r.result == viscera_proto::session_reply_t::kOk && r.num_sessions == 1) {
       return r.sessions[0].frame_rate_hz;
@@ -155,8 +163,10 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
   if (fps <= 0.0) {
     fps = SessionFrameRate(options);
     if (fps <= 0.0) {
-      std::fprintf(stderr, "viscera: session %lld streams no frames (or no server answered); "
-                   "--fps sets the video's rate\n", static_cast<long long>(options.session_id));
+      std::fprintf(stderr,
+                   "viscera: session %lld streams no frames (or no server answered); "
+                   "--fps sets the video's rate\n",
+                   static_cast<long long>(options.session_id));
       return kFramesNone;
     }
   }
@@ -166,13 +176,15 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
   const int code = Listen(options, file, [&](const jpeg_frame_t& frame) {
     // ticks without a picture (lost on the way, dropped by the renderer) repeat the last one,
     // at most a second's worth at a time (a stalled server, not a frozen video)
-    const int64_t missing = previous_seq < 0 ? 0
-                                              : (frame.header.seq - previous_seq - 1) +
-                                                    std::max<int64_t>(0, frame.dropped - previous_dropped);
+    const int64_t missing = previous_seq < 0
+                                ? 0
+                                : (frame.header.seq - previous_seq - 1) +
+                                      std::max<int64_t>(0, frame.dropped - previous_dropped);
     previous_seq = frame.header.seq;
     previous_dropped = frame.dropped;
     if (writer.isOpened()) {
-      for (int64_t k = 0; k < std::min<int64_t>(missing, static_cast<int64_t>(fps)); ++k, ++filled) {
+      for (int64_t k = 0; k < std::min<int64_t>(missing, static_cast<int64_t>(fps));
+           ++k, ++filled) {
         writer.write(previous);
       }
     }
@@ -190,7 +202,8 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
     if (!writer.isOpened()) {
       // the size of the first frame is the video's (a session's frames never change size)
       if (!writer.open(file, cv::CAP_FFMPEG, fourcc, fps, image.size(), true)) {
-        std::fprintf(stderr, "viscera: OpenCV cannot write %s (FFmpeg backend missing?)\n", file.c_str());
+        std::fprintf(stderr, "viscera: OpenCV cannot write %s (FFmpeg backend missing?)\n",
+                     file.c_str());
         return false;
       }
     }
@@ -199,7 +212,8 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
   });
   writer.release();  // writes the container's index: a video cut by Ctrl-C still plays
   if (filled > 0) {
-    std::fprintf(stderr, "viscera: %lld frame(s) missing from the stream were filled with the one before\n",
+    std::fprintf(stderr,
+                 "viscera: %lld frame(s) missing from the stream were filled with the one before\n",
                  static_cast<long long>(filled));
   }
   if (undecodable > 0) {

@@ -11,13 +11,13 @@
 namespace viscera::client {
 
 struct FrameListenOptions {
-  std::string url;                                ///< LCM URL (recv_buf_size is added)
-  std::shared_ptr<const bus::MessageAuth> auth;   ///< nullptr: no MAC
+  std::string url;                               ///< LCM URL (recv_buf_size is added)
+  std::shared_ptr<const bus::MessageAuth> auth;  ///< nullptr: no MAC
   int64_t session_id = 0;
-  int64_t count = 0;          ///< stop after this many frames; 0: no limit
-  double seconds = 0.0;       ///< stop after this long; 0: no limit
-  double timeout_s = 5.0;     ///< give up when no frame comes for this long
-  bool json = false;          ///< print the summary as JSON
+  int64_t count = 0;       ///< stop after this many frames; 0: no limit
+  double seconds = 0.0;    ///< stop after this long; 0: no limit
+  double timeout_s = 5.0;  ///< give up when no frame comes for this long
+  bool json = false;       ///< print the summary as JSON
 };
 
 /// Exit codes shared with viscera_main: 0 done, 1 local error, 2 no frame came.
@@ -39,7 +39,7 @@ int RecordVideo(const FrameListenOptions& options, const std::string& file, doub
 /// or "" for `scene_dir`/<the scene its status names>.toml) the page draws the session itself
 /// from its skeleton stream; the server's frames stay on /stream.mjpg (the page's "server
 /// frames"), and are all the page shows when the scene cannot be read (said on stderr).
-int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port, const std::string& scene_file,
-                 const std::string& scene_dir);
+int ViewOverHttp(const FrameListenOptions& options, const std::string& host_port,
+                 const std::string& scene_file, const std::string& scene_dir);
 
 }  // namespace viscera::client

@@ -19,7 +19,9 @@ FrameReceiver::FrameReceiver(bus::LcmBus* bus, int64_t session_id, Handler handl
   VISCERA_DEMAND(bus != nullptr && handler_);
   bus->Subscribe<viscera_proto::jpeg_frame_t>(
       bus::SessionChannel(bus::kFramePrefix, session_id),
-      [this](const viscera_proto::jpeg_frame_t& frame, int64_t recv_utime) { OnFrame(frame, recv_utime); });
+      [this](const viscera_proto::jpeg_frame_t& frame, int64_t recv_utime) {
+        OnFrame(frame, recv_utime);
+      });
 }
 
 void FrameReceiver::OnFrame(const viscera_proto::jpeg_frame_t& frame, int64_t recv_utime) {
@@ -47,8 +49,10 @@ void FrameReceiver::OnFrame(const viscera_proto::jpeg_frame_t& frame, int64_t re
   last_utime_ = recv_utime;
   ++received_;
   bytes_ += frame.size;
-  // in double: a frame's time is the sender's word, and INT64_MIN overflows the integers' difference
-  const double age_ms = (static_cast<double>(recv_utime) - static_cast<double>(frame.snapshot_utime)) * 1e-3;
+  // in double: a frame's time is the sender's word, and INT64_MIN overflows the integers'
+  // difference
+  const double age_ms =
+      (static_cast<double>(recv_utime) - static_cast<double>(frame.snapshot_utime)) * 1e-3;
   if (ages_ms_.size() < kAgeWindow) {
     ages_ms_.push_back(age_ms);
   } else {

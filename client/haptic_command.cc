@@ -27,35 +27,47 @@ int UsableCores() {
 }
 
 void PrintLive(const haptic::LoopReport& r) {
-  std::fprintf(stderr,
-               "\r%7.1f s  %6.0f Hz  period err p99 %5.0f us  misses %lld  round trip p50 %6.0f us  "
-               "model age %6.1f ms  |F| %5.2f N  gain %.2f ",
-               r.t_s, r.rate_hz, r.period_error_p99_us, static_cast<long long>(r.misses),
-               r.round_trip_p50_us, r.model_age_ms, r.force_n, r.gain);
+  std::fprintf(
+      stderr,
+      "\r%7.1f s  %6.0f Hz  period err p99 %5.0f us  misses %lld  round trip p50 %6.0f us  "
+      "model age %6.1f ms  |F| %5.2f N  gain %.2f ",
+      r.t_s, r.rate_hz, r.period_error_p99_us, static_cast<long long>(r.misses),
+      r.round_trip_p50_us, r.model_age_ms, r.force_n, r.gain);
 }
 
 void PrintSummary(const HapticCommand& c, const haptic::LoopSummary& s) {
-  std::printf("haptic loop on session %lld tool %s, device %s: %.2f s, %.1f of %.0f Hz (realtime %s)\n",
-              static_cast<long long>(c.session_id), c.tool_name.c_str(), s.device.c_str(), s.duration_s,
-              s.achieved_rate_hz, s.rate_hz, s.realtime.c_str());
-  std::printf("period     error p50 %.1f us, p99 %.1f us, max %.0f us; %lld misses, %lld late wake-ups of %lld\n",
-              s.period_error_p50_us, s.period_error_p99_us, s.period_error_max_us,
-              static_cast<long long>(s.misses), static_cast<long long>(s.late_wakeups),
-              static_cast<long long>(s.periods));
-  std::printf("round trip pose -> force p50 %.0f us, p99 %.0f us (%lld poses answered); model age p50 %.1f ms, p99 %.1f ms\n",
-              s.round_trip_p50_us, s.round_trip_p99_us, static_cast<long long>(s.round_trips),
-              s.model_age_p50_ms, s.model_age_p99_ms);
-  std::printf("messages   %lld poses sent (%lld lost by impairment), %lld answers (%lld used, %lld out of order, %lld lost)\n",
-              static_cast<long long>(s.poses_sent), static_cast<long long>(s.poses_lost),
-              static_cast<long long>(s.answers_received), static_cast<long long>(s.answers_accepted),
-              static_cast<long long>(s.answers_out_of_order), static_cast<long long>(s.answers_lost));
-  std::printf("force      peak %.3f N (limit %.2f N, %.0f N/s), %lld clamped, %lld rate-limited, K cap %.0f N/m\n",
-              s.peak_force_n, s.max_force_n, s.max_force_rate_n_s, static_cast<long long>(s.force_clamped),
-              static_cast<long long>(s.rate_limited), s.max_stiffness_n_m);
-  std::printf("events     %lld stale fades, %lld non-finite; passivity %s: energy %.3g J (min %.3g J), dissipated %.3g J in %lld periods\n",
-              static_cast<long long>(s.fade_events), static_cast<long long>(s.nonfinite_events),
-              s.passivity ? "on" : "OFF (observer only)", s.energy_j, s.min_energy_j, s.dissipated_j,
-              static_cast<long long>(s.passivity_activations));
+  std::printf(
+      "haptic loop on session %lld tool %s, device %s: %.2f s, %.1f of %.0f Hz (realtime %s)\n",
+      static_cast<long long>(c.session_id), c.tool_name.c_str(), s.device.c_str(), s.duration_s,
+      s.achieved_rate_hz, s.rate_hz, s.realtime.c_str());
+  std::printf(
+      "period     error p50 %.1f us, p99 %.1f us, max %.0f us; %lld misses, %lld late wake-ups of "
+      "%lld\n",
+      s.period_error_p50_us, s.period_error_p99_us, s.period_error_max_us,
+      static_cast<long long>(s.misses), static_cast<long long>(s.late_wakeups),
+      static_cast<long long>(s.periods));
+  std::printf(
+      "round trip pose -> force p50 %.0f us, p99 %.0f us (%lld poses answered); model age p50 %.1f "
+      "ms, p99 %.1f ms\n",
+      s.round_trip_p50_us, s.round_trip_p99_us, static_cast<long long>(s.round_trips),
+      s.model_age_p50_ms, s.model_age_p99_ms);
+  std::printf(
+      "messages   %lld poses sent (%lld lost by impairment), %lld answers (%lld used, %lld out of "
+      "order, %lld lost)\n",
+      static_cast<long long>(s.poses_sent), static_cast<long long>(s.poses_lost),
+      static_cast<long long>(s.answers_received), static_cast<long long>(s.answers_accepted),
+      static_cast<long long>(s.answers_out_of_order), static_cast<long long>(s.answers_lost));
+  std::printf(
+      "force      peak %.3f N (limit %.2f N, %.0f N/s), %lld clamped, %lld rate-limited, K cap "
+      "%.0f N/m\n",
+      s.peak_force_n, s.max_force_n, s.max_force_rate_n_s, static_cast<long long>(s.force_clamped),
+      static_cast<long long>(s.rate_limited), s.max_stiffness_n_m);
+  std::printf(
+      "events     %lld stale fades, %lld non-finite; passivity %s: energy %.3g J (min %.3g J), "
+      "dissipated %.3g J in %lld periods\n",
+      static_cast<long long>(s.fade_events), static_cast<long long>(s.nonfinite_events),
+      s.passivity ? "on" : "OFF (observer only)", s.energy_j, s.min_energy_j, s.dissipated_j,
+      static_cast<long long>(s.passivity_activations));
 }
 
 }  // namespace
@@ -105,11 +117,15 @@ nlohmann::ordered_json HapticSummaryToJson(const haptic::LoopSummary& s) {
 int RunHaptic(SessionClient& client, const HapticCommand& c) {
   std::unique_ptr<haptic::Device> device;
   if (c.device == "sim") {
-    ThrowUnless(!c.script.empty(), "--device sim needs --script FILE.csv (the hand's intended path)");
-    device = std::make_unique<haptic::SimDevice>(script::ToolScript::Load(c.script), c.tool_name, c.hand);
+    ThrowUnless(!c.script.empty(),
+                "--device sim needs --script FILE.csv (the hand's intended path)");
+    device = std::make_unique<haptic::SimDevice>(script::ToolScript::Load(c.script), c.tool_name,
+                                                 c.hand);
   } else if (c.device == "replay") {
-    ThrowUnless(!c.replay_log.empty(), "--device replay needs --replay FILE.jsonl (a --log of an earlier run)");
-    device = std::make_unique<haptic::ReplayDevice>(haptic::ReplayDevice::Load(c.replay_log, c.hand.limits));
+    ThrowUnless(!c.replay_log.empty(),
+                "--device replay needs --replay FILE.jsonl (a --log of an earlier run)");
+    device = std::make_unique<haptic::ReplayDevice>(
+        haptic::ReplayDevice::Load(c.replay_log, c.hand.limits));
   } else {
     Fail("unknown device '", c.device, "' (known: sim, replay)");
   }

@@ -16,16 +16,16 @@ namespace viscera::client {
 struct HapticCommand {
   int64_t session_id = 0;
   std::vector<uint8_t> token;
-  int tool = 0;                 ///< index in the session's tools
+  int tool = 0;  ///< index in the session's tools
   std::string tool_name;
   std::string device = "sim";   ///< sim | replay
   std::string script;           ///< sim: the hand's intended path (tool-script CSV)
   std::string replay_log;       ///< replay: a --log JSONL file
   haptic::SimHandOptions hand;  ///< sim: the hand and the simulated device's limits
   haptic::DeviceLoopOptions loop;
-  std::string log_path;         ///< --log FILE.jsonl ("" none)
+  std::string log_path;  ///< --log FILE.jsonl ("" none)
   bool json = false;
-  bool live = false;            ///< the live report on stderr
+  bool live = false;  ///< the live report on stderr
 };
 
 /// Exit codes: 0 done, 1 local error (bad file or option), 2 no answer from the server.

@@ -36,7 +36,8 @@ bool JpegSize(const uint8_t* data, size_t size, int* width, int* height) {
 std::string JpegProblem(const uint8_t* data, size_t size, int width, int height) {
   int w = 0, h = 0;
   if (!JpegSize(data, size, &w, &h)) return "not a JPEG (no frame header)";
-  if (w != width || h != height) return Cat("the JPEG is ", w, "x", h, ", the frame says ", width, "x", height);
+  if (w != width || h != height)
+    return Cat("the JPEG is ", w, "x", h, ", the frame says ", width, "x", height);
   if (w <= 0 || h <= 0 || w > kMaxFrameSide || h > kMaxFrameSide) {
     return Cat(w, "x", h, " pixels: above the limit of ", kMaxFrameSide, " on a side");
   }

@@ -3,8 +3,8 @@
 #include <pthread.h>
 
 #include <algorithm>
-#include <csignal>
 #include <chrono>
+#include <csignal>
 #include <utility>
 
 #include "common/check.h"
@@ -16,12 +16,18 @@ double KeepAlivePeriod(double lease_s) {
   return std::clamp(lease_s / 4.0, 0.2, 15.0);
 }
 
-KeepAlive::KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token, double period_s)
-    : KeepAlive(client, session_id, std::move(token), period_s, viscera_proto::session_request_t::kKeepAlive) {}
+KeepAlive::KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token,
+                     double period_s)
+    : KeepAlive(client, session_id, std::move(token), period_s,
+                viscera_proto::session_request_t::kKeepAlive) {}
 
-KeepAlive::KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token, double period_s,
-                     int8_t command)
-    : client_(client), session_id_(session_id), token_(std::move(token)), period_s_(period_s), command_(command) {
+KeepAlive::KeepAlive(SessionClient* client, int64_t session_id, std::vector<uint8_t> token,
+                     double period_s, int8_t command)
+    : client_(client),
+      session_id_(session_id),
+      token_(std::move(token)),
+      period_s_(period_s),
+      command_(command) {
   VISCERA_DEMAND(client_ != nullptr && period_s_ > 0.0);
   if (token_.empty() && command_ != viscera_proto::session_request_t::kWatchFrames) return;
   // The thread takes no signals (it inherits the mask): SIGINT/SIGTERM stay with the
@@ -53,8 +59,7 @@ void KeepAlive::Run() {
   std::unique_lock<std::mutex> lock(mutex_);
   while (!stop_) {
     lock.unlock();
-    viscera_proto::session_request_t request =
-        MakeRequest(command_, session_id_);
+    viscera_proto::session_request_t request = MakeRequest(command_, session_id_);
     request.header.token = token_;
     request.header.token_len = static_cast<int32_t>(token_.size());
     const bool ok = client_->Send(&request);

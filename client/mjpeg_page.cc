@@ -150,8 +150,6 @@ std::string HtmlEscape(const std::string& text) {
   return out;
 }
 
-std::string MjpegPage(const std::string& title) {
-  return kHead + HtmlEscape(title) + kBody;
-}
+std::string MjpegPage(const std::string& title) { return kHead + HtmlEscape(title) + kBody; }
 
 }  // namespace viscera::client

@@ -26,7 +26,8 @@ namespace {
 // The host of a Host field: "host:port" or "host", "[v6]:port" or "[v6]".
 std::string HostOfHostField(const std::string& value) {
   const size_t colon = value.rfind(':'), bracket = value.rfind(']');
-  const bool has_port = colon != std::string::npos && (bracket == std::string::npos || colon > bracket);
+  const bool has_port =
+      colon != std::string::npos && (bracket == std::string::npos || colon > bracket);
   return has_port ? value.substr(0, colon) : value;
 }
 
@@ -131,8 +132,8 @@ bool PeerClosed(int fd) {
 }
 
 bool SendPart(int fd, const std::vector<uint8_t>& jpeg) {
-  const std::string head = Cat("--", kBoundary, "\r\nContent-Type: image/jpeg\r\nContent-Length: ",
-                               jpeg.size(), "\r\n\r\n");
+  const std::string head = Cat(
+      "--", kBoundary, "\r\nContent-Type: image/jpeg\r\nContent-Length: ", jpeg.size(), "\r\n\r\n");
   // MSG_MORE: one part, as few segments as possible; the last send pushes it out
   return SendAll(fd, head, MSG_MORE) && SendAll(fd, Bytes(jpeg), MSG_MORE) && SendAll(fd, "\r\n");
 }
@@ -140,14 +141,15 @@ bool SendPart(int fd, const std::vector<uint8_t>& jpeg) {
 }  // namespace
 
 std::string StatsToJson(const MjpegServerStats& stats) {
-  return Cat("{\"frames_posted\":", stats.frames_posted, ",\"parts_sent\":", stats.parts_sent,
-             ",\"streams_opened\":", stats.streams_opened,
-             ",\"active_streams\":", stats.active_streams, ",\"requests\":", stats.requests,
-             ",\"skeletons_posted\":", stats.skeletons_posted, ",\"messages_sent\":", stats.messages_sent,
-             ",\"active_sockets\":", stats.active_sockets, ",\"refused_per_peer\":", stats.refused_per_peer,
-             ",\"frame_requests\":", stats.frame_requests,
-             ",\"frame_step\":", stats.frame_step, ",\"frame_age_ms\":", stats.frame_age_ms,
-             ",\"since_frame_ms\":", stats.since_frame_ms, ",\"frame_rate_hz\":", stats.frame_rate_hz, "}\n");
+  return Cat(
+      "{\"frames_posted\":", stats.frames_posted, ",\"parts_sent\":", stats.parts_sent,
+      ",\"streams_opened\":", stats.streams_opened, ",\"active_streams\":", stats.active_streams,
+      ",\"requests\":", stats.requests, ",\"skeletons_posted\":", stats.skeletons_posted,
+      ",\"messages_sent\":", stats.messages_sent, ",\"active_sockets\":", stats.active_sockets,
+      ",\"refused_per_peer\":", stats.refused_per_peer,
+      ",\"frame_requests\":", stats.frame_requests, ",\"frame_step\":", stats.frame_step,
+      ",\"frame_age_ms\":", stats.frame_age_ms, ",\"since_frame_ms\":", stats.since_frame_ms,
+      ",\"frame_rate_hz\":", stats.frame_rate_hz, "}\n");
 }
 
 void ParseHostPort(const std::string& text, std::string* host, int* port) {
@@ -297,7 +299,8 @@ void MjpegServer::AcceptLoop() {
     if ((ready[0].revents & POLLIN) == 0) continue;
     sockaddr_in peer{};
     socklen_t peer_length = sizeof(peer);
-    const int fd = accept4(listen_fd_, reinterpret_cast<sockaddr*>(&peer), &peer_length, SOCK_CLOEXEC);
+    const int fd =
+        accept4(listen_fd_, reinterpret_cast<sockaddr*>(&peer), &peer_length, SOCK_CLOEXEC);
     if (fd < 0) {
       // out of descriptors (EMFILE) keeps the listener readable: do not spin
       if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
@@ -311,11 +314,12 @@ void MjpegServer::AcceptLoop() {
       close(fd);
       return;
     }
-    const auto from_peer = std::count_if(connections_.begin(), connections_.end(), [&](const Connection& c) {
-      return !c.done && c.peer == peer.sin_addr.s_addr;
-    });
+    const auto from_peer = std::count_if(
+        connections_.begin(), connections_.end(),
+        [&](const Connection& c) { return !c.done && c.peer == peer.sin_addr.s_addr; });
     if (from_peer >= kMaxConnectionsPerPeer) ++stats_.refused_per_peer;
-    if (connections_.size() >= static_cast<size_t>(kMaxConnections) || from_peer >= kMaxConnectionsPerPeer) {
+    if (connections_.size() >= static_cast<size_t>(kMaxConnections) ||
+        from_peer >= kMaxConnectionsPerPeer) {
       // answered here without blocking: a fresh socket's buffer takes a short reply
       static constexpr std::string_view kBusy =
           "HTTP/1.0 503 Service Unavailable\r\nContent-Length: 0\r\nConnection: close\r\n\r\n";
@@ -358,9 +362,7 @@ void MjpegServer::Serve(Connection* connection) {
 
   std::string head;
   switch (ReadHead(fd, &head)) {
-    case HeadRead::kComplete:
-      Answer(fd, head, connection->peer);
-      break;
+    case HeadRead::kComplete: Answer(fd, head, connection->peer); break;
     case HeadRead::kTooLarge:
       Respond(fd, 431, "text/plain", "request head larger than 8 KiB\n", false);
       break;
@@ -416,7 +418,8 @@ void MjpegServer::Answer(int fd, const std::string& head, uint32_t peer) {
     if (scene != nullptr) {
       Respond(fd, 200, "application/json", *scene, head_only);
     } else if (expected) {
-      Respond(fd, 503, "text/plain", "no skeleton of the session yet\n", head_only, "Retry-After: 1\r\n");
+      Respond(fd, 503, "text/plain", "no skeleton of the session yet\n", head_only,
+              "Retry-After: 1\r\n");
     } else {
       Respond(fd, 404, "text/plain", "this viewer has no scene: server frames only\n", head_only);
     }
@@ -425,9 +428,11 @@ void MjpegServer::Answer(int fd, const std::string& head, uint32_t peer) {
     for (const auto& [name, value] : request.fields) {
       if (strcasecmp(name.c_str(), "Origin") != 0) continue;
       const size_t scheme = value.find("://");
-      const std::string host = HostOfHostField(scheme == std::string::npos ? value : value.substr(scheme + 3));
+      const std::string host =
+          HostOfHostField(scheme == std::string::npos ? value : value.substr(scheme + 3));
       if (host != "127.0.0.1" && host != "localhost" && host != "[::1]" && host != ip_) {
-        Respond(fd, 403, "text/plain", "the skeleton stream is for this viewer's own page\n", false);
+        Respond(fd, 403, "text/plain", "the skeleton stream is for this viewer's own page\n",
+                false);
         return;
       }
     }
@@ -455,8 +460,8 @@ void MjpegServer::Answer(int fd, const std::string& head, uint32_t peer) {
   }
 }
 
-bool MjpegServer::Respond(int fd, int status, std::string_view content_type,
-                          std::string_view body, bool head_only, std::string_view extra_fields) {
+bool MjpegServer::Respond(int fd, int status, std::string_view content_type, std::string_view body,
+                          bool head_only, std::string_view extra_fields) {
   {
     std::lock_guard lock(mutex_);
     ++stats_.requests;
@@ -478,7 +483,8 @@ std::string MjpegServer::AdmitStream(bool socket, uint32_t peer) {
   if (open >= most) return Cat("already ", most, socket ? " sockets" : " streams", " open\n");
   if (mine >= kMaxStreamsPerPeer) {
     ++stats_.refused_per_peer;
-    return Cat("already ", kMaxStreamsPerPeer, socket ? " sockets" : " streams", " open from your address\n");
+    return Cat("already ", kMaxStreamsPerPeer, socket ? " sockets" : " streams",
+               " open from your address\n");
   }
   ++open;
   ++mine;
@@ -533,7 +539,9 @@ void MjpegServer::Stream(int fd, bool head_only, uint32_t peer) {
     if (!head_only) ++stats_.streams_opened;
   }
   const bool ok = SendAll(fd, Cat("HTTP/1.0 200 OK\r\nContent-Type: multipart/x-mixed-replace; "
-                                  "boundary=", kBoundary, "\r\nCache-Control: no-cache\r\n"
+                                  "boundary=",
+                                  kBoundary,
+                                  "\r\nCache-Control: no-cache\r\n"
                                   "X-Content-Type-Options: nosniff\r\nConnection: close\r\n\r\n"));
   if (head_only) return;
 

@@ -32,11 +32,11 @@
 namespace viscera::client {
 
 struct MjpegServerStats {
-  int64_t frames_posted = 0;   ///< PostFrame calls
-  int64_t parts_sent = 0;      ///< JPEG parts written to all stream clients
-  int64_t streams_opened = 0;  ///< /stream.mjpg connections accepted since start
-  int active_streams = 0;      ///< open now
-  int64_t requests = 0;        ///< HTTP requests answered (all paths, incl. errors)
+  int64_t frames_posted = 0;     ///< PostFrame calls
+  int64_t parts_sent = 0;        ///< JPEG parts written to all stream clients
+  int64_t streams_opened = 0;    ///< /stream.mjpg connections accepted since start
+  int active_streams = 0;        ///< open now
+  int64_t requests = 0;          ///< HTTP requests answered (all paths, incl. errors)
   int64_t skeletons_posted = 0;  ///< PostSkeleton calls
   int64_t messages_sent = 0;     ///< skeleton messages written to all WebSockets
   int active_sockets = 0;        ///< /skeleton WebSockets open now
@@ -109,7 +109,7 @@ class MjpegServer {
   using Frame = std::shared_ptr<const std::vector<uint8_t>>;
   using Text = std::shared_ptr<const std::string>;
   struct Connection {
-    int fd = -1;  ///< -1 once the connection's thread has closed it
+    int fd = -1;        ///< -1 once the connection's thread has closed it
     uint32_t peer = 0;  ///< the peer's IPv4 address (network order)
     std::thread thread;
     bool done = false;
@@ -138,12 +138,12 @@ class MjpegServer {
 
   mutable std::mutex mutex_;  // guards everything below
   std::condition_variable frame_posted_;
-  Frame frame_;                // the latest; its sequence number is stats_.frames_posted
-  Text scene_, skeleton_;      // the page's scene; the latest skeleton (number: skeletons_posted)
+  Frame frame_;            // the latest; its sequence number is stats_.frames_posted
+  Text scene_, skeleton_;  // the page's scene; the latest skeleton (number: skeletons_posted)
   MjpegServerStats stats_;
   std::chrono::steady_clock::time_point frame_arrived_;
   std::vector<std::chrono::steady_clock::time_point> frame_times_;  // arrivals of the last 2 s
-  std::map<uint32_t, int> peer_streams_, peer_sockets_;  // open per peer
+  std::map<uint32_t, int> peer_streams_, peer_sockets_;             // open per peer
   bool stopping_ = false;
   std::list<Connection> connections_;  // a list: Serve holds a pointer to its element
 

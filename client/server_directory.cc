@@ -52,8 +52,8 @@ const ServerInfo* PickServer(const std::vector<ServerInfo>& servers) {
 std::string ServersSummary(const std::vector<ServerInfo>& servers) {
   std::string out;
   for (const ServerInfo& s : servers) {
-    out += (out.empty() ? "" : ", ") + Printable(s.server_id) + " " + std::to_string(s.sessions) + "/" +
-           std::to_string(s.max_sessions);
+    out += (out.empty() ? "" : ", ") + Printable(s.server_id) + " " + std::to_string(s.sessions) +
+           "/" + std::to_string(s.max_sessions);
   }
   return out.empty() ? "none" : out;
 }
@@ -88,8 +88,8 @@ std::string ServersToTable(const std::vector<ServerInfo>& servers) {
   out += line;
   for (const ServerInfo& s : servers) {
     const std::string sessions = std::to_string(s.sessions) + "/" + std::to_string(s.max_sessions);
-    std::snprintf(line, sizeof(line), "%-*s  %8s  %4.0f%%  %9.1fs\n", w, Printable(s.server_id).c_str(),
-                  sessions.c_str(), 100.0 * s.load, s.uptime_s);
+    std::snprintf(line, sizeof(line), "%-*s  %8s  %4.0f%%  %9.1fs\n", w,
+                  Printable(s.server_id).c_str(), sessions.c_str(), 100.0 * s.load, s.uptime_s);
     out += line;
   }
   for (const ServerInfo& s : servers) {

@@ -15,14 +15,14 @@ namespace viscera::client {
 /// What the latest heartbeat of one server said: its room (server_id, sessions,
 /// max_sessions, load as a fraction of one core) and more.
 struct ServerInfo : bus::ServerLoad {
-  double uptime_s = 0.0;   ///< s
-  int64_t heartbeats = 0;  ///< heard while listening
-  int64_t rejected = 0;    ///< messages the server dropped since it started
+  double uptime_s = 0.0;           ///< s
+  int64_t heartbeats = 0;          ///< heard while listening
+  int64_t rejected = 0;            ///< messages the server dropped since it started
   int64_t record_free_bytes = -1;  ///< on the server's record disk (-1: it records nothing)
-  int64_t not_ours = 0;    ///< messages for sessions it does not run (not rejected)
+  int64_t not_ours = 0;            ///< messages for sessions it does not run (not rejected)
   int64_t unconverged_solves = 0;  ///< solves accepted short of tolerance, all its sessions
-  int cores = 0;           ///< CPUs the server may run on (0: not announced)
-  std::string capacity;    ///< why it holds max_sessions ("" : not announced)
+  int cores = 0;                   ///< CPUs the server may run on (0: not announced)
+  std::string capacity;            ///< why it holds max_sessions ("" : not announced)
 };
 
 class ServerDirectory {

@@ -30,7 +30,8 @@ void MakePrintable(viscera_proto::session_reply_t* reply) {
   reply->message = Printable(reply->message);
   reply->server_id = Printable(reply->server_id);
   for (viscera_proto::session_status_t& s : reply->sessions) {
-    for (std::string* text : {&s.server_id, &s.scene, &s.skin, &s.last_error}) *text = Printable(*text);
+    for (std::string* text : {&s.server_id, &s.scene, &s.skin, &s.last_error})
+      *text = Printable(*text);
     for (std::string& name : s.tool_names) name = Printable(name);
     for (std::string& name : s.target_names) name = Printable(name);
   }

@@ -38,17 +38,16 @@ class SessionClient {
   /// Thread-safe (a keep-alive thread and the owner may both send).
   bool Send(viscera_proto::session_request_t* request);
 
-
   /// Every server heard on the heartbeat channel, sorted by id: listens `listen_s` (a little
   /// over one heartbeat period hears each running server once), and longer, up to
   /// `timeout_s`, while none has been heard yet (one that is starting).
   std::vector<ServerInfo> HearServers(double listen_s, double timeout_s);
 
-  /// Publishes `request` (its sender, seq and utime are set here) and waits up to `timeout_s` for replies with
-  /// its request_id. Returns at the first kOk reply; other replies (kUnknownSession from
-  /// servers that do not hold the session) keep it waiting `grace_s` more for an owner.
-  /// With `collect_all`, waits the whole `grace_s` after the first reply and returns all
-  /// (for kList). Empty when no server answered.
+  /// Publishes `request` (its sender, seq and utime are set here) and waits up to `timeout_s` for
+  /// replies with its request_id. Returns at the first kOk reply; other replies (kUnknownSession
+  /// from servers that do not hold the session) keep it waiting `grace_s` more for an owner. With
+  /// `collect_all`, waits the whole `grace_s` after the first reply and returns all (for kList).
+  /// Empty when no server answered.
   std::vector<viscera_proto::session_reply_t> Request(viscera_proto::session_request_t request,
                                                       double timeout_s, bool collect_all = false,
                                                       double grace_s = 0.3);

@@ -44,15 +44,17 @@ bool PeerSpokeOrLeft(int fd) {
 std::string ServeWebSocket(int fd, const std::string& head,
                            const std::function<std::optional<std::string>()>& next) {
   http::request_parser<http::empty_body> parser;
-  if (!ParseHead(head, &parser) || !websocket::is_upgrade(parser.get())) return "not a WebSocket upgrade";
+  if (!ParseHead(head, &parser) || !websocket::is_upgrade(parser.get()))
+    return "not a WebSocket upgrade";
   asio::io_context io;
   websocket::stream<asio::ip::tcp::socket> socket(io);
   beast::error_code error;
   socket.next_layer().assign(asio::ip::tcp::v4(), fd, error);
   if (error) return Cat("cannot adopt the socket: ", error.message());
   std::string problem;
-  socket.set_option(websocket::stream_base::decorator(
-      [](websocket::response_type& response) { response.set(http::field::server, "viscera view"); }));
+  socket.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {
+    response.set(http::field::server, "viscera view");
+  }));
   socket.accept(parser.release(), error);
   if (error) {
     problem = Cat("handshake: ", error.message());

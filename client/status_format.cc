@@ -53,16 +53,17 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"record_failures", s.record_failures},
           {"unconverged_solves", s.unconverged_solves},
           {"target_exposed", targets},
-          {"frames", {{"skin", s.skin},
-                      {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},
-                      {"rate_hz", s.achieved_frame_rate_hz},
-                      {"configured_rate_hz", s.frame_rate_hz},
-                      {"sent", s.frames},
-                      {"dropped", s.frames_dropped},
-                      {"skin_ms", s.skin_ms},
-                      {"render_ms", s.render_ms},
-                      {"encode_ms", s.encode_ms},
-                      {"bytes", s.frame_bytes}}},
+          {"frames",
+           {{"skin", s.skin},
+            {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},
+            {"rate_hz", s.achieved_frame_rate_hz},
+            {"configured_rate_hz", s.frame_rate_hz},
+            {"sent", s.frames},
+            {"dropped", s.frames_dropped},
+            {"skin_ms", s.skin_ms},
+            {"render_ms", s.render_ms},
+            {"encode_ms", s.encode_ms},
+            {"bytes", s.frame_bytes}}},
           {"last_error", s.last_error}};
 }
 
@@ -83,9 +84,11 @@ std::string StatusTable(const std::vector<session_status_t>& sessions) {
   out += line;
   for (const session_status_t& s : sessions) {
     const std::string rate = Whole(s.achieved_rate_hz) + "/" + Whole(s.rate_hz);
-    const std::string fps = s.frame_rate_hz > 0 ? Whole(s.achieved_frame_rate_hz) + "/" + Whole(s.frame_rate_hz) : "-";
+    const std::string fps =
+        s.frame_rate_hz > 0 ? Whole(s.achieved_frame_rate_hz) + "/" + Whole(s.frame_rate_hz) : "-";
     const std::string lease = s.lease_s > 0 ? Whole(s.lease_left_s) + "s" : "-";
-    std::snprintf(line, sizeof(line), "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7lld %7s  %s\n",
+    std::snprintf(line, sizeof(line),
+                  "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7lld %7s  %s\n",
                   static_cast<long long>(s.header.session_id), Printable(s.scene).c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),
                   static_cast<long long>(s.deadline_misses), s.step_cost_p99_us, fps.c_str(),

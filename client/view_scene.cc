@@ -68,9 +68,10 @@ void Mesh(std::string* out, const render::TriMesh& mesh) {
 void MaterialJson(std::string* out, const render::Material& m) {
   out->append("{\"albedo\":");
   Numbers(out, std::vector<float>(m.albedo.data(), m.albedo.data() + 3));
-  out->append(Cat(",\"ambient\":", m.ambient, ",\"specular\":", m.specular, ",\"shininess\":", m.shininess,
-                  ",\"sheen\":", m.sheen, ",\"sheen_shininess\":", m.sheen_shininess, ",\"metallic\":", m.metallic,
-                  ",\"opacity\":", m.opacity, ",\"pattern\":", static_cast<int>(m.pattern), ",\"vessel\":"));
+  out->append(Cat(",\"ambient\":", m.ambient, ",\"specular\":", m.specular, ",\"shininess\":",
+                  m.shininess, ",\"sheen\":", m.sheen, ",\"sheen_shininess\":", m.sheen_shininess,
+                  ",\"metallic\":", m.metallic, ",\"opacity\":", m.opacity,
+                  ",\"pattern\":", static_cast<int>(m.pattern), ",\"vessel\":"));
   Numbers(out, std::vector<float>(m.vessel.data(), m.vessel.data() + 3));
   out->push_back('}');
 }
@@ -87,7 +88,8 @@ const char* FacesName(render::Faces faces) {
 Points ControlPoints(const viscera_proto::skeleton_state_t& state) {
   Points q(state.num_points, 3);
   for (int i = 0; i < state.num_points; ++i) {
-    for (int a = 0; a < 3; ++a) q(i, a) = state.points[static_cast<size_t>(i)][static_cast<size_t>(a)];
+    for (int a = 0; a < 3; ++a)
+      q(i, a) = state.points[static_cast<size_t>(i)][static_cast<size_t>(a)];
   }
   return q;
 }
@@ -99,8 +101,8 @@ std::string CameraOf(const render::Laparoscope& scope, int width, int height) {
   Numbers(&out, std::vector<float>(camera.view.data(), camera.view.data() + 16));
   out.append(",\"projection\":");
   Numbers(&out, std::vector<float>(camera.projection.data(), camera.projection.data() + 16));
-  out.append(Cat(",\"light_range\":", camera.light_range, ",\"spot_inner_deg\":", camera.spot_inner_deg,
-                 ",\"spot_outer_deg\":", camera.spot_outer_deg, "}"));
+  out.append(Cat(",\"light_range\":", camera.light_range, ",\"spot_inner_deg\":",
+                 camera.spot_inner_deg, ",\"spot_outer_deg\":", camera.spot_outer_deg, "}"));
   return out;
 }
 
@@ -128,19 +130,23 @@ mechanics::ModelParams LoadSceneGeometry(const std::string& path) {
   }
 }
 
-std::string SceneJson(const mechanics::ModelParams& params, const viscera_proto::skeleton_state_t& first,
-                      int width, int height) {
-  ThrowUnless(first.num_points == params.initial_q.rows(), "the session's skeleton has ", first.num_points,
-              " control points, the scene file ", params.initial_q.rows(), ": not the session's scene");
+std::string SceneJson(const mechanics::ModelParams& params,
+                      const viscera_proto::skeleton_state_t& first, int width, int height) {
+  ThrowUnless(first.num_points == params.initial_q.rows(), "the session's skeleton has ",
+              first.num_points, " control points, the scene file ", params.initial_q.rows(),
+              ": not the session's scene");
   ThrowUnless(width > 0 && height > 0, "frame size ", width, "x", height);
   const render::Palette palette = render::DefaultPalette();
-  const render::Laparoscope scope = render::SceneLaparoscope(params, ControlPoints(first), width, height);
+  const render::Laparoscope scope =
+      render::SceneLaparoscope(params, ControlPoints(first), width, height);
   // the server's own shaders: the page prefixes its GLSL ES version and precision
   std::string vertex = render::kTissueVertexShader;
   vertex.erase(0, vertex.find('\n') + 1);  // "#version 330 core"
-  std::string out = Cat("{\"width\":", width, ",\"height\":", height, ",\"shaders\":{\"vertex\":",
-                        nlohmann::json(vertex).dump(), ",\"fragment\":",
-                        nlohmann::json(std::string(render::kTissueFragmentShader)).dump(), "},\"camera\":");
+  std::string out =
+      Cat("{\"width\":", width, ",\"height\":", height,
+          ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(),
+          ",\"fragment\":", nlohmann::json(std::string(render::kTissueFragmentShader)).dump(),
+          "},\"camera\":");
   out.append(CameraOf(scope, width, height));
   out.append(",\"background\":");
   Numbers(&out, std::vector<float>(palette.background.data(), palette.background.data() + 3));
@@ -149,7 +155,8 @@ std::string SceneJson(const mechanics::ModelParams& params, const viscera_proto:
                  ",\"radius_min\":", tube.radius_min_factor * params.radius,
                  ",\"radius_max\":", tube.radius_max_factor * params.radius,
                  ",\"rings_per_segment\":", tube.rings_per_segment, ",\"sides\":", tube.sides,
-                 ",\"cap_rings\":", tube.cap_rings, ",\"points\":", first.num_points, "},\"materials\":{"));
+                 ",\"cap_rings\":", tube.cap_rings, ",\"points\":", first.num_points,
+                 "},\"materials\":{"));
   out.append("\"intestine\":");
   MaterialJson(&out, palette.intestine);
   out.append(",\"tool\":");
@@ -216,16 +223,19 @@ std::string SceneJson(const mechanics::ModelParams& params, const viscera_proto:
   return out;
 }
 
-std::string LookAtCameraJson(const viscera_proto::session_request_t& request, int width, int height) {
+std::string LookAtCameraJson(const viscera_proto::session_request_t& request, int width,
+                             int height) {
   const Vec3 eye(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
   const Vec3 target(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
   const Vec3 up(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
   // as the server's render thread draws a client's camera (server/session_view.h)
-  return CameraOf(render::LookAtLaparoscope(eye, target, up, request.camera_fov_deg), width, height);
+  return CameraOf(render::LookAtLaparoscope(eye, target, up, request.camera_fov_deg), width,
+                  height);
 }
 
-std::string SkeletonJson(const viscera_proto::skeleton_state_t& state, const mechanics::ModelParams& params,
-                         const std::vector<ViewedTool>& tools, const std::string& camera) {
+std::string SkeletonJson(const viscera_proto::skeleton_state_t& state,
+                         const mechanics::ModelParams& params, const std::vector<ViewedTool>& tools,
+                         const std::string& camera) {
   std::string out = Cat("{\"step\":", state.step, ",\"t\":");
   Number(&out, state.sim_time);
   out.append(Cat(",\"utime\":", state.header.utime, ",\"points\":["));
@@ -241,9 +251,11 @@ std::string SkeletonJson(const viscera_proto::skeleton_state_t& state, const mec
     const ViewedTool& t = tools[i];
     if (!t.seen) continue;
     const mechanics::ToolParams& p = params.tools[i];
-    const Eigen::Quaterniond q = Eigen::Quaterniond(t.orientation[0], t.orientation[1], t.orientation[2],
-                                                    t.orientation[3]).normalized();
-    render::AppendTool(p.port, Vec3(t.tip[0], t.tip[1], t.tip[2]), q, t.jaw, p.radius, p.length, &mesh);
+    const Eigen::Quaterniond q =
+        Eigen::Quaterniond(t.orientation[0], t.orientation[1], t.orientation[2], t.orientation[3])
+            .normalized();
+    render::AppendTool(p.port, Vec3(t.tip[0], t.tip[1], t.tip[2]), q, t.jaw, p.radius, p.length,
+                       &mesh);
   }
   Mesh(&out, mesh);
   if (!camera.empty()) out.append(Cat(",\"camera\":", camera));

@@ -24,8 +24,8 @@ mechanics::ModelParams LoadSceneGeometry(const std::string& path);
 /// materials, static meshes, tools and mesentery. The camera is the server's default view
 /// (render::SceneLaparoscope) of `first` (the session's skeleton when the viewer started).
 /// @throws InputError when `first` does not match the scene's control points.
-std::string SceneJson(const mechanics::ModelParams& params, const viscera_proto::skeleton_state_t& first,
-                      int width, int height);
+std::string SceneJson(const mechanics::ModelParams& params,
+                      const viscera_proto::skeleton_state_t& first, int width, int height);
 
 /// Latest state of one tool as the viewer sees it on the bus: the simulated tip (force
 /// feedback) and the jaws' orientation and opening (the latest pose).
@@ -39,12 +39,14 @@ struct ViewedTool {
 /// The camera a client set (a kCamera request the server accepted), as the page takes it: the
 /// server draws it as render::LookAtLaparoscope (a plain camera: no spot cone).
 /// @throws InputError for a camera the renderer could not use.
-std::string LookAtCameraJson(const viscera_proto::session_request_t& request, int width, int height);
+std::string LookAtCameraJson(const viscera_proto::session_request_t& request, int width,
+                             int height);
 
 /// One skeleton message for the page: step, sim time, send time (us), control points
 /// (flattened, 6 significant digits), the tools' triangles (tessellated as the server draws
 /// them) and, when not empty, the camera a client set (LookAtCameraJson).
-std::string SkeletonJson(const viscera_proto::skeleton_state_t& state, const mechanics::ModelParams& params,
-                         const std::vector<ViewedTool>& tools, const std::string& camera);
+std::string SkeletonJson(const viscera_proto::skeleton_state_t& state,
+                         const mechanics::ModelParams& params, const std::vector<ViewedTool>& tools,
+                         const std::string& camera);
 
 }  // namespace viscera::client

@@ -7,11 +7,11 @@
 #include <exception>
 #include <fstream>
 #include <functional>
-#include <iterator>
 #include <iostream>
+#include <iterator>
+#include <map>
 #include <memory>
 #include <optional>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -20,6 +20,7 @@
 #include <CLI/CLI.hpp>
 #include <viscera_proto/session_status_t.hpp>
 
+#include "assessment/status_report.h"
 #include "bus/channels.h"
 #include "bus/header.h"
 #include "bus/lcm_bus.h"
@@ -29,11 +30,10 @@
 #include "client/gesture.h"
 #include "client/haptic_cli.h"
 #include "client/haptic_command.h"
+#include "client/keep_alive.h"
 #include "client/server_directory.h"
 #include "client/session_client.h"
-#include "assessment/status_report.h"
 #include "client/status_format.h"
-#include "client/keep_alive.h"
 #include "client/token_store.h"
 
 namespace {
@@ -87,8 +87,10 @@ int ReplyError(const session_reply_t& reply, int64_t id) {
       std::fprintf(stderr, "viscera: unknown session %lld\n", static_cast<long long>(id));
       return kUnknownSession;
     case session_reply_t::kBadToken:
-      std::fprintf(stderr, "viscera: server %s refused: %s (this client has no valid token for session %lld)\n",
-                   reply.server_id.c_str(), reply.message.c_str(), static_cast<long long>(id));
+      std::fprintf(
+          stderr,
+          "viscera: server %s refused: %s (this client has no valid token for session %lld)\n",
+          reply.server_id.c_str(), reply.message.c_str(), static_cast<long long>(id));
       return kRefused;
     case session_reply_t::kReplayed:
       std::fprintf(stderr,
@@ -127,7 +129,8 @@ int RunServers(const std::string& url, const Common& c, const ServersOptions& op
   }
   if (bus.stats().decode_failures > 0) {
     std::fprintf(stderr, "viscera: %lld malformed message(s) on %s\n",
-                 static_cast<long long>(bus.stats().decode_failures), viscera::bus::kHeartbeatChannel);
+                 static_cast<long long>(bus.stats().decode_failures),
+                 viscera::bus::kHeartbeatChannel);
   }
   const auto servers = directory.Servers();
   if (servers.empty()) {
@@ -163,8 +166,9 @@ struct CreateOptions {
 
 int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   if (o.scene.empty() && o.scene_file.empty()) {
-    std::fprintf(stderr, "viscera: create needs a scene: a SCENE name from the server's scene directory "
-                         "(viscera create cavity) or --scene-file FILE\n");
+    std::fprintf(stderr,
+                 "viscera: create needs a scene: a SCENE name from the server's scene directory "
+                 "(viscera create cavity) or --scene-file FILE\n");
     return kLocalError;
   }
   if (!o.scene.empty() && !o.scene_file.empty()) {
@@ -211,17 +215,20 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   const double wait_s = std::max(c.timeout_s, o.build_timeout_s);
   const auto replies = client.Request(request, wait_s);
   if (replies.empty()) {
-    std::fprintf(stderr,
-                 "viscera: server '%s' did not answer the create request within %g s (it was heard: "
-                 "has it stopped, or is its scene build still running? --build-timeout)\n",
-                 server_id.c_str(), wait_s);
+    std::fprintf(
+        stderr,
+        "viscera: server '%s' did not answer the create request within %g s (it was heard: "
+        "has it stopped, or is its scene build still running? --build-timeout)\n",
+        server_id.c_str(), wait_s);
     return kNoServer;
   }
   if (replies.front().result != session_reply_t::kOk) {
     session_reply_t named = replies.front();
     // the server knows an inline scene as "<scene dir>/<inline>": name the user's file
-    for (size_t at; !o.scene_file.empty() && (at = named.message.find("<inline>")) != std::string::npos;) {
-      const size_t dir = named.message.rfind(' ', at) == std::string::npos ? 0 : named.message.rfind(' ', at) + 1;
+    for (size_t at;
+         !o.scene_file.empty() && (at = named.message.find("<inline>")) != std::string::npos;) {
+      const size_t dir =
+          named.message.rfind(' ', at) == std::string::npos ? 0 : named.message.rfind(' ', at) + 1;
       named.message.replace(dir, at + 8 - dir, o.scene_file);
     }
     return ReplyError(named, 0);
@@ -230,7 +237,8 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
   const int64_t id = reply.header.session_id;
   viscera::client::TokenStore store(c.sessions_file);
   store.Put(id, {reply.header.token, reply.server_id});
-  if (!reply.message.empty()) std::fprintf(stderr, "viscera: scene warnings: %s\n", reply.message.c_str());
+  if (!reply.message.empty())
+    std::fprintf(stderr, "viscera: scene warnings: %s\n", reply.message.c_str());
   if (c.json) {
     Json j = {{"session", id},
               {"server_id", reply.server_id},
@@ -245,7 +253,8 @@ int RunCreate(const std::string& url, const Common& c, const CreateOptions& o) {
     std::cout << j.dump(2) << "\n";
   } else {
     std::printf("session %lld created on %s (%s; token saved in %s)\n", static_cast<long long>(id),
-                reply.server_id.c_str(), placement.empty() ? "named by --server" : placement.c_str(),
+                reply.server_id.c_str(),
+                placement.empty() ? "named by --server" : placement.c_str(),
                 c.sessions_file.c_str());
   }
   return 0;
@@ -259,9 +268,8 @@ int RunList(const std::string& url, const Common& c) {
   if (replies.empty()) return NoServer(c, url, "the list request");
   std::vector<viscera_proto::session_status_t> all;
   for (const auto& r : replies) all.insert(all.end(), r.sessions.begin(), r.sessions.end());
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
-    return a.header.session_id < b.header.session_id;
-  });
+  std::sort(all.begin(), all.end(),
+            [](const auto& a, const auto& b) { return a.header.session_id < b.header.session_id; });
   if (c.json) {
     Json array = Json::array();
     for (const auto& s : all) array.push_back(viscera::client::StatusToJson(s));
@@ -277,7 +285,8 @@ std::vector<uint8_t> TokenFor(const Common& c, int64_t id, std::string* server_i
   if (!c.token_file.empty()) {
     std::ifstream in(c.token_file);
     std::string hex;
-    viscera::ThrowUnless(static_cast<bool>(in >> hex), "cannot read a token from '", c.token_file, "'");
+    viscera::ThrowUnless(static_cast<bool>(in >> hex), "cannot read a token from '", c.token_file,
+                         "'");
     return viscera::client::FromHex(hex);
   }
   if (const char* env = std::getenv("VISCERA_TOKEN"); env != nullptr && env[0] != '\0') {
@@ -305,9 +314,10 @@ struct StatusOptions {
 };
 
 // Asks for one session's status: 0 with the status in *out, or the exit code to return.
-int FetchStatus(viscera::client::SessionClient& client, const std::string& url, const Common& c, int64_t id,
-                viscera_proto::session_status_t* out) {
-  const auto replies = client.Request(viscera::client::MakeRequest(session_request_t::kStatus, id), c.timeout_s);
+int FetchStatus(viscera::client::SessionClient& client, const std::string& url, const Common& c,
+                int64_t id, viscera_proto::session_status_t* out) {
+  const auto replies =
+      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, id), c.timeout_s);
   if (replies.empty()) return NoServer(c, url, "the status request");
   if (const int rc = ReplyError(replies.front(), id); rc != 0) return rc;
   if (replies.front().num_sessions < 1) return kRefused;
@@ -375,8 +385,10 @@ int RunReport(const std::string& url, const Common& c, int64_t id, bool final_on
         });
     while (!ended) {
       client.bus().Pump(100);
-      if (std::chrono::steady_clock::now() - last > std::chrono::duration<double>(std::max(c.timeout_s, 2.0))) {
-        std::fprintf(stderr, "viscera: session %lld went silent before it ended\n", static_cast<long long>(id));
+      if (std::chrono::steady_clock::now() - last >
+          std::chrono::duration<double>(std::max(c.timeout_s, 2.0))) {
+        std::fprintf(stderr, "viscera: session %lld went silent before it ended\n",
+                     static_cast<long long>(id));
         return kNoServer;
       }
     }
@@ -450,24 +462,28 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
   for (const std::string& name : script.tools()) {
     if (std::find(options.tool_names.begin(), options.tool_names.end(), name) ==
         options.tool_names.end()) {
-      std::fprintf(stderr, "viscera: the script drives tool \"%s\" but session %lld has %s\n",
-                   name.c_str(), static_cast<long long>(o.id),
-                   options.tool_names.empty() ? "no tools (its scene has no [[tool]])"
-                                              : "other tools");
+      std::fprintf(
+          stderr, "viscera: the script drives tool \"%s\" but session %lld has %s\n", name.c_str(),
+          static_cast<long long>(o.id),
+          options.tool_names.empty() ? "no tools (its scene has no [[tool]])" : "other tools");
       return kRefused;
     }
   }
   // poses renew the lease too; the keep-alive covers pauses in a script
   std::optional<viscera::client::KeepAlive> keep_alive;
-  keep_alive.emplace(&client, o.id, options.token, viscera::client::KeepAlivePeriod(status.lease_s));
+  keep_alive.emplace(&client, o.id, options.token,
+                     viscera::client::KeepAlivePeriod(status.lease_s));
   const viscera::client::DriveResult r = viscera::client::Drive(client, script, options);
   keep_alive.reset();
   const auto after =
       client.Request(viscera::client::MakeRequest(session_request_t::kStatus, o.id), c.timeout_s);
-  if (after.empty() || after.front().num_sessions < 1) return NoServer(c, url, "the status request");
+  if (after.empty() || after.front().num_sessions < 1)
+    return NoServer(c, url, "the status request");
   const auto& s = after.front().sessions[0];
   if (s.replayed > status.replayed) {
-    std::fprintf(stderr, "viscera: session %lld refused %lld messages as replayed or stale while driving (last: %s)\n",
+    std::fprintf(stderr,
+                 "viscera: session %lld refused %lld messages as replayed or stale while driving "
+                 "(last: %s)\n",
                  static_cast<long long>(o.id), static_cast<long long>(s.replayed - status.replayed),
                  s.last_error.c_str());
   }
@@ -481,18 +497,20 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
     std::printf("drove session %lld for %.2f s: %lld poses sent at %g Hz, %lld forces received\n",
                 static_cast<long long>(o.id), r.duration_s, static_cast<long long>(r.poses_sent),
                 o.pose_rate_hz, static_cast<long long>(r.forces_received));
-    std::printf("force      max |F| %.3f N on %s (%.3f, %.3f, %.3f), mean |F| %.3f N, clamped %lld\n",
-                r.max_force_n, r.tool_at_max.c_str(), r.force_at_max.x(), r.force_at_max.y(), r.force_at_max.z(),
-                r.mean_force_n, static_cast<long long>(r.clamped));
-    std::printf("round trip pose -> force p50 %.0f us, p99 %.0f us, max %.0f us (%lld poses answered)\n",
-                r.round_trip_p50_us, r.round_trip_p99_us, r.round_trip_max_us,
-                static_cast<long long>(r.poses_answered));
-    std::printf("mechanics  %.0f of %.0f Hz, %lld deadline %s, step p50 %.0f us p99 %.0f us, "
-                "jitter p99 %.0f us, %lld rejected\n",
-                s.achieved_rate_hz, s.rate_hz, static_cast<long long>(s.deadline_misses),
-                s.deadline_misses == 1 ? "miss" : "misses",
-                s.step_cost_p50_us, s.step_cost_p99_us, s.jitter_p99_us,
-                static_cast<long long>(s.rejected));
+    std::printf(
+        "force      max |F| %.3f N on %s (%.3f, %.3f, %.3f), mean |F| %.3f N, clamped %lld\n",
+        r.max_force_n, r.tool_at_max.c_str(), r.force_at_max.x(), r.force_at_max.y(),
+        r.force_at_max.z(), r.mean_force_n, static_cast<long long>(r.clamped));
+    std::printf(
+        "round trip pose -> force p50 %.0f us, p99 %.0f us, max %.0f us (%lld poses answered)\n",
+        r.round_trip_p50_us, r.round_trip_p99_us, r.round_trip_max_us,
+        static_cast<long long>(r.poses_answered));
+    std::printf(
+        "mechanics  %.0f of %.0f Hz, %lld deadline %s, step p50 %.0f us p99 %.0f us, "
+        "jitter p99 %.0f us, %lld rejected\n",
+        s.achieved_rate_hz, s.rate_hz, static_cast<long long>(s.deadline_misses),
+        s.deadline_misses == 1 ? "miss" : "misses", s.step_cost_p50_us, s.step_cost_p99_us,
+        s.jitter_p99_us, static_cast<long long>(s.rejected));
   }
   if (r.forces_received == 0) {
     std::fprintf(stderr, "viscera: no force feedback received\n");
@@ -500,7 +518,6 @@ int RunDrive(const std::string& url, const Common& c, const DriveCli& o) {
   }
   return 0;
 }
-
 
 int RunHapticCli(const std::string& url, const Common& c, viscera::client::HapticCli o) {
   viscera::client::HapticCommand& h = o.command;
@@ -510,8 +527,8 @@ int RunHapticCli(const std::string& url, const Common& c, viscera::client::Hapti
   if (const int rc = FetchStatus(client, url, c, h.session_id, &status); rc != 0) return rc;
   const auto it = std::find(status.tool_names.begin(), status.tool_names.end(), h.tool_name);
   if (it == status.tool_names.end()) {
-    std::fprintf(stderr, "viscera: session %lld has no tool \"%s\"\n", static_cast<long long>(h.session_id),
-                 h.tool_name.c_str());
+    std::fprintf(stderr, "viscera: session %lld has no tool \"%s\"\n",
+                 static_cast<long long>(h.session_id), h.tool_name.c_str());
     return kRefused;
   }
   h.tool = static_cast<int>(it - status.tool_names.begin());
@@ -531,17 +548,23 @@ int RunHapticCli(const std::string& url, const Common& c, viscera::client::Hapti
 // A few lines of examples for a command's --help.
 std::string ExamplesFor(const std::string& command) {
   static const std::map<std::string, std::string> examples = {
-      {"servers", "  viscera servers              # who is there, what each holds and why\n"
-                  "  viscera servers --json\n"},
-      {"create", "  viscera create cavity --json                 # the least loaded server with room\n"
-                 "  viscera create cavity --frame-rate -1        # no frames: costs a step only\n"
-                 "  viscera create --scene-file my_scene.toml --rate 500\n"},
+      {"servers",
+       "  viscera servers              # who is there, what each holds and why\n"
+       "  viscera servers --json\n"},
+      {"create",
+       "  viscera create cavity --json                 # the least loaded server with room\n"
+       "  viscera create cavity --frame-rate -1        # no frames: costs a step only\n"
+       "  viscera create --scene-file my_scene.toml --rate 500\n"},
       {"list", "  viscera list\n"},
       {"status", "  viscera status ID\n  viscera status ID --watch --count 8\n"},
       {"report", "  viscera report ID\n  viscera report ID --final --json\n"},
-      {"drive", "  viscera drive ID --gesture clearing\n  viscera drive ID --script scenes/clearing.csv --pose-rate 500\n"},
-      {"haptic", "  viscera haptic ID --tool right --device sim --script scenes/clearing.csv\n"
-                 "  viscera haptic ID --tool right --device sim --script scenes/clearing.csv --realtime 80\n"},
+      {"drive",
+       "  viscera drive ID --gesture clearing\n  viscera drive ID --script scenes/clearing.csv "
+       "--pose-rate 500\n"},
+      {"haptic",
+       "  viscera haptic ID --tool right --device sim --script scenes/clearing.csv\n"
+       "  viscera haptic ID --tool right --device sim --script scenes/clearing.csv --realtime "
+       "80\n"},
       {"camera", "  viscera camera ID --eye -0.02 -0.14 0.20 --target -0.01 0.01 0.05\n"},
       {"destroy", "  viscera destroy ID\n"},
       {"pause", "  viscera pause ID\n"},
@@ -550,7 +573,8 @@ std::string ExamplesFor(const std::string& command) {
       {"frames", "  viscera frames ID --out out/frames --count 5\n"},
       {"record", "  viscera record ID --out out/clip.mp4 --seconds 10\n"},
       {"view", "  viscera view ID --http 127.0.0.1:8080\n"},
-      {"keygen", "  viscera keygen psk    # then viscerad --key-file psk, viscera --key-file psk ...\n"},
+      {"keygen",
+       "  viscera keygen psk    # then viscerad --key-file psk, viscera --key-file psk ...\n"},
   };
   const auto it = examples.find(command);
   return it == examples.end() ? std::string() : "\nExamples:\n" + it->second;
@@ -570,12 +594,13 @@ int main(int argc, char** argv) {
   auto add_common = [&](CLI::App* cmd) {
     if (cmd != &app) {
       cmd->footer(ExamplesFor(cmd->get_name()) +
-                  "\nCommon options (--lcm-url, --key-file, --sessions, --timeout, --json): viscera --help");
+                  "\nCommon options (--lcm-url, --key-file, --sessions, --timeout, --json): "
+                  "viscera --help");
       return;
     }
-    cmd->add_option("--lcm-url", common.lcm_url,
-                    "LCM URL (default: $LCM_DEFAULT_URL, else " +
-                        std::string(viscera::bus::kDefaultUrl) + ")");
+    cmd->add_option(
+        "--lcm-url", common.lcm_url,
+        "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(viscera::bus::kDefaultUrl) + ")");
     cmd->add_option("--key-file", common.key_file, "Pre-shared key file (sign and check MACs)");
     cmd->add_option("--sessions", common.sessions_file, "Where session tokens are kept")
         ->capture_default_str();
@@ -588,13 +613,16 @@ int main(int argc, char** argv) {
   // a session token: --token-file or $VISCERA_TOKEN (default: from --sessions); --token is
   // kept only to say why it is refused
   auto add_token = [&](CLI::App* cmd) {
-    cmd->add_option("--token-file", common.token_file,
-                    "File holding the session token (hex; or $VISCERA_TOKEN; default: from --sessions)");
-    cmd->add_option("--token", common.token_hex, "Refused: use --token-file or $VISCERA_TOKEN")->group("");
+    cmd->add_option(
+        "--token-file", common.token_file,
+        "File holding the session token (hex; or $VISCERA_TOKEN; default: from --sessions)");
+    cmd->add_option("--token", common.token_hex, "Refused: use --token-file or $VISCERA_TOKEN")
+        ->group("");
   };
 
   ServersOptions servers_options;
-  CLI::App* servers = app.add_subcommand("servers", "List the servers heard on the heartbeat channel");
+  CLI::App* servers =
+      app.add_subcommand("servers", "List the servers heard on the heartbeat channel");
   add_common(servers);
 
   CreateOptions create_options;
@@ -604,18 +632,23 @@ int main(int argc, char** argv) {
   create->add_option("--scene-file", create_options.scene_file, "Send this scene file inline");
   create->add_option("--server", create_options.server,
                      "Server id (default: the least loaded server with room)");
-  create->add_option("--listen", create_options.listen_s,
-                     "Seconds to hear heartbeats before choosing a server")
+  create
+      ->add_option("--listen", create_options.listen_s,
+                   "Seconds to hear heartbeats before choosing a server")
       ->check(CLI::Range(0.05, 60.0))
       ->capture_default_str();
-  create->add_option("--build-timeout", create_options.build_timeout_s,
-                     "Seconds to wait for the heard server to build the scene and answer")
+  create
+      ->add_option("--build-timeout", create_options.build_timeout_s,
+                   "Seconds to wait for the heard server to build the scene and answer")
       ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
-  create->add_option("--rate", create_options.rate_hz,
-                     "Mechanics rate (Hz; default: the scene's; servers cap it at their --max-rate, 1000 by default)")
+  create
+      ->add_option("--rate", create_options.rate_hz,
+                   "Mechanics rate (Hz; default: the scene's; servers cap it at their --max-rate, "
+                   "1000 by default)")
       ->check(CLI::Range(1.0, 1000.0));
-  create->add_option("--skeleton-rate", create_options.skeleton_rate_hz, "Skeleton state rate (Hz)");
+  create->add_option("--skeleton-rate", create_options.skeleton_rate_hz,
+                     "Skeleton state rate (Hz)");
   create->add_option("--skin", create_options.skin,
                      "Skin of the frames: parametric, implicit, convolution or hybrid");
   create->add_option("--width", create_options.width, "Frame width (pixels)");
@@ -637,10 +670,12 @@ int main(int argc, char** argv) {
 
   int64_t report_id = 0;
   bool report_final = false;
-  CLI::App* report = app.add_subcommand("report", "Assessment of a session: handling metrics and target exposure");
+  CLI::App* report =
+      app.add_subcommand("report", "Assessment of a session: handling metrics and target exposure");
   add_common(report);
   report->add_option("id", report_id, "Session id")->required();
-  report->add_flag("--final", report_final, "Wait for the session to end and print its final assessment");
+  report->add_flag("--final", report_final,
+                   "Wait for the session to end and print its final assessment");
 
   DriveCli drive_options;
   CLI::App* drive = app.add_subcommand("drive", "Drive a session's tool along a path");
@@ -654,9 +689,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   add_token(drive);
 
-
   viscera::client::HapticCli haptic_options;
-  CLI::App* haptic = app.add_subcommand("haptic", "Run a haptic device loop on a session's tool (docs/haptics.md)");
+  CLI::App* haptic = app.add_subcommand(
+      "haptic", "Run a haptic device loop on a session's tool (docs/haptics.md)");
   add_common(haptic);
   viscera::client::AddHapticOptions(haptic, &haptic_options);
   add_token(haptic);
@@ -695,29 +730,36 @@ int main(int argc, char** argv) {
 
   // frames, record, view: listen to one session's frame stream
   viscera::client::FrameListenOptions listen;
-  std::string frames_dir, record_file, view_address = "127.0.0.1:8080", view_scene, view_scene_dir = "scenes";
+  std::string frames_dir, record_file, view_address = "127.0.0.1:8080", view_scene,
+                                       view_scene_dir = "scenes";
   double record_fps = 0.0;
   auto add_listen = [&](CLI::App* cmd) {
     add_common(cmd);
     cmd->add_option("id", listen.session_id, "Session id")->required();
     cmd->add_option("--count", listen.count, "Stop after N frames")->check(CLI::NonNegativeNumber);
-    cmd->add_option("--seconds", listen.seconds, "Stop after S seconds")->check(CLI::NonNegativeNumber);
+    cmd->add_option("--seconds", listen.seconds, "Stop after S seconds")
+        ->check(CLI::NonNegativeNumber);
   };
   CLI::App* frames = app.add_subcommand("frames", "Save a session's frames as JPEG files");
   add_listen(frames);
   frames->add_option("--out", frames_dir, "Directory for frame_000000.jpg, ...")->required();
   CLI::App* record = app.add_subcommand("record", "Record a session's frames into a video");
   add_listen(record);
-  record->add_option("--out", record_file, "Video file (.mp4: MPEG-4 part 2, .avi: MJPEG)")->required();
-  record->add_option("--fps", record_fps, "Frames per second of the video (default: the session's frame rate)")
+  record->add_option("--out", record_file, "Video file (.mp4: MPEG-4 part 2, .avi: MJPEG)")
+      ->required();
+  record
+      ->add_option("--fps", record_fps,
+                   "Frames per second of the video (default: the session's frame rate)")
       ->check(CLI::Range(1.0, 240.0));
-  CLI::App* view = app.add_subcommand(
-      "view", "Show a session in a browser: drawn by the page from its skeleton (WebGL), or the server's frames");
+  CLI::App* view = app.add_subcommand("view",
+                                      "Show a session in a browser: drawn by the page from its "
+                                      "skeleton (WebGL), or the server's frames");
   add_listen(view);
   view->add_option("--http", view_address, "Address to serve on, HOST:PORT (keep it on loopback)")
       ->capture_default_str();
-  view->add_option("--scene", view_scene,
-                   "The session's scene file, for the page to draw from (default: SCENE-DIR/<its scene>.toml)");
+  view->add_option(
+      "--scene", view_scene,
+      "The session's scene file, for the page to draw from (default: SCENE-DIR/<its scene>.toml)");
   view->add_option("--scene-dir", view_scene_dir, "Where the session's named scene is looked for")
       ->capture_default_str();
 
@@ -728,9 +770,10 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (!common.token_hex.empty()) {
-    std::fprintf(stderr, "viscera: --token is refused: a command line is readable by every local user "
-                         "(/proc/PID/cmdline); put the token in a file (--token-file FILE, mode 0600) or "
-                         "in $VISCERA_TOKEN\n");
+    std::fprintf(stderr,
+                 "viscera: --token is refused: a command line is readable by every local user "
+                 "(/proc/PID/cmdline); put the token in a file (--token-file FILE, mode 0600) or "
+                 "in $VISCERA_TOKEN\n");
     return kLocalError;
   }
   try {
@@ -768,14 +811,18 @@ int main(int argc, char** argv) {
       viscera::client::SessionClient keeper(url, listen.auth);
       const std::vector<uint8_t> token = TokenFor(common, listen.session_id, nullptr);
       if (token.empty()) {
-        std::fprintf(stderr, "viscera: no token for session %lld here: watching without renewing its lease\n",
-                     static_cast<long long>(listen.session_id));
+        std::fprintf(
+            stderr,
+            "viscera: no token for session %lld here: watching without renewing its lease\n",
+            static_cast<long long>(listen.session_id));
       }
       double lease_s = 0.0;
       if (!token.empty()) {
         const auto replies = keeper.Request(
-            viscera::client::MakeRequest(session_request_t::kStatus, listen.session_id), common.timeout_s);
-        if (!replies.empty() && replies.front().num_sessions > 0) lease_s = replies.front().sessions[0].lease_s;
+            viscera::client::MakeRequest(session_request_t::kStatus, listen.session_id),
+            common.timeout_s);
+        if (!replies.empty() && replies.front().num_sessions > 0)
+          lease_s = replies.front().sessions[0].lease_s;
       }
       viscera::client::KeepAlive keep_alive(&keeper, listen.session_id, token,
                                             viscera::client::KeepAlivePeriod(lease_s));

@@ -23,15 +23,17 @@
 namespace {
 
 struct Client {
-  Client() : bus("memq://"), frames(&bus, 1, [](const viscera_proto::jpeg_frame_t& f) {
-    if (f.size != static_cast<int32_t>(f.data.size())) std::abort();  // the receiver checked it
-  }) {
-    bus.Subscribe<viscera_proto::heartbeat_t>(viscera::bus::kHeartbeatChannel,
-                                              [this](const viscera_proto::heartbeat_t& hb, int64_t) {
-                                                directory.Observe(hb);
-                                                (void)viscera::client::ServersToTable(directory.Servers());
-                                                (void)viscera::client::ServersToJson(directory.Servers()).dump();
-                                              });
+  Client()
+      : bus("memq://"), frames(&bus, 1, [](const viscera_proto::jpeg_frame_t& f) {
+          if (f.size != static_cast<int32_t>(f.data.size()))
+            std::abort();  // the receiver checked it
+        }) {
+    bus.Subscribe<viscera_proto::heartbeat_t>(
+        viscera::bus::kHeartbeatChannel, [this](const viscera_proto::heartbeat_t& hb, int64_t) {
+          directory.Observe(hb);
+          (void)viscera::client::ServersToTable(directory.Servers());
+          (void)viscera::client::ServersToJson(directory.Servers()).dump();
+        });
     bus.Subscribe<viscera_proto::session_reply_t>(
         viscera::bus::kReplyChannel, [](const viscera_proto::session_reply_t& reply, int64_t) {
           if (!viscera::bus::HeaderProblem(reply.header).empty()) return;
@@ -68,7 +70,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string channels[] = {viscera::bus::kHeartbeatChannel, "VISCERA_FRAME_1",
                                          viscera::bus::kReplyChannel, "VISCERA_STATUS_1",
                                          "VISCERA_SKELETON_1"};
-  client.bus.PublishRaw(channels[data[0] % std::size(channels)], data + 1, static_cast<int>(size - 1));
+  client.bus.PublishRaw(channels[data[0] % std::size(channels)], data + 1,
+                        static_cast<int>(size - 1));
   client.bus.Drain();
   return 0;
 }

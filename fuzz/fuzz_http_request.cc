@@ -11,7 +11,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const size_t end = viscera::client::FindHeadEnd(bytes);
   if (end > bytes.size()) std::abort();
   viscera::client::HttpRequest request;
-  const std::string problem = viscera::client::ParseHttpRequest(end > 0 ? bytes.substr(0, end) : bytes, &request);
+  const std::string problem =
+      viscera::client::ParseHttpRequest(end > 0 ? bytes.substr(0, end) : bytes, &request);
   if (problem.empty()) {
     // what a parsed request promises
     if (request.method.empty() || request.path.empty() || request.path[0] != '/') std::abort();

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "common/check.h"
-#include "fuzz/memory_file.h"
 #include "fuzz/fuzz_limits.h"
+#include "fuzz/memory_file.h"
 #include "session/replay.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

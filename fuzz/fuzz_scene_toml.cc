@@ -17,7 +17,8 @@ namespace {
 
 std::string Generate(const std::string& in) {
   if (in.size() < 3 || in[0] != '\x01') return in;
-  const size_t count = static_cast<uint8_t>(in[1]) | (static_cast<size_t>(static_cast<uint8_t>(in[2])) << 8);
+  const size_t count =
+      static_cast<uint8_t>(in[1]) | (static_cast<size_t>(static_cast<uint8_t>(in[2])) << 8);
   const std::string rest = in.substr(3);
   const size_t a = rest.find('\0');
   const size_t b = a == std::string::npos ? std::string::npos : rest.find('\0', a + 1);
@@ -35,8 +36,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const viscera::scene::SceneLimits limits = viscera::fuzz::FuzzSceneLimits();
   const std::string text = Generate(std::string(reinterpret_cast<const char*>(data), size));
   try {
-    viscera::session::LoadSessionScene(std::string(VISCERA_SOURCE_DIR) + "/scenes", "", text, 0.0, 1000.0,
-                                       std::string(VISCERA_SOURCE_DIR) + "/scenes/<inline>", limits);
+    viscera::session::LoadSessionScene(std::string(VISCERA_SOURCE_DIR) + "/scenes", "", text, 0.0,
+                                       1000.0, std::string(VISCERA_SOURCE_DIR) + "/scenes/<inline>",
+                                       limits);
   } catch (const viscera::InputError&) {
   }
   return 0;

@@ -19,7 +19,7 @@ struct Server {
     config.server_id = "fuzz";
     config.scene_dir = std::string(VISCERA_SOURCE_DIR) + "/scenes";
     config.max_sessions = 1;
-    config.frame_rate_hz = -1.0;   // no render threads
+    config.frame_rate_hz = -1.0;  // no render threads
     config.max_message_bytes = 64 * 1024;
     config.max_session_load = 0.0;  // no timing probe
     config.max_settle_s = 0.05;
@@ -34,7 +34,8 @@ struct Server {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static Server server;
   if (size < 1) return 0;
-  static const std::string channels[] = {viscera::bus::kRequestChannel, "VISCERA_POSE_1", "VISCERA_POSE_77"};
+  static const std::string channels[] = {viscera::bus::kRequestChannel, "VISCERA_POSE_1",
+                                         "VISCERA_POSE_77"};
   const std::string& channel = channels[data[0] % 3];
   server.loop->bus().PublishRaw(channel, data + 1, static_cast<int>(size - 1));
   server.loop->HandleWaiting();

@@ -17,7 +17,8 @@ class MemoryFile {
   ~MemoryFile() { close(fd_); }
   /// Replaces the content with `data` and returns a path that opens it.
   std::string Hold(const uint8_t* data, size_t size) {
-    if (ftruncate(fd_, 0) != 0 || pwrite(fd_, data, size, 0) != static_cast<ssize_t>(size)) std::abort();
+    if (ftruncate(fd_, 0) != 0 || pwrite(fd_, data, size, 0) != static_cast<ssize_t>(size))
+      std::abort();
     return "/proc/self/fd/" + std::to_string(fd_);
   }
 

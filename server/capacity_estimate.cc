@@ -18,9 +18,9 @@
 namespace viscera::server {
 namespace {
 
-constexpr int kWarmupSteps = 5;   // first steps fill caches and factor the solver
+constexpr int kWarmupSteps = 5;  // first steps fill caches and factor the solver
 constexpr int kMinSteps = 20;
-constexpr int kFrames = 5;        // after one warm-up frame (context, buffers, skin binding)
+constexpr int kFrames = 5;  // after one warm-up frame (context, buffers, skin binding)
 
 void StopIfAsked(const std::function<bool()>& stop) {
   if (stop && stop()) throw MeasurementStopped();
@@ -62,7 +62,8 @@ double CapacityEstimate::BudgetCores() const { return cores * kCoreBudget; }
 
 double CapacityEstimate::FrameCores(double rate_hz, int width, int height) const {
   if (rate_hz <= 0.0 || frame_cpu_ms <= 0.0 || frame_width <= 0 || frame_height <= 0) return 0.0;
-  const double pixels = static_cast<double>(width) * height / (static_cast<double>(frame_width) * frame_height);
+  const double pixels =
+      static_cast<double>(width) * height / (static_cast<double>(frame_width) * frame_height);
   return frame_cpu_ms * 1e-3 * rate_hz * pixels;
 }
 
@@ -75,15 +76,16 @@ std::string CapacityEstimate::Describe() const {
   std::string frames = " (frames not measured)";
   if (frame_cpu_ms > 0.0) {
     const double stream = FrameCores(frame_rate_hz, frame_width, frame_height);
-    frames = Cat("; its ", frame_rate_hz, " Hz ", frame_width, "x", frame_height, " frame stream adds ",
-                 rounded(stream, 0.01), " core (a frame ", rounded(frame_cpu_ms, 0.1), " ms), so ",
-                 std::max(1, static_cast<int>(std::floor(BudgetCores() / (session_cores + stream) + 1e-9))),
-                 " with frames");
+    frames = Cat(
+        "; its ", frame_rate_hz, " Hz ", frame_width, "x", frame_height, " frame stream adds ",
+        rounded(stream, 0.01), " core (a frame ", rounded(frame_cpu_ms, 0.1), " ms), so ",
+        std::max(1, static_cast<int>(std::floor(BudgetCores() / (session_cores + stream) + 1e-9))),
+        " with frames");
   }
   return Cat("max ", max_sessions, " sessions without frames: a ", scene, " session costs ",
-             rounded(session_cores, 0.001), " core (a step ", std::lround(step_cpu_us), " us at ", rate_hz,
-             " Hz)", frames, "; ", cores, " core(s) at ", std::lround(kCoreBudget * 100.0), " % = ",
-             rounded(BudgetCores(), 0.01), " core");
+             rounded(session_cores, 0.001), " core (a step ", std::lround(step_cpu_us), " us at ",
+             rate_hz, " Hz)", frames, "; ", cores, " core(s) at ", std::lround(kCoreBudget * 100.0),
+             " % = ", rounded(BudgetCores(), 0.01), " core");
 }
 
 int AvailableCores() {
@@ -103,8 +105,8 @@ int SessionsThatFit(int cores, double session_cores) {
 CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string& scene_name,
                                   double seconds, const std::function<bool()>& stop) {
   StopIfAsked(stop);
-  const session::SessionScene scene = session::LoadSessionScene(
-      config.scene_dir, scene_name, "", config.rate_hz, config.max_rate_hz);
+  const session::SessionScene scene = session::LoadSessionScene(config.scene_dir, scene_name, "",
+                                                                config.rate_hz, config.max_rate_hz);
   StopIfAsked(stop);
   CapacityEstimate e;
   e.scene = scene.label;

@@ -18,16 +18,17 @@ inline constexpr double kCoreBudget = 0.7;
 /// What a session costs is charged per session: its steps always, its frames only when it
 /// streams them (at its own rate and size). max_sessions counts sessions without frames.
 struct CapacityEstimate {
-  std::string scene;            ///< reference scene measured
-  int cores = 1;                ///< CPUs this process may run on (its affinity mask)
-  double rate_hz = 0.0;         ///< mechanics rate of a session (Hz)
-  double step_cpu_us = 0.0;     ///< median CPU time of one step (us)
-  double frame_rate_hz = 0.0;   ///< default frame rate (Hz); 0 without frames
-  double frame_cpu_ms = 0.0;    ///< median CPU time of one frame: skin, draw, JPEG (ms); 0: not measured
-  int frame_width = 0;          ///< size of the frames measured (pixels)
+  std::string scene;           ///< reference scene measured
+  int cores = 1;               ///< CPUs this process may run on (its affinity mask)
+  double rate_hz = 0.0;        ///< mechanics rate of a session (Hz)
+  double step_cpu_us = 0.0;    ///< median CPU time of one step (us)
+  double frame_rate_hz = 0.0;  ///< default frame rate (Hz); 0 without frames
+  double frame_cpu_ms =
+      0.0;              ///< median CPU time of one frame: skin, draw, JPEG (ms); 0: not measured
+  int frame_width = 0;  ///< size of the frames measured (pixels)
   int frame_height = 0;
-  double session_cores = 0.0;   ///< cost of one session without frames (cores): its steps per second
-  int max_sessions = 1;         ///< floor(cores * kCoreBudget / session_cores), at least 1
+  double session_cores = 0.0;  ///< cost of one session without frames (cores): its steps per second
+  int max_sessions = 1;        ///< floor(cores * kCoreBudget / session_cores), at least 1
 
   /// Cores sessions may use: cores * kCoreBudget.
   double BudgetCores() const;
@@ -64,6 +65,7 @@ class MeasurementStopped : public std::runtime_error {
 /// @throws InputError when the scene cannot be loaded; std::runtime_error when OSMesa fails;
 ///         MeasurementStopped once `stop` returns true.
 CapacityEstimate EstimateCapacity(const ServerConfig& config, const std::string& scene_name,
-                                  double seconds = 0.3, const std::function<bool()>& stop = nullptr);
+                                  double seconds = 0.3,
+                                  const std::function<bool()>& stop = nullptr);
 
 }  // namespace viscera::server

@@ -19,7 +19,9 @@ ExposureWatcher::ExposureWatcher(session::Session* session, ExposureWatchConfig 
 
 ExposureWatcher::~ExposureWatcher() { Stop(); }
 
-void ExposureWatcher::Start() { worker_.Start([this] { Run(); }); }
+void ExposureWatcher::Start() {
+  worker_.Start([this] { Run(); });
+}
 
 void ExposureWatcher::RequestStop() { worker_.RequestStop(); }
 
@@ -48,8 +50,9 @@ void ExposureWatcher::Run() {
           have_framing = true;
         }
         const render::Laparoscope scope = SessionScope(session_->camera(), framing);
-        const assessment::View view{scope.eye.cast<double>(), scope.target.cast<double>(), scope.up.cast<double>(),
-                                    scope.fov_y_degrees, static_cast<double>(config_.width) / config_.height};
+        const assessment::View view{scope.eye.cast<double>(), scope.target.cast<double>(),
+                                    scope.up.cast<double>(), scope.fov_y_degrees,
+                                    static_cast<double>(config_.width) / config_.height};
         chain.Place(snapshot->q);
         centres.clear();
         for (const collision::Sphere& s : chain.spheres()) centres.push_back(s.centre);

@@ -15,10 +15,10 @@
 #include "common/clock.h"
 #include "common/quantile.h"
 #include "common/rate_window.h"
-#include "server/session_view.h"
 #include "render/laparoscope.h"
 #include "server/frame_schedule.h"
 #include "server/idle_priority.h"
+#include "server/session_view.h"
 
 namespace viscera::server {
 namespace {
@@ -33,7 +33,8 @@ bool SamePose(const session::CameraPose& a, const session::CameraPose& b) {
 class FrameWindow {
  public:
   void Add(int64_t now_ns, const render::FrameTimings* timings) {
-    frames_.push_back({now_ns, timings != nullptr, timings != nullptr ? *timings : render::FrameTimings{}});
+    frames_.push_back(
+        {now_ns, timings != nullptr, timings != nullptr ? *timings : render::FrameTimings{}});
   }
   void Fill(int64_t now_ns, session::FrameStreamReport* report) {
     rate_.Add(now_ns, report->frames);
@@ -78,7 +79,9 @@ FrameStreamer::FrameStreamer(session::Session* session, bus::LcmBus* bus, FrameS
 
 FrameStreamer::~FrameStreamer() { Stop(); }
 
-void FrameStreamer::Start() { worker_.Start([this] { Run(); }); }
+void FrameStreamer::Start() {
+  worker_.Start([this] { Run(); });
+}
 
 void FrameStreamer::RequestStop() { worker_.RequestStop(); }
 
@@ -97,7 +100,8 @@ void FrameStreamer::Run() {
   report.rate_hz = config_.rate_hz;
   // An exception never crosses a thread: the session runs on without frames.
   try {
-    render::FrameRenderer renderer(session_->model().params(), config_.options);  // its context is this thread's
+    render::FrameRenderer renderer(session_->model().params(),
+                                   config_.options);  // its context is this thread's
     Loop(renderer, &report);
   } catch (const std::exception& e) {
     ReportError(&report, Cat("frames stopped: ", e.what()));
@@ -136,10 +140,12 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
     const session::CameraPose pose = session_->camera();
     // nobody watches: no frame drawn or sent (a frame lease of 0 watches always)
     const bool watched = lease_ns <= 0 || session_->FramesWatched(MonotonicNanos(), lease_ns);
-    std::shared_ptr<const session::Snapshot> snapshot = watched ? session_->LatestSnapshot() : nullptr;
+    std::shared_ptr<const session::Snapshot> snapshot =
+        watched ? session_->LatestSnapshot() : nullptr;
     if (snapshot) {
       if (!have_framing) {
-        framing = FirstFraming(session_->model().params(), snapshot->q, renderer.width(), renderer.height());
+        framing = FirstFraming(session_->model().params(), snapshot->q, renderer.width(),
+                               renderer.height());
         have_framing = true;
       }
       // nothing moved and the camera stayed: send the same picture again, it costs nothing

@@ -17,11 +17,11 @@
 namespace viscera::server {
 
 struct FrameStreamConfig {
-  double rate_hz = 25.0;          ///< frames per second (>= kMinFrameRateHz)
+  double rate_hz = 25.0;  ///< frames per second (>= kMinFrameRateHz)
   /// Frames are drawn only while the session's frame lease (Session::WatchFrames) was renewed
   /// within this long (s); 0: always.
   double lease_s = 0.0;
-  render::FrameOptions options;   ///< size, JPEG quality, skin
+  render::FrameOptions options;  ///< size, JPEG quality, skin
 };
 
 class FrameStreamer {

@@ -43,9 +43,9 @@ IoLoop::IoLoop(const ServerConfig& config)
   sessions_ = std::make_unique<SessionManager>(config_, bus_.get(), frame_bus_.get());
   sessions_->SetPeers(&peers_);
   // subscribed here, before the thread pumps: LCM 1.3.1 must not subscribe while dispatching
-  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason, const uint8_t* data, int size) {
-    sessions_->OnDrop(channel, reason, data, size);
-  });
+  bus_->SetDropHandler([this](const std::string& channel, bus::DropReason reason,
+                              const uint8_t* data,
+                              int size) { sessions_->OnDrop(channel, reason, data, size); });
   bus_->SubscribeWithInfo<viscera_proto::session_request_t>(
       bus::kRequestChannel,
       [this](const viscera_proto::session_request_t& msg, const bus::MessageInfo& info) {
@@ -127,11 +127,13 @@ void IoLoop::Run() {
           heartbeat_.SetMaxSessions(new_capacity_->max_sessions);
           new_capacity_.reset();
         }
-        if (new_capacity_note_) heartbeat_.SetCapacityNote(*std::exchange(new_capacity_note_, std::nullopt));
+        if (new_capacity_note_)
+          heartbeat_.SetCapacityNote(*std::exchange(new_capacity_note_, std::nullopt));
       }
       const auto now = Clock::now();
       if (now >= next_heartbeat) {
-        viscera_proto::heartbeat_t heartbeat = heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());
+        viscera_proto::heartbeat_t heartbeat =
+            heartbeat_.Next(sessions_->num_sessions(), sessions_->rejected());
         heartbeat.replayed = sessions_->replayed();
         heartbeat.cores = AvailableCores();
         heartbeat.not_ours = sessions_->not_ours();
@@ -143,8 +145,8 @@ void IoLoop::Run() {
         // absolute schedule, but never a burst of catch-up heartbeats after a stall
         next_heartbeat = std::max(next_heartbeat + config_.heartbeat_period, now);
       }
-      const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(
-          next_heartbeat - Clock::now());
+      const auto wait =
+          std::chrono::duration_cast<std::chrono::milliseconds>(next_heartbeat - Clock::now());
       // while a model is being built elsewhere, look for it often
       const auto longest = sessions_->creating() ? std::chrono::milliseconds{5} : kMaxPump;
       bus_->Pump(static_cast<int>(std::clamp(wait, std::chrono::milliseconds{0}, longest).count()));

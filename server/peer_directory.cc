@@ -16,8 +16,10 @@ void PeerDirectory::Observe(const viscera_proto::heartbeat_t& heartbeat, int64_t
     return;
   }
   // forget the silent ones, at most once per max_age_ns (a peer map is small; this is cheap)
-  if (now_ns >= next_sweep_ns_ || (peers_.size() >= kMaxPeers && !peers_.contains(heartbeat.server_id))) {
-    std::erase_if(peers_, [&](const auto& entry) { return now_ns - entry.second.heard_ns > max_age_ns_; });
+  if (now_ns >= next_sweep_ns_ ||
+      (peers_.size() >= kMaxPeers && !peers_.contains(heartbeat.server_id))) {
+    std::erase_if(peers_,
+                  [&](const auto& entry) { return now_ns - entry.second.heard_ns > max_age_ns_; });
     next_sweep_ns_ = now_ns + max_age_ns_;
   }
   if (peers_.size() >= kMaxPeers && !peers_.contains(heartbeat.server_id)) return;

@@ -17,8 +17,9 @@ std::string RecordDiskProblem(const ServerConfig& config) {
   const int64_t free = FreeBytes(config.log_dir);
   if (free < 0) return Cat("the record directory '", config.log_dir, "' cannot be examined");
   if (free >= config.min_record_free_bytes) return "";
-  return Cat("the record directory's disk has ", free >> 20, " MiB free, below this server's minimum of ",
-             config.min_record_free_bytes >> 20, " MiB: no new session until there is room (running sessions go on)");
+  return Cat("the record directory's disk has ", free >> 20,
+             " MiB free, below this server's minimum of ", config.min_record_free_bytes >> 20,
+             " MiB: no new session until there is room (running sessions go on)");
 }
 
 }  // namespace viscera::server

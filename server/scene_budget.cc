@@ -36,30 +36,39 @@ std::string Printable(const std::string& text) {
 
 }  // namespace
 
-std::string ResolveSceneFile(const std::string& scene_dir, const std::string& file, int64_t max_bytes) {
-  const auto refuse = [&](const std::string& why) { Fail("file \"", Printable(file), "\": ", why); };
+std::string ResolveSceneFile(const std::string& scene_dir, const std::string& file,
+                             int64_t max_bytes) {
+  const auto refuse = [&](const std::string& why) {
+    Fail("file \"", Printable(file), "\": ", why);
+  };
   if (file.empty()) refuse("empty");
   if (file.size() > kMaxFileName) refuse(Cat("longer than ", kMaxFileName, " characters"));
   if (file.find('\0') != std::string::npos) refuse("contains a NUL byte");
-  if (file[0] == '/') refuse("absolute paths are refused; name a file in the server's scene directory");
+  if (file[0] == '/')
+    refuse("absolute paths are refused; name a file in the server's scene directory");
   for (size_t start = 0; start <= file.size();) {
     const size_t end = std::min(file.find('/', start), file.size());
-    if (file.compare(start, end - start, "..") == 0) refuse("\"..\" is refused; name a file in the server's scene directory");
+    if (file.compare(start, end - start, "..") == 0)
+      refuse("\"..\" is refused; name a file in the server's scene directory");
     start = end + 1;
   }
   const std::string dir = RealPath(scene_dir);
   ThrowUnless(!dir.empty(), "the server's scene directory '", scene_dir, "' is missing");
   const std::string path = RealPath(dir + "/" + file);
   if (path.empty()) refuse("no such file in the server's scene directory");
-  if (path.compare(0, dir.size() + 1, dir + "/") != 0) refuse("leads outside the server's scene directory");
+  if (path.compare(0, dir.size() + 1, dir + "/") != 0)
+    refuse("leads outside the server's scene directory");
   struct stat st {};
   if (stat(path.c_str(), &st) != 0) refuse("cannot be examined");
-  if (!S_ISREG(st.st_mode)) refuse("not a regular file (devices, FIFOs, sockets and directories are refused)");
-  if (st.st_size > max_bytes) refuse(Cat(st.st_size, " bytes: above this server's limit of ", max_bytes));
+  if (!S_ISREG(st.st_mode))
+    refuse("not a regular file (devices, FIFOs, sockets and directories are refused)");
+  if (st.st_size > max_bytes)
+    refuse(Cat(st.st_size, " bytes: above this server's limit of ", max_bytes));
   return path;
 }
 
-double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_hz, double budget_s) {
+double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_hz,
+                             double budget_s) {
   const mechanics::Model model(params);
   mechanics::State state = mechanics::InitialState(model);
   mechanics::Workspace workspace(model);
@@ -71,7 +80,8 @@ double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_h
     mechanics::Step(model, {}, &state, &workspace);
     ++steps;
   }
-  const double per_step_s = static_cast<double>(ThreadCpuNanos() - start) * 1e-9 / std::max(steps, 1);
+  const double per_step_s =
+      static_cast<double>(ThreadCpuNanos() - start) * 1e-9 / std::max(steps, 1);
   return per_step_s * (rate_hz > 0.0 ? rate_hz : params.rate_hz);
 }
 
@@ -79,8 +89,9 @@ std::function<void()> BuildStopCheck(std::shared_ptr<const std::atomic<bool>> st
   const int64_t deadline_ns = MonotonicNanos() + static_cast<int64_t>(max_s * 1e9);
   return [stop = std::move(stop), deadline_ns, max_s] {
     ThrowUnless(!stop->load(), "the server is stopping: the scene's build was abandoned");
-    ThrowUnless(max_s <= 0.0 || MonotonicNanos() < deadline_ns, "the scene's build took longer than this server's ",
-                "limit of ", max_s, " s (a shorter settle, fewer control points or sub-steps)");
+    ThrowUnless(max_s <= 0.0 || MonotonicNanos() < deadline_ns,
+                "the scene's build took longer than this server's ", "limit of ", max_s,
+                " s (a shorter settle, fewer control points or sub-steps)");
   };
 }
 

@@ -18,11 +18,13 @@ namespace viscera::server {
 /// ".." component or a NUL, a file that does not exist, lies outside the directory once
 /// symbolic links are resolved, is not a regular file (devices, FIFOs, sockets, directories)
 /// or holds more than `max_bytes`. It never opens the file: nothing blocks on a FIFO.
-std::string ResolveSceneFile(const std::string& scene_dir, const std::string& file, int64_t max_bytes);
+std::string ResolveSceneFile(const std::string& scene_dir, const std::string& file,
+                             int64_t max_bytes);
 
 /// Fraction of one core the model's mechanics would use at `rate_hz`: the thread CPU time of
 /// a few steps from its starting state (at most about `budget_s` of CPU), times the rate.
-double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_hz, double budget_s = 0.2);
+double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_hz,
+                             double budget_s = 0.2);
 
 /// Before a scene's settle, its unsettled start must fit this many times the load limit (the
 /// settled pile must fit the limit itself): what an unsettled step may cost over a settled one.

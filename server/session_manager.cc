@@ -98,10 +98,13 @@ std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools) {
 std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg_quality,
                                  const std::string& skin_name, const ServerConfig& limits) {
   // every stream holds a frame buffer and a render thread: the server caps their size
-  const auto side_ok = [](int side, int max) { return side == 0 || (side >= kMinFrameSide && side <= max); };
+  const auto side_ok = [](int side, int max) {
+    return side == 0 || (side >= kMinFrameSide && side <= max);
+  };
   if (!side_ok(width, limits.max_frame_width) || !side_ok(height, limits.max_frame_height)) {
-    return Cat("frame size ", width, "x", height, ": each side must be 0 (server default) or within ",
-               kMinFrameSide, "..", limits.max_frame_width, "x", limits.max_frame_height, " pixels");
+    return Cat("frame size ", width, "x", height,
+               ": each side must be 0 (server default) or within ", kMinFrameSide, "..",
+               limits.max_frame_width, "x", limits.max_frame_height, " pixels");
   }
   if (!std::isfinite(rate_hz) || rate_hz > limits.max_frame_rate_hz ||
       (rate_hz > 0.0 && rate_hz < kMinFrameRateHz)) {
@@ -117,8 +120,7 @@ std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg
   return "";
 }
 
-SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus,
-                               bus::LcmBus* frame_bus)
+SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus, bus::LcmBus* frame_bus)
     : config_(config),
       bus_(bus),
       frame_bus_(frame_bus),
@@ -150,8 +152,8 @@ double SessionManager::CoresCharged() const {
 }
 
 std::string SessionManager::FullMessage() const {
-  const std::string full = Cat("server ", config_.server_id, " is full (", sessions_.size(),
-                               " of ", config_.max_sessions, " sessions)");
+  const std::string full = Cat("server ", config_.server_id, " is full (", sessions_.size(), " of ",
+                               config_.max_sessions, " sessions)");
   const std::optional<bus::ServerLoad> other =
       peers_ != nullptr ? peers_->Suggest(MonotonicNanos()) : std::nullopt;
   if (!other) return Cat(full, "; no other server with room heard");
@@ -167,7 +169,9 @@ void SessionManager::StopAll() {
   const auto give_up = std::chrono::steady_clock::now() + kBuildStopWait;
   for (PendingCreate& p : pending_) {
     if (p.scene.wait_until(give_up) != std::future_status::ready) {
-      std::fprintf(stderr, "viscerad: a scene build is still in a step at shutdown; left to end with the process\n");
+      std::fprintf(
+          stderr,
+          "viscerad: a scene build is still in a step at shutdown; left to end with the process\n");
       new std::future<session::SessionScene>(std::move(p.scene));  // never waited for, never freed
     }
   }
@@ -199,10 +203,11 @@ void SessionManager::Reject(session::Session* session, const std::string& why) {
 }
 
 std::string SessionManager::CheckReplay(const viscera_proto::header_t& header,
-                                       const std::string& channel, session::Session* session) {
+                                        const std::string& channel, session::Session* session) {
   const int64_t now = bus::WallMicros();
   bus::ReplayGuard& guard = channel == bus::kRequestChannel ? replay_ : replay_poses_;
-  const bus::ReplayGuard::Verdict verdict = guard.Check(header.sender, channel, header.seq, header.utime, now);
+  const bus::ReplayGuard::Verdict verdict =
+      guard.Check(header.sender, channel, header.seq, header.utime, now);
   if (verdict == bus::ReplayGuard::Verdict::kAccepted) return "";
   const std::string why = guard.Explain(verdict, header.seq, header.utime, now);
   ++rejected_;
@@ -219,7 +224,8 @@ std::string SessionManager::CreateRateProblem() {
   if (static_cast<int>(create_times_.size()) >= config_.max_creates_per_minute) {
     return Cat("too many creates: ", create_times_.size(), " in the last minute from ",
                config_.key_file.empty() ? "all clients" : "the holders of this server's key",
-               " together (limit ", config_.max_creates_per_minute, " per minute; try again shortly)");
+               " together (limit ", config_.max_creates_per_minute,
+               " per minute; try again shortly)");
   }
   create_times_.push_back(now);
   return "";
@@ -253,8 +259,8 @@ void SessionManager::ExpireLeases() {
   }
   for (const int64_t id : expired) {
     session::Session* session = Find(id);
-    session->SetError(Cat("lease expired: no pose, command or keep-alive for ",
-                               session->config().lease_s, " s"));
+    session->SetError(
+        Cat("lease expired: no pose, command or keep-alive for ", session->config().lease_s, " s"));
     Retire(id);
     ++expired_;
     std::fprintf(stderr, "viscerad: session %lld ended: its lease of %g s expired\n",
@@ -304,7 +310,8 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
 
   const std::string problem = bus::HeaderProblem(request.header);
   if (!problem.empty() || request.request_id == 0) {
-    Reject(Find(request.header.session_id), Cat("bad request: ", problem.empty() ? "request_id 0" : problem));
+    Reject(Find(request.header.session_id),
+           Cat("bad request: ", problem.empty() ? "request_id 0" : problem));
     // another protocol version may not understand the reply, but it is all we can say
     Reply(request, session_reply_t::kBadRequest,
           problem.empty() ? "request_id must not be 0" : problem, request.header.session_id);
@@ -319,14 +326,16 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
               "create must name its server (server_id from the heartbeat)");
         return;
       }
-      if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, nullptr); !why.empty()) {
+      if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, nullptr);
+          !why.empty()) {
         Reply(request, session_reply_t::kReplayed, why);
         return;
       }
       Create(request);
       return;
     case session_request_t::kList:
-      for (const auto& [id, running] : sessions_) reply_.sessions.push_back(running.session->Status());
+      for (const auto& [id, running] : sessions_)
+        reply_.sessions.push_back(running.session->Status());
       reply_.num_sessions = static_cast<int32_t>(reply_.sessions.size());
       Reply(request, session_reply_t::kOk, "");
       return;
@@ -337,8 +346,7 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
     case session_request_t::kResume:
     case session_request_t::kCamera:
     case session_request_t::kKeepAlive:
-    case session_request_t::kWatchFrames:
-      break;
+    case session_request_t::kWatchFrames: break;
     default:
       Reject(Find(request.header.session_id), Cat("unknown command ", int{request.command}));
       Reply(request, session_reply_t::kBadRequest, Cat("unknown command ", int{request.command}),
@@ -370,14 +378,16 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   }
   if (!bus::SecureEquals(request.header.token, session->config().token)) {
     Reject(session, request.header.token.empty() ? "request without the session token"
-                                                  : "request with a wrong session token");
+                                                 : "request with a wrong session token");
     Reply(request, session_reply_t::kBadToken,
           request.header.token.empty() ? "this command needs the session token"
-                                       : "wrong session token", id);
+                                       : "wrong session token",
+          id);
     return;
   }
   // before any effect: a replayed or stale command changes nothing, not even the lease
-  if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, session); !why.empty()) {
+  if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, session);
+      !why.empty()) {
     Reply(request, session_reply_t::kReplayed, why, id);
     return;
   }
@@ -390,28 +400,21 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
 
   session::Command command;
   switch (request.command) {
-    case session_request_t::kKeepAlive:
-      Reply(request, session_reply_t::kOk, "", id);
-      return;
+    case session_request_t::kKeepAlive: Reply(request, session_reply_t::kOk, "", id); return;
     case session_request_t::kDestroy: {
       reply_.sessions.push_back(Retire(id));
       reply_.num_sessions = 1;
       Reply(request, session_reply_t::kOk, "", id);
       return;
     }
-    case session_request_t::kReset:
-      command.kind = session::Command::Kind::kReset;
-      break;
-    case session_request_t::kPause:
-      command.kind = session::Command::Kind::kPause;
-      break;
-    case session_request_t::kResume:
-      command.kind = session::Command::Kind::kResume;
-      break;
+    case session_request_t::kReset: command.kind = session::Command::Kind::kReset; break;
+    case session_request_t::kPause: command.kind = session::Command::Kind::kPause; break;
+    case session_request_t::kResume: command.kind = session::Command::Kind::kResume; break;
     default: {  // kCamera: no mechanics involved, the render thread reads it directly
       session::CameraPose pose;
       pose.eye = Vec3(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
-      pose.target = Vec3(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
+      pose.target =
+          Vec3(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
       pose.up = Vec3(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
       pose.fov_deg = request.camera_fov_deg;
       pose.set_by_client = true;
@@ -464,40 +467,48 @@ void SessionManager::Create(const session_request_t& request) {
     Reply(request, session_reply_t::kRefused, "skeleton rate must be at most 1000 Hz");
     return;
   }
-  if (const std::string problem = FrameSettingsProblem(request.frame_width, request.frame_height,
-                                                       request.frame_rate_hz, request.jpeg_quality,
-                                                       request.skin, config_);
+  if (const std::string problem =
+          FrameSettingsProblem(request.frame_width, request.frame_height, request.frame_rate_hz,
+                               request.jpeg_quality, request.skin, config_);
       !problem.empty()) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused, problem);
     return;
   }
 
-  const double frame_rate = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
-  const double mpix = frame_rate <= 0.0 ? 0.0
-                      : 1e-6 * frame_rate *
-                            (request.frame_width > 0 ? request.frame_width : config_.frame_width) *
-                            (request.frame_height > 0 ? request.frame_height : config_.frame_height);
+  const double frame_rate =
+      request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
+  const double mpix =
+      frame_rate <= 0.0
+          ? 0.0
+          : 1e-6 * frame_rate *
+                (request.frame_width > 0 ? request.frame_width : config_.frame_width) *
+                (request.frame_height > 0 ? request.frame_height : config_.frame_height);
   if (const double in_use = FrameLoadMpix();
       config_.max_frame_mpix_per_s > 0.0 && in_use + mpix > config_.max_frame_mpix_per_s) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused,
-          Cat("frame bandwidth: this stream needs ", mpix, " Mpixel/s and the server's streams use ", in_use,
-              " of its ", config_.max_frame_mpix_per_s, " (ask for a smaller or slower stream, or none)"));
+          Cat("frame bandwidth: this stream needs ", mpix,
+              " Mpixel/s and the server's streams use ", in_use, " of its ",
+              config_.max_frame_mpix_per_s, " (ask for a smaller or slower stream, or none)"));
     return;
   }
 
   const double cores =
-      !capacity_ ? 0.0
-                 : capacity_->SessionCores(frame_rate, request.frame_width > 0 ? request.frame_width : config_.frame_width,
-                                           request.frame_height > 0 ? request.frame_height : config_.frame_height);
-  if (const double charged = CoresCharged(); capacity_ && charged > 0.0 && charged + cores > capacity_->BudgetCores() + 1e-9) {
+      !capacity_
+          ? 0.0
+          : capacity_->SessionCores(
+                frame_rate, request.frame_width > 0 ? request.frame_width : config_.frame_width,
+                request.frame_height > 0 ? request.frame_height : config_.frame_height);
+  if (const double charged = CoresCharged();
+      capacity_ && charged > 0.0 && charged + cores > capacity_->BudgetCores() + 1e-9) {
     ++rejected_;
     Reply(request, session_reply_t::kRefused,
           Cat("server ", config_.server_id, " has no room for this session: it would cost ", cores,
-              " core", frame_rate > 0.0 ? Cat(" (", frame_rate, " Hz frames included)") : "", ", and its ",
-              sessions_.size(), " sessions use ", charged, " of its ", capacity_->BudgetCores(),
-              " core budget", frame_rate > 0.0 ? "; ask for fewer or no frames (frame rate < 0)" : ""));
+              " core", frame_rate > 0.0 ? Cat(" (", frame_rate, " Hz frames included)") : "",
+              ", and its ", sessions_.size(), " sessions use ", charged, " of its ",
+              capacity_->BudgetCores(), " core budget",
+              frame_rate > 0.0 ? "; ask for fewer or no frames (frame rate < 0)" : ""));
     return;
   }
 
@@ -510,20 +521,22 @@ void SessionManager::Create(const session_request_t& request) {
   const std::string inline_source = config_.scene_dir + "/<inline>";  // meshes: the scene dir
   // copies only, no `this`: a build still running at shutdown is left behind (StopAll)
   pending_.push_back({request, mpix, cores,
-                      std::async(std::launch::async, [scene_dir = config_.scene_dir, max_rate = config_.max_rate_hz,
-                                                      request, rate, limits, inline_source] {
-                        NiceThisThread();
-                        return session::LoadSessionScene(scene_dir, request.scene_name, request.scene_toml, rate,
-                                                         max_rate, inline_source, limits);
-                      }),
+                      std::async(std::launch::async,
+                                 [scene_dir = config_.scene_dir, max_rate = config_.max_rate_hz,
+                                  request, rate, limits, inline_source] {
+                                   NiceThisThread();
+                                   return session::LoadSessionScene(
+                                       scene_dir, request.scene_name, request.scene_toml, rate,
+                                       max_rate, inline_source, limits);
+                                 }),
                       stop});
 }
-
 
 void SessionManager::Poll() {
   ExpireLeases();
   std::erase_if(retiring_, [](const Running& r) {
-    return (r.frames == nullptr || r.frames->finished()) && (r.exposure == nullptr || r.exposure->finished());
+    return (r.frames == nullptr || r.frames->finished()) &&
+           (r.exposure == nullptr || r.exposure->finished());
   });
   for (size_t i = 0; i < pending_.size();) {
     PendingCreate& p = pending_[i];
@@ -572,20 +585,21 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   frames.lease_s = config_.frame_lease_s;
   frames.options.width = request.frame_width > 0 ? request.frame_width : config_.frame_width;
   frames.options.height = request.frame_height > 0 ? request.frame_height : config_.frame_height;
-  frames.options.jpeg_quality = request.jpeg_quality > 0 ? request.jpeg_quality : config_.jpeg_quality;
+  frames.options.jpeg_quality =
+      request.jpeg_quality > 0 ? request.jpeg_quality : config_.jpeg_quality;
   frames.options.skin = !request.skin.empty() ? request.skin : config_.skin;
   frames.options.skin_options.parametric.sides = config_.skin_sides;
   frames.options.skin_options.convolution.sides = config_.skin_sides;
   // while frames stream, a snapshot every step (it costs a copy of the control points): a
   // frame then shows the pose of its tick, not one up to a snapshot period older
-  sc.snapshot_rate_hz = frames.rate_hz > 0.0 ? scene.model->params().rate_hz
-                                             : std::max(30.0, sc.skeleton_rate_hz);
+  sc.snapshot_rate_hz =
+      frames.rate_hz > 0.0 ? scene.model->params().rate_hz : std::max(30.0, sc.skeleton_rate_hz);
 
   std::unique_ptr<session::Recorder> recorder;
   if (!config_.log_dir.empty()) {
     try {
-      recorder = std::make_unique<session::Recorder>(
-          Cat(config_.log_dir, "/session-", sc.id, ".lcmlog"));
+      recorder =
+          std::make_unique<session::Recorder>(Cat(config_.log_dir, "/session-", sc.id, ".lcmlog"));
     } catch (const std::exception& e) {
       Reply(request, session_reply_t::kRefused, Cat("cannot record the session: ", e.what()));
       return;

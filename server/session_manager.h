@@ -7,10 +7,10 @@
 #include <deque>
 #include <future>
 #include <map>
-#include <unordered_map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
 
 #include <viscera_proto/session_reply_t.hpp>
 #include <viscera_proto/session_request_t.hpp>
@@ -136,8 +136,8 @@ class SessionManager {
     std::unique_ptr<session::Session> session;
     std::unique_ptr<FrameStreamer> frames;
     std::unique_ptr<ExposureWatcher> exposure;  // scenes with [[target]]; ends before the session
-    double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
-    double cores = 0.0;             // what admission charged it (SetCapacity)
+    double frame_mpix_per_s = 0.0;              // its share of max_frame_mpix_per_s
+    double cores = 0.0;                         // what admission charged it (SetCapacity)
   };
 
   bus::LcmBus* frame_bus_;
@@ -160,12 +160,13 @@ class SessionManager {
   std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> expired_{0};
   int64_t ended_unconverged_solves_ = 0;  // of the sessions retired (I/O thread)
-  bus::ReplayGuard replay_;        // the request channel's senders
-  bus::ReplayGuard replay_poses_;  // the pose channels': a pose flood cannot fill the other
-  std::deque<int64_t> create_times_;  // creates accepted within the last minute (ns)
+  bus::ReplayGuard replay_;               // the request channel's senders
+  bus::ReplayGuard replay_poses_;         // the pose channels': a pose flood cannot fill the other
+  std::deque<int64_t> create_times_;      // creates accepted within the last minute (ns)
   int64_t reply_seq_ = 0;
-  viscera_proto::session_reply_t reply_{};  // zeroed: Reply() sends num_sessions before any list set it
-  viscera_proto::tool_pose_t record_pose_{};         // a pose as recorded: without its token
+  viscera_proto::session_reply_t
+      reply_{};  // zeroed: Reply() sends num_sessions before any list set it
+  viscera_proto::tool_pose_t record_pose_{};           // a pose as recorded: without its token
   viscera_proto::session_request_t record_request_{};  // a request as recorded: likewise
 };
 

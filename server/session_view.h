@@ -10,14 +10,17 @@ namespace viscera::server {
 
 /// The scene's own view: its [camera] scope, else the framing of the control points `q` (#N by 3)
 /// for a width x height frame.
-inline render::Laparoscope FirstFraming(const mechanics::ModelParams& params, const Points& q, int width,
-                                        int height) {
+inline render::Laparoscope FirstFraming(const mechanics::ModelParams& params, const Points& q,
+                                        int width, int height) {
   return render::SceneLaparoscope(params, q, width, height);
 }
 
 /// The client's camera if it set one, else `framing`.
-inline render::Laparoscope SessionScope(const session::CameraPose& pose, const render::Laparoscope& framing) {
-  return pose.set_by_client ? render::LookAtLaparoscope(pose.eye, pose.target, pose.up, pose.fov_deg) : framing;
+inline render::Laparoscope SessionScope(const session::CameraPose& pose,
+                                        const render::Laparoscope& framing) {
+  return pose.set_by_client
+             ? render::LookAtLaparoscope(pose.eye, pose.target, pose.up, pose.fov_deg)
+             : framing;
 }
 
 }  // namespace viscera::server

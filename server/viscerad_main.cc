@@ -6,11 +6,11 @@
 
 #include <sched.h>
 
-#include <csignal>
-#include <cstring>
 #include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <exception>
 #include <filesystem>
@@ -51,8 +51,8 @@ const char* SignalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTE
 void AutoCapacity(viscera::server::IoLoop* loop, const viscera::server::ServerConfig& config,
                   const std::string& scene, const std::atomic<bool>& stopping) {
   try {
-    const viscera::server::CapacityEstimate e =
-        viscera::server::EstimateCapacity(config, scene, 0.3, [&stopping] { return stopping.load(); });
+    const viscera::server::CapacityEstimate e = viscera::server::EstimateCapacity(
+        config, scene, 0.3, [&stopping] { return stopping.load(); });
     std::fprintf(stderr, "viscerad: %s (--max-sessions N overrides)\n", e.Describe().c_str());
     loop->SetCapacity(e);
   } catch (const viscera::server::MeasurementStopped&) {
@@ -94,9 +94,11 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
   const bool measure = config.max_sessions == 0;
   if (measure) config.max_sessions = viscera::server::AvailableCores();
   viscera::server::IoLoop loop(config);
-  loop.SetCapacityNote(measure ? viscera::Cat("max ", config.max_sessions, " sessions, one per core, until the cost of a ",
-                                              capacity_scene, " session is measured")
-                               : viscera::Cat("max ", config.max_sessions, " sessions: --max-sessions"));
+  loop.SetCapacityNote(
+      measure ? viscera::Cat("max ", config.max_sessions,
+                             " sessions, one per core, until the cost of a ", capacity_scene,
+                             " session is measured")
+              : viscera::Cat("max ", config.max_sessions, " sessions: --max-sessions"));
   loop.Start();
   // a stop does not wait for the measurement (nice 19: minutes on a busy machine)
   std::atomic<bool> stopping{false};
@@ -130,9 +132,9 @@ int Run(viscera::server::ServerConfig config, const std::string& capacity_scene)
       stopping = true;
       if (estimator.joinable()) estimator.join();
       loop.Stop();
-      std::fprintf(stderr, "viscerad: stopped cleanly after %lld heartbeats (%lld messages rejected)\n",
-                   static_cast<long long>(loop.heartbeats_sent()),
-                   static_cast<long long>(loop.rejected()));
+      std::fprintf(
+          stderr, "viscerad: stopped cleanly after %lld heartbeats (%lld messages rejected)\n",
+          static_cast<long long>(loop.heartbeats_sent()), static_cast<long long>(loop.rejected()));
       return 0;
     }
     if (loop.failed()) {
@@ -158,8 +160,9 @@ int main(int argc, char** argv) {
   std::string lcm_url;
   viscera::server::ServerConfig config;
   config.server_id = DefaultServerId();
-  app.add_option("--lcm-url", lcm_url,
-                 "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(viscera::bus::kDefaultUrl) + ")");
+  app.add_option(
+      "--lcm-url", lcm_url,
+      "LCM URL (default: $LCM_DEFAULT_URL, else " + std::string(viscera::bus::kDefaultUrl) + ")");
   app.add_option("--server-id", config.server_id, "Name announced in heartbeats")
       ->capture_default_str();
   config.max_sessions = 0;
@@ -195,13 +198,16 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
   app.add_option("--frame-lease", config.frame_lease_s,
-                 "Draw a session's frames only while a viewer renewed its frame lease within S s (0 = always)")
+                 "Draw a session's frames only while a viewer renewed its frame lease within S s "
+                 "(0 = always)")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
-  app.add_option("--max-frame-rate", config.max_frame_rate_hz, "Highest frame rate a session may ask (Hz)")
+  app.add_option("--max-frame-rate", config.max_frame_rate_hz,
+                 "Highest frame rate a session may ask (Hz)")
       ->check(CLI::Range(1.0, 1000.0))
       ->capture_default_str();
-  app.add_option("--skin", config.skin, std::string("Default skin: ") + viscera::skin::kSkinNameList)
+  app.add_option("--skin", config.skin,
+                 std::string("Default skin: ") + viscera::skin::kSkinNameList)
       ->check(CLI::IsMember(std::vector<std::string>(std::begin(viscera::skin::kSkinNames),
                                                      std::end(viscera::skin::kSkinNames))))
       ->capture_default_str();
@@ -212,7 +218,8 @@ int main(int argc, char** argv) {
   std::string frame_size = "640x480", max_frame_size = "1920x1080";
   app.add_option("--frame-size", frame_size, "Default frame size WIDTHxHEIGHT (pixels)")
       ->capture_default_str();
-  app.add_option("--max-frame-size", max_frame_size, "Largest frame size a session may ask (WIDTHxHEIGHT)")
+  app.add_option("--max-frame-size", max_frame_size,
+                 "Largest frame size a session may ask (WIDTHxHEIGHT)")
       ->capture_default_str();
   app.add_option("--jpeg-quality", config.jpeg_quality, "Default JPEG quality")
       ->check(CLI::Range(1, 100))
@@ -221,9 +228,10 @@ int main(int argc, char** argv) {
                  "SCHED_FIFO priority (1..99) for the mechanics and I/O threads; 0 = normal")
       ->check(CLI::Range(0, 99))
       ->capture_default_str();
-  app.add_option("--spin-us", config.spin_us,
-                 "Mechanics loops sleep until this long before each deadline, then spin (us; 0 = sleep "
-                 "only; -1 = 50 with --realtime granted, else 0)")
+  app.add_option(
+         "--spin-us", config.spin_us,
+         "Mechanics loops sleep until this long before each deadline, then spin (us; 0 = sleep "
+         "only; -1 = 50 with --realtime granted, else 0)")
       ->check(CLI::Range(-1.0, 100000.0))
       ->capture_default_str();
   app.add_option("--key-file", config.key_file,
@@ -231,25 +239,31 @@ int main(int argc, char** argv) {
   app.add_flag("--insecure", config.insecure,
                "Start on a bus that reaches other hosts (udpm ttl > 0) without --key-file: every "
                "session token then travels in clear (docs/security.md)");
-  app.add_option("--max-clock-skew", config.max_clock_skew_s,
-                 "Replay protection: largest |utime - this clock| of a session-changing message (s)")
+  app.add_option(
+         "--max-clock-skew", config.max_clock_skew_s,
+         "Replay protection: largest |utime - this clock| of a session-changing message (s)")
       ->check(CLI::Range(0.1, 3600.0))
       ->capture_default_str();
   app.add_option("--session-lease", config.session_lease_s,
-                 "End a session whose client sent nothing (pose, command, keep-alive) this long (s); 0 = never")
+                 "End a session whose client sent nothing (pose, command, keep-alive) this long "
+                 "(s); 0 = never")
       ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
-  app.add_option("--max-message-size", config.max_message_bytes, "Largest datagram accepted (bytes)")
+  app.add_option("--max-message-size", config.max_message_bytes,
+                 "Largest datagram accepted (bytes)")
       ->check(CLI::Range(1024, 64 << 20))
       ->capture_default_str();
-  app.add_option("--max-creates-per-minute", config.max_creates_per_minute, "Creates per minute, all key holders (or all clients) together; 0 = no limit")
+  app.add_option("--max-creates-per-minute", config.max_creates_per_minute,
+                 "Creates per minute, all key holders (or all clients) together; 0 = no limit")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
-  app.add_option("--max-frame-bandwidth", config.max_frame_mpix_per_s,
-                 "All frame streams together (megapixels per second: width x height x rate); 0 = no limit")
+  app.add_option(
+         "--max-frame-bandwidth", config.max_frame_mpix_per_s,
+         "All frame streams together (megapixels per second: width x height x rate); 0 = no limit")
       ->check(CLI::Range(0.0, 1e6))
       ->capture_default_str();
-  app.add_option("--max-control-points", config.max_control_points, "Control points of a create's scene")
+  app.add_option("--max-control-points", config.max_control_points,
+                 "Control points of a create's scene")
       ->check(CLI::Range(4, 1000000))
       ->capture_default_str();
   app.add_option("--max-obstacles", config.max_obstacles, "Obstacles of a create's scene")
@@ -259,34 +273,41 @@ int main(int argc, char** argv) {
                  "Distance-field cells along a mesh obstacle's longest side")
       ->check(CLI::Range(8, 200))
       ->capture_default_str();
-  app.add_option("--max-mesh-bytes", config.max_mesh_bytes, "Size of a mesh file a create's scene names (bytes)")
+  app.add_option("--max-mesh-bytes", config.max_mesh_bytes,
+                 "Size of a mesh file a create's scene names (bytes)")
       ->check(CLI::Range(int64_t{1}, int64_t{1} << 32))
       ->capture_default_str();
-  app.add_option("--max-substeps", config.max_substeps, "Mechanics sub-steps per step of a create's scene")
+  app.add_option("--max-substeps", config.max_substeps,
+                 "Mechanics sub-steps per step of a create's scene")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   app.add_option("--max-settle", config.max_settle_s, "Settle time of a create's scene (s)")
       ->check(CLI::Range(0.0, 60.0))
       ->capture_default_str();
   app.add_option("--max-session-load", config.max_session_load,
-                 "Estimated mechanics load of one session (fraction of a core, from timed steps); 0 = no limit")
+                 "Estimated mechanics load of one session (fraction of a core, from timed steps); "
+                 "0 = no limit")
       ->check(CLI::Range(0.0, 64.0))
       ->capture_default_str();
   app.add_option("--max-spheres", config.max_spheres,
                  "Collision spheres of a create's scene (intestine.length / intestine.radius)")
       ->check(CLI::Range(2, 1000000))
       ->capture_default_str();
-  app.add_option("--max-contact-margin", config.max_margin_radii, "contacts.margin of a create's scene (tube radii)")
+  app.add_option("--max-contact-margin", config.max_margin_radii,
+                 "contacts.margin of a create's scene (tube radii)")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
-  app.add_option("--max-tools", config.max_tools, "Tools of a create's scene (one force message each per step)")
+  app.add_option("--max-tools", config.max_tools,
+                 "Tools of a create's scene (one force message each per step)")
       ->check(CLI::Range(0, 1000))
       ->capture_default_str();
-  app.add_option("--max-mesh-triangles", config.max_mesh_triangles, "Triangles of a mesh obstacle of a create's scene")
+  app.add_option("--max-mesh-triangles", config.max_mesh_triangles,
+                 "Triangles of a mesh obstacle of a create's scene")
       ->check(CLI::Range(1, 100000000))
       ->capture_default_str();
-  app.add_option("--max-build-time", config.max_build_s,
-                 "Wall time a create's scene build may take before it is abandoned (s); 0 = no limit")
+  app.add_option(
+         "--max-build-time", config.max_build_s,
+         "Wall time a create's scene build may take before it is abandoned (s); 0 = no limit")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   app.add_option("--min-record-free", config.min_record_free_bytes,
@@ -297,7 +318,8 @@ int main(int argc, char** argv) {
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
   if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;
   try {
-    viscera::render::ParseFrameSize(max_frame_size, &config.max_frame_width, &config.max_frame_height);
+    viscera::render::ParseFrameSize(max_frame_size, &config.max_frame_width,
+                                    &config.max_frame_height);
     viscera::ThrowUnless(std::max(config.max_frame_width, config.max_frame_height) <= 4096 &&
                              std::min(config.max_frame_width, config.max_frame_height) >=
                                  viscera::server::kMinFrameSide,
@@ -313,11 +335,13 @@ int main(int argc, char** argv) {
           config.frame_width, config.frame_height, config.frame_rate_hz, config.jpeg_quality,
           config.skin, config);
       !problem.empty()) {
-    std::fprintf(stderr, "viscerad: default frames (--frame-size, --frame-rate): %s\n", problem.c_str());
+    std::fprintf(stderr, "viscerad: default frames (--frame-size, --frame-rate): %s\n",
+                 problem.c_str());
     return 2;
   }
   if (config.rate_hz > config.max_rate_hz) {
-    std::fprintf(stderr, "viscerad: --rate %g is above --max-rate %g\n", config.rate_hz, config.max_rate_hz);
+    std::fprintf(stderr, "viscerad: --rate %g is above --max-rate %g\n", config.rate_hz,
+                 config.max_rate_hz);
     return 2;
   }
   if (!config.log_dir.empty()) {
@@ -325,18 +349,19 @@ int main(int argc, char** argv) {
     std::error_code error;
     std::filesystem::create_directories(config.log_dir, error);
     if (error || !std::filesystem::is_directory(config.log_dir)) {
-      std::fprintf(stderr, "viscerad: --log-dir %s: cannot make the directory (%s)\n", config.log_dir.c_str(),
-                   error ? error.message().c_str() : "not a directory");
+      std::fprintf(stderr, "viscerad: --log-dir %s: cannot make the directory (%s)\n",
+                   config.log_dir.c_str(), error ? error.message().c_str() : "not a directory");
       return 2;
     }
   }
   config.lcm_url = viscera::bus::ResolveUrl(lcm_url);
   if (viscera::bus::UrlLeavesHost(config.lcm_url) && config.key_file.empty() && !config.insecure) {
-    std::fprintf(stderr,
-                 "viscerad: %s reaches other hosts, and without --key-file anyone on the network could "
-                 "read every session token and drive any session. Give --key-file (viscera keygen FILE), "
-                 "use ttl=0, or accept the risk with --insecure (docs/security.md)\n",
-                 config.lcm_url.c_str());
+    std::fprintf(
+        stderr,
+        "viscerad: %s reaches other hosts, and without --key-file anyone on the network could "
+        "read every session token and drive any session. Give --key-file (viscera keygen FILE), "
+        "use ttl=0, or accept the risk with --insecure (docs/security.md)\n",
+        config.lcm_url.c_str());
     return 2;
   }
 

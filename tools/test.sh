@@ -2,7 +2,8 @@
 # Configures, builds and runs every viscera test with ctest. Installs what it needs first.
 # Usage: ./tools/test.sh [extra ctest arguments for the main suite]
 #
-# Three parts, each timed (docs/reliability.md, "Sanitizers in CI", has the figures and why
+# First the form check (tools/format.sh --check: every tracked C++ file as .clang-format has it).
+# Then three parts, each timed (docs/reliability.md, "Sanitizers in CI", has the figures and why
 # each part covers what it does):
 #   1. Release build (gcc), every test (unit, integration, end to end, the short soak).
 #   2. clang with AddressSanitizer + UndefinedBehaviorSanitizer and libFuzzer instrumentation,
@@ -32,6 +33,9 @@ timed() {  # NAME COMMAND...: runs it, keeps how long it took
   timings+=("$name: $((SECONDS - start)) s")
   echo "test.sh: $name took $((SECONDS - start)) s" >&2
 }
+
+# 0. form: every tracked C++ file as .clang-format has it (tools/format.sh fixes a difference)
+timed "format check" "$root/tools/format.sh" --check
 
 # 1. the main build and suite
 timed "release build" bash -c "cmake -S '$root' -B '$build' -G Ninja -DCMAKE_BUILD_TYPE=Release ${launcher[*]} >/dev/null &&

@@ -9,7 +9,8 @@
 
 namespace viscera::assessment {
 
-double SegmentSegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+double SegmentSegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& q0,
+                                     const Vec3& q1) {
   const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
   constexpr double kTiny = 1e-18;
@@ -37,7 +38,8 @@ double SegmentSegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3&
   return (p0 + s * d1 - (q0 + t * d2)).squaredNorm();
 }
 
-ExposureEvaluator::ExposureEvaluator(const std::vector<mechanics::TargetParams>& targets, double tube_radius)
+ExposureEvaluator::ExposureEvaluator(const std::vector<mechanics::TargetParams>& targets,
+                                     double tube_radius)
     : targets_(targets), radius_(tube_radius) {
   VISCERA_DEMAND(tube_radius > 0.0);
   for (const mechanics::TargetParams& t : targets_) {
@@ -48,7 +50,8 @@ ExposureEvaluator::ExposureEvaluator(const std::vector<mechanics::TargetParams>&
   }
 }
 
-TargetExposure ExposureEvaluator::Evaluate(int index, const View& view, const std::vector<Vec3>& centres) const {
+TargetExposure ExposureEvaluator::Evaluate(int index, const View& view,
+                                           const std::vector<Vec3>& centres) const {
   const mechanics::TargetParams& target = targets_[static_cast<size_t>(index)];
   const std::vector<Vec3>& samples = samples_[static_cast<size_t>(index)];
   TargetExposure out;
@@ -70,8 +73,10 @@ TargetExposure ExposureEvaluator::Evaluate(int index, const View& view, const st
   std::vector<int> near;  // index of each capsule's first centre
   for (int k = 0; k + 1 < static_cast<int>(centres.size()); ++k) {
     const Vec3 mid = 0.5 * (centres[k] + centres[k + 1]);
-    const double reach = extent_[static_cast<size_t>(index)] + radius_ + 0.5 * (centres[k + 1] - centres[k]).norm();
-    if (SegmentSegmentDistanceSquared(view.eye, target.centre, mid, mid) <= reach * reach) near.push_back(k);
+    const double reach =
+        extent_[static_cast<size_t>(index)] + radius_ + 0.5 * (centres[k + 1] - centres[k]).norm();
+    if (SegmentSegmentDistanceSquared(view.eye, target.centre, mid, mid) <= reach * reach)
+      near.push_back(k);
   }
   out.capsules_tested = static_cast<int>(near.size());
 
@@ -96,7 +101,8 @@ TargetExposure ExposureEvaluator::Evaluate(int index, const View& view, const st
       ++seen;
     }
   }
-  out.fraction = samples.empty() ? 0.0 : static_cast<double>(seen) / static_cast<double>(samples.size());
+  out.fraction =
+      samples.empty() ? 0.0 : static_cast<double>(seen) / static_cast<double>(samples.size());
   return out;
 }
 

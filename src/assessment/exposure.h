@@ -15,18 +15,18 @@ namespace viscera::assessment {
 
 /// The laparoscope as the exposure needs it (the renderer's Laparoscope carries the same).
 struct View {
-  Vec3 eye = Vec3::Zero();          ///< lens (m)
-  Vec3 look_at = Vec3::UnitY();     ///< a point on the optical axis (m)
+  Vec3 eye = Vec3::Zero();       ///< lens (m)
+  Vec3 look_at = Vec3::UnitY();  ///< a point on the optical axis (m)
   Vec3 up = Vec3::UnitZ();
-  double fov_y_deg = 70.0;          ///< vertical field of view
-  double aspect = 4.0 / 3.0;        ///< width / height of the frame
+  double fov_y_deg = 70.0;    ///< vertical field of view
+  double aspect = 4.0 / 3.0;  ///< width / height of the frame
 };
 
 /// Which samples of one target are seen and what that cost.
 struct TargetExposure {
-  double fraction = 0.0;        ///< seen / samples, 0..1
-  std::vector<bool> seen;       ///< per sample, in TargetSamples order
-  int capsules_tested = 0;      ///< capsules that survived the cone cull
+  double fraction = 0.0;    ///< seen / samples, 0..1
+  std::vector<bool> seen;   ///< per sample, in TargetSamples order
+  int capsules_tested = 0;  ///< capsules that survived the cone cull
 };
 
 class ExposureEvaluator {
@@ -42,7 +42,9 @@ class ExposureEvaluator {
 
   int num_targets() const { return static_cast<int>(samples_.size()); }
   const std::vector<Vec3>& samples(int index) const { return samples_[static_cast<size_t>(index)]; }
-  const mechanics::TargetParams& target(int index) const { return targets_[static_cast<size_t>(index)]; }
+  const mechanics::TargetParams& target(int index) const {
+    return targets_[static_cast<size_t>(index)];
+  }
 
  private:
   std::vector<mechanics::TargetParams> targets_;
@@ -53,6 +55,7 @@ class ExposureEvaluator {
 
 /// Squared distance between segments [p0, p1] and [q0, q1] (Ericson, Real-Time Collision
 /// Detection, 5.1.9).
-double SegmentSegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1);
+double SegmentSegmentDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& q0,
+                                     const Vec3& q1);
 
 }  // namespace viscera::assessment

@@ -22,11 +22,14 @@ void ForceHistogram::Add(double force) {
 double ForceHistogram::Quantile(double q) const {
   if (count_ == 0) return 0.0;
   // the smallest bin whose cumulative count reaches ceil(q n) (nearest-rank)
-  const int64_t rank = std::max<int64_t>(1, static_cast<int64_t>(std::ceil(q * static_cast<double>(count_))));
+  const int64_t rank =
+      std::max<int64_t>(1, static_cast<int64_t>(std::ceil(q * static_cast<double>(count_))));
   int64_t seen = 0;
   for (size_t i = 0; i < bins_.size(); ++i) {
     seen += bins_[i];
-    if (seen >= rank) return i + 1 == bins_.size() ? max_ : std::min(max_, (static_cast<double>(i) + 0.5) * kForceBin);
+    if (seen >= rank)
+      return i + 1 == bins_.size() ? max_
+                                   : std::min(max_, (static_cast<double>(i) + 0.5) * kForceBin);
   }
   return max_;
 }
@@ -35,7 +38,8 @@ Thresholds ThresholdsOf(const mechanics::AssessmentParams& a) {
   return {a.traction_force, a.traction_hold, a.regrasp_window, a.exposed_fraction};
 }
 
-SessionMetrics::SessionMetrics(const mechanics::ModelParams& params) : params_(params), tools_(params.tools.size()) {}
+SessionMetrics::SessionMetrics(const mechanics::ModelParams& params)
+    : params_(params), tools_(params.tools.size()) {}
 
 bool SessionMetrics::TouchesOrgan(const Vec3& tip, double radius) const {
   Vec3 normal;
@@ -116,8 +120,10 @@ void SessionMetrics::Fill(Report* report) const {
   report->thresholds = ThresholdsOf(params_.task.assessment);
 }
 
-TargetTracker::TargetTracker(const mechanics::TaskParams& task) : threshold_(task.assessment.exposed_fraction) {
-  for (const mechanics::TargetParams& t : task.targets) targets_.push_back({t.name, 0.0, 0.0, -1.0});
+TargetTracker::TargetTracker(const mechanics::TaskParams& task)
+    : threshold_(task.assessment.exposed_fraction) {
+  for (const mechanics::TargetParams& t : task.targets)
+    targets_.push_back({t.name, 0.0, 0.0, -1.0});
 }
 
 void TargetTracker::Add(int index, double exposure, double sim_time) {

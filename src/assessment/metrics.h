@@ -15,8 +15,8 @@ namespace viscera::assessment {
 /// is kept exactly. A quantile is the centre of its bin (within half a bin, 0.005 N).
 class ForceHistogram {
  public:
-  static constexpr double kForceBin = 0.01;   // N
-  static constexpr double kForceRange = 50.0; // N
+  static constexpr double kForceBin = 0.01;    // N
+  static constexpr double kForceRange = 50.0;  // N
   ForceHistogram();
   void Add(double force);
   /// q in [0, 1]; 0 when empty.
@@ -47,8 +47,8 @@ class SessionMetrics {
     Vec3 last_tip = Vec3::Zero();
     double path = 0.0, active = 0.0, contact = 0.0;
     ForceHistogram force;
-    double above = 0.0;   // s the force has been above the threshold, this run
-    bool counted = false; // this run already made an event
+    double above = 0.0;    // s the force has been above the threshold, this run
+    bool counted = false;  // this run already made an event
     int64_t traction_events = 0;
     double traction_time = 0.0;
     bool grasping = false;

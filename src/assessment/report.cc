@@ -7,24 +7,27 @@ namespace viscera::assessment {
 nlohmann::json ToJson(const Report& r) {
   nlohmann::json tools = nlohmann::json::array();
   for (const ToolReport& t : r.tools) {
-    tools.push_back({{"name", t.name},
-                     {"path_length_m", t.path_length},
-                     {"active_time_s", t.active_time},
-                     {"tissue_force_n", {{"p50", t.force_p50}, {"p95", t.force_p95}, {"max", t.force_max}}},
-                     {"tissue_contact_time_s", t.contact_time},
-                     {"traction_events", t.traction_events},
-                     {"traction_time_s", t.traction_time},
-                     {"grasps", t.grasps},
-                     {"regrasps", t.regrasps},
-                     {"organ_contacts", t.organ_contacts},
-                     {"organ_contact_time_s", t.organ_contact_time}});
+    tools.push_back(
+        {{"name", t.name},
+         {"path_length_m", t.path_length},
+         {"active_time_s", t.active_time},
+         {"tissue_force_n", {{"p50", t.force_p50}, {"p95", t.force_p95}, {"max", t.force_max}}},
+         {"tissue_contact_time_s", t.contact_time},
+         {"traction_events", t.traction_events},
+         {"traction_time_s", t.traction_time},
+         {"grasps", t.grasps},
+         {"regrasps", t.regrasps},
+         {"organ_contacts", t.organ_contacts},
+         {"organ_contact_time_s", t.organ_contact_time}});
   }
   nlohmann::json targets = nlohmann::json::array();
   for (const TargetReport& t : r.targets) {
-    targets.push_back({{"name", t.name},
-                       {"exposed", t.exposed},
-                       {"max_exposed", t.max_exposed},
-                       {"time_to_expose_s", t.time_to_expose >= 0.0 ? nlohmann::json(t.time_to_expose) : nlohmann::json(nullptr)}});
+    targets.push_back(
+        {{"name", t.name},
+         {"exposed", t.exposed},
+         {"max_exposed", t.max_exposed},
+         {"time_to_expose_s",
+          t.time_to_expose >= 0.0 ? nlohmann::json(t.time_to_expose) : nlohmann::json(nullptr)}});
   }
   return {{"session", r.session},
           {"scene", r.scene},
@@ -72,7 +75,8 @@ Report ReportFromJson(const nlohmann::json& j) {
     x.name = t.at("name").get<std::string>();
     x.exposed = t.at("exposed").get<double>();
     x.max_exposed = t.at("max_exposed").get<double>();
-    x.time_to_expose = t.at("time_to_expose_s").is_null() ? -1.0 : t.at("time_to_expose_s").get<double>();
+    x.time_to_expose =
+        t.at("time_to_expose_s").is_null() ? -1.0 : t.at("time_to_expose_s").get<double>();
     r.targets.push_back(x);
   }
   return r;
@@ -94,38 +98,46 @@ bool operator==(const Thresholds& a, const Thresholds& b) {
          a.regrasp_window == b.regrasp_window && a.exposed_fraction == b.exposed_fraction;
 }
 bool operator==(const Report& a, const Report& b) {
-  return a.session == b.session && a.scene == b.scene && a.sim_time == b.sim_time && a.finished == b.finished &&
-         a.thresholds == b.thresholds && a.tools == b.tools && a.targets == b.targets;
+  return a.session == b.session && a.scene == b.scene && a.sim_time == b.sim_time &&
+         a.finished == b.finished && a.thresholds == b.thresholds && a.tools == b.tools &&
+         a.targets == b.targets;
 }
 
 std::string FormatReport(const Report& r) {
   std::string out;
   char line[512];
   std::snprintf(line, sizeof line, "assessment       session %lld, scene %s, %.2f s simulated%s\n",
-                static_cast<long long>(r.session), r.scene.c_str(), r.sim_time, r.finished ? " (ended)" : " (running)");
+                static_cast<long long>(r.session), r.scene.c_str(), r.sim_time,
+                r.finished ? " (ended)" : " (running)");
   out += line;
   std::snprintf(line, sizeof line,
-                "thresholds       traction above %.2f N held %.2f s; regrasp within %.2f s; exposed at %.0f %%\n",
-                r.thresholds.traction_force, r.thresholds.traction_hold, r.thresholds.regrasp_window,
-                100.0 * r.thresholds.exposed_fraction);
+                "thresholds       traction above %.2f N held %.2f s; regrasp within %.2f s; "
+                "exposed at %.0f %%\n",
+                r.thresholds.traction_force, r.thresholds.traction_hold,
+                r.thresholds.regrasp_window, 100.0 * r.thresholds.exposed_fraction);
   out += line;
   for (const ToolReport& t : r.tools) {
     std::snprintf(line, sizeof line,
-                  "tool %-11s path %.3f m in %.2f s; tissue force p50 %.2f / p95 %.2f / max %.2f N over %.2f s; "
-                  "traction events %lld (%.2f s); grasps %lld (regrasps %lld); organ contacts %lld (%.2f s)\n",
-                  t.name.c_str(), t.path_length, t.active_time, t.force_p50, t.force_p95, t.force_max,
-                  t.contact_time, static_cast<long long>(t.traction_events), t.traction_time,
-                  static_cast<long long>(t.grasps), static_cast<long long>(t.regrasps),
-                  static_cast<long long>(t.organ_contacts), t.organ_contact_time);
+                  "tool %-11s path %.3f m in %.2f s; tissue force p50 %.2f / p95 %.2f / max %.2f N "
+                  "over %.2f s; "
+                  "traction events %lld (%.2f s); grasps %lld (regrasps %lld); organ contacts %lld "
+                  "(%.2f s)\n",
+                  t.name.c_str(), t.path_length, t.active_time, t.force_p50, t.force_p95,
+                  t.force_max, t.contact_time, static_cast<long long>(t.traction_events),
+                  t.traction_time, static_cast<long long>(t.grasps),
+                  static_cast<long long>(t.regrasps), static_cast<long long>(t.organ_contacts),
+                  t.organ_contact_time);
     out += line;
   }
   for (const TargetReport& t : r.targets) {
     if (t.time_to_expose >= 0.0) {
-      std::snprintf(line, sizeof line, "target %-9s exposed %.0f %% (max %.0f %%), exposed at t = %.2f s\n",
+      std::snprintf(line, sizeof line,
+                    "target %-9s exposed %.0f %% (max %.0f %%), exposed at t = %.2f s\n",
                     t.name.c_str(), 100.0 * t.exposed, 100.0 * t.max_exposed, t.time_to_expose);
     } else {
-      std::snprintf(line, sizeof line, "target %-9s exposed %.0f %% (max %.0f %%), not exposed yet\n",
-                    t.name.c_str(), 100.0 * t.exposed, 100.0 * t.max_exposed);
+      std::snprintf(line, sizeof line,
+                    "target %-9s exposed %.0f %% (max %.0f %%), not exposed yet\n", t.name.c_str(),
+                    100.0 * t.exposed, 100.0 * t.max_exposed);
     }
     out += line;
   }

@@ -12,9 +12,9 @@ namespace viscera::assessment {
 
 struct ToolReport {
   std::string name;
-  double path_length = 0.0;     ///< m travelled by the simulated tip while in the body
-  double active_time = 0.0;     ///< s the tool was driven (a device or script gave targets)
-  double force_p50 = 0.0;       ///< N on the tissue, over the steps the tool touched or held it
+  double path_length = 0.0;  ///< m travelled by the simulated tip while in the body
+  double active_time = 0.0;  ///< s the tool was driven (a device or script gave targets)
+  double force_p50 = 0.0;    ///< N on the tissue, over the steps the tool touched or held it
   double force_p95 = 0.0;
   double force_max = 0.0;
   double contact_time = 0.0;    ///< s touching or holding the intestine
@@ -28,9 +28,10 @@ struct ToolReport {
 
 struct TargetReport {
   std::string name;
-  double exposed = 0.0;          ///< latest exposure, 0..1
-  double max_exposed = 0.0;      ///< largest seen so far
-  double time_to_expose = -1.0;  ///< simulated s at which exposure first reached the threshold; < 0: not yet
+  double exposed = 0.0;      ///< latest exposure, 0..1
+  double max_exposed = 0.0;  ///< largest seen so far
+  double time_to_expose =
+      -1.0;  ///< simulated s at which exposure first reached the threshold; < 0: not yet
 };
 
 struct Thresholds {

@@ -78,7 +78,8 @@ Report ReportFromStatus(const session_status_t& s) {
     r.tools.push_back(t);
   }
   for (size_t i = 0; i < static_cast<size_t>(s.num_targets); ++i) {
-    r.targets.push_back({s.target_names[i], s.target_exposed[i], s.target_max_exposed[i], s.target_time_to_expose[i]});
+    r.targets.push_back({s.target_names[i], s.target_exposed[i], s.target_max_exposed[i],
+                         s.target_time_to_expose[i]});
   }
   return r;
 }

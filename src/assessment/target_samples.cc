@@ -31,14 +31,16 @@ bool InsidePolygon(const std::vector<Eigen::Vector2d>& poly, const Eigen::Vector
 
 Vec3 PolygonNormal(const std::vector<Vec3>& corners) {
   Vec3 n = Vec3::Zero();
-  for (size_t i = 0; i < corners.size(); ++i) n += corners[i].cross(corners[(i + 1) % corners.size()]);
+  for (size_t i = 0; i < corners.size(); ++i)
+    n += corners[i].cross(corners[(i + 1) % corners.size()]);
   const double size = n.norm();
   return size > 0.0 ? Vec3(n / size) : Vec3(Vec3::Zero());
 }
 
 double PolygonArea(const std::vector<Vec3>& corners) {
   Vec3 n = Vec3::Zero();
-  for (size_t i = 0; i < corners.size(); ++i) n += corners[i].cross(corners[(i + 1) % corners.size()]);
+  for (size_t i = 0; i < corners.size(); ++i)
+    n += corners[i].cross(corners[(i + 1) % corners.size()]);
   return 0.5 * n.norm();
 }
 

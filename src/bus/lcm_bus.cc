@@ -77,8 +77,8 @@ SubscriptionId LcmBus::AddSubscription(
   // LCM keeps the raw pointer as its context; unique_ptr keeps the address stable.
   subscription->lcm_subscription =
       lcm_.subscribeFunction(channel, &LcmBus::Trampoline, subscription.get());
-  ThrowUnless(subscription->lcm_subscription != nullptr, "LCM could not subscribe to '",
-              channel, "' on ", url_);
+  ThrowUnless(subscription->lcm_subscription != nullptr, "LCM could not subscribe to '", channel,
+              "' on ", url_);
   const SubscriptionId id = subscription->id;
   subscriptions_.emplace(id, std::move(subscription));
   return id;
@@ -103,7 +103,8 @@ void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chann
   const auto* data = static_cast<const uint8_t*>(rbuf->data);
   const int size = static_cast<int>(rbuf->data_size);
   try {
-    if (bus.max_message_size_ > 0 && rbuf->data_size > static_cast<uint32_t>(bus.max_message_size_)) {
+    if (bus.max_message_size_ > 0 &&
+        rbuf->data_size > static_cast<uint32_t>(bus.max_message_size_)) {
       ++bus.oversize_;
       bus.RecordError(Cat("message of ", rbuf->data_size, " bytes on ", channel, " (limit ",
                           bus.max_message_size_, "): dropped"));
@@ -121,8 +122,8 @@ void LcmBus::Trampoline(const lcm::ReceiveBuffer* rbuf, const std::string& chann
     }
     if (subscription->dispatch(*rbuf, channel) == Outcome::kDecodeFailed) {
       ++bus.decode_failures_;
-      bus.RecordError(Cat("malformed message on ", channel, " (", rbuf->data_size,
-                          " bytes): dropped"));
+      bus.RecordError(
+          Cat("malformed message on ", channel, " (", rbuf->data_size, " bytes): dropped"));
       if (bus.on_drop_) bus.on_drop_(channel, DropReason::kMalformed, data, size);
       return;
     }

@@ -3,9 +3,9 @@
 ///
 /// Threading: exactly one thread, the owner, pumps the bus (Pump / Drain) and so runs
 /// every handler; Subscribe and Unsubscribe belong to that thread too (or to the
-/// constructing thread before pumping starts). Publish may be called from any thread. LCM 1.3.1 has no lambda subscribe, and an exception thrown
-/// through its C dispatch code is undefined behaviour, so handlers are reached through
-/// a static trampoline that catches and counts everything.
+/// constructing thread before pumping starts). Publish may be called from any thread. LCM 1.3.1 has
+/// no lambda subscribe, and an exception thrown through its C dispatch code is undefined behaviour,
+/// so handlers are reached through a static trampoline that catches and counts everything.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -228,7 +228,8 @@ SubscriptionId LcmBus::SubscribeWithInfo(const std::string& channel, InfoHandler
     const int size = static_cast<int>(rbuf.data_size);
     // A fresh message each time: lcm-gen 1.3.1's decode leaves an array whose count is 0
     // untouched, so a reused message would keep the previous datagram's bytes (a token!).
-    if (!HeaderCountsFit(static_cast<const uint8_t*>(rbuf.data), size)) return Outcome::kDecodeFailed;
+    if (!HeaderCountsFit(static_cast<const uint8_t*>(rbuf.data), size))
+      return Outcome::kDecodeFailed;
     Msg msg;
     if (msg.decode(rbuf.data, 0, size) != size) return Outcome::kDecodeFailed;
     handler(msg, MessageInfo{&on, rbuf.recv_utime, size});

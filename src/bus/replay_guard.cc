@@ -14,7 +14,9 @@ ReplayGuard::ReplayGuard(int64_t max_skew_us, size_t max_entries)
 }
 
 void ReplayGuard::Expire(int64_t now_us) {
-  std::erase_if(windows_, [&](const auto& entry) { return now_us - entry.second.last_us > 2 * max_skew_us_; });
+  std::erase_if(windows_, [&](const auto& entry) {
+    return now_us - entry.second.last_us > 2 * max_skew_us_;
+  });
   next_full_sweep_us_ = now_us + 1'000'000;
 }
 
@@ -66,13 +68,13 @@ ReplayGuard::Verdict ReplayGuard::Check(int64_t sender, const std::string& chann
   return Verdict::kAccepted;
 }
 
-std::string ReplayGuard::Explain(Verdict verdict, int64_t seq, int64_t utime, int64_t now_us) const {
+std::string ReplayGuard::Explain(Verdict verdict, int64_t seq, int64_t utime,
+                                 int64_t now_us) const {
   switch (verdict) {
-    case Verdict::kAccepted:
-      return "";
+    case Verdict::kAccepted: return "";
     case Verdict::kReplayed:
-      return Cat("replayed: sequence ", seq, " of this sender was already seen (or is older than the last ",
-                 kWindow, ")");
+      return Cat("replayed: sequence ", seq,
+                 " of this sender was already seen (or is older than the last ", kWindow, ")");
     case Verdict::kStale:
       // in double: a hostile utime (INT64_MIN) overflows the difference of the integers
       return Cat("stale: sent ", (static_cast<double>(now_us) - static_cast<double>(utime)) * 1e-6,
@@ -81,7 +83,8 @@ std::string ReplayGuard::Explain(Verdict verdict, int64_t seq, int64_t utime, in
     case Verdict::kNoSender:
       return "no sender id or a negative sequence: cannot be checked for replay";
     case Verdict::kBeforeEpoch:
-      return Cat("stale: sent ", (static_cast<double>(epoch_us_) - static_cast<double>(utime)) * 1e-6,
+      return Cat("stale: sent ",
+                 (static_cast<double>(epoch_us_) - static_cast<double>(utime)) * 1e-6,
                  " s before this server started (a message from before a restart is never taken)");
     case Verdict::kFull:
       return Cat("too many senders (", max_entries_, ") within the freshness bound");

@@ -9,8 +9,8 @@
 /// receiver's clock is stale. Entries idle for twice the skew bound are forgotten (any
 /// message they could still stop is stale by then), a few hash buckets per message, so no
 /// message pays for a sweep of the whole table; a full table is swept whole at most once a
-/// second (a flood of new senders made every message sweep 65536 entries). Under a MAC the three fields are
-/// authentic, so an injector can neither rewind nor advance a window.
+/// second (a flood of new senders made every message sweep 65536 entries). Under a MAC the three
+/// fields are authentic, so an injector can neither rewind nor advance a window.
 #include <cstdint>
 #include <string>
 #include <unordered_map>
@@ -64,8 +64,8 @@ class ReplayGuard {
   std::unordered_map<std::string, Window> windows_;
   std::string key_;  // reused: no allocation per message once grown
   int64_t next_full_sweep_us_ = 0;
-  size_t cursor_ = 0;                         // the next bucket SweepSome examines
-  std::vector<const std::string*> idle_;      // reused: the keys SweepSome erases
+  size_t cursor_ = 0;                     // the next bucket SweepSome examines
+  std::vector<const std::string*> idle_;  // reused: the keys SweepSome erases
 };
 
 }  // namespace viscera::bus

@@ -14,9 +14,9 @@ namespace viscera::bus {
 
 /// Fills `pose` (reused by the caller, so its token vector keeps its capacity) for `tool` of
 /// session `session_id`, sequence `seq`, stamped now. Positions in m, world frame.
-inline void FillToolPose(int64_t session_id, int64_t seq, const std::vector<uint8_t>& token, int tool,
-                         const Vec3& tip, const Eigen::Quaterniond& orientation, double jaw,
-                         viscera_proto::tool_pose_t* pose) {
+inline void FillToolPose(int64_t session_id, int64_t seq, const std::vector<uint8_t>& token,
+                         int tool, const Vec3& tip, const Eigen::Quaterniond& orientation,
+                         double jaw, viscera_proto::tool_pose_t* pose) {
   pose->header = MakeHeader(session_id, seq);
   pose->header.token = token;
   pose->header.token_len = static_cast<int32_t>(token.size());

@@ -38,7 +38,9 @@ class WireCursor {
   }
 
   /// A count and its elements, each exactly `element_bytes` on the wire.
-  void FixedArray(int element_bytes) { Skip(static_cast<int64_t>(Count(element_bytes)) * element_bytes); }
+  void FixedArray(int element_bytes) {
+    Skip(static_cast<int64_t>(Count(element_bytes)) * element_bytes);
+  }
 
   /// An LCM string: int32 length (including its NUL, so at least 1), then the bytes. The
   /// generated decode assigns length - 1 bytes: a length of 0 would ask for SIZE_MAX.
@@ -62,8 +64,8 @@ class WireCursor {
       ok_ = false;
       return 0;
     }
-    const uint32_t v = (uint32_t{p_[0]} << 24) | (uint32_t{p_[1]} << 16) |
-                       (uint32_t{p_[2]} << 8) | uint32_t{p_[3]};
+    const uint32_t v = (uint32_t{p_[0]} << 24) | (uint32_t{p_[1]} << 16) | (uint32_t{p_[2]} << 8) |
+                       uint32_t{p_[3]};
     p_ += 4;
     left_ -= 4;
     return static_cast<int32_t>(v);
@@ -131,7 +133,7 @@ bool ArrayCountsFit<viscera_proto::skeleton_state_t>(const uint8_t* data, int si
   WireCursor c(data, size);
   c.Fingerprint();
   c.Header();
-  c.Skip(8 + 8);       // step, sim_time
+  c.Skip(8 + 8);        // step, sim_time
   c.FixedArray(3 * 8);  // points[num_points][3]
   c.FixedArray(3 * 8);  // spheres[num_spheres][3]
   return c.ok();
@@ -163,7 +165,7 @@ bool ArrayCountsFit<viscera_proto::step_record_t>(const uint8_t* data, int size)
   WireCursor c(data, size);
   c.Fingerprint();
   c.Header();
-  c.Skip(1 + 8);                 // kind, step
+  c.Skip(1 + 8);                   // kind, step
   c.FixedArray(kToolTargetBytes);  // tools[num_tools]
   return c.ok();
 }

@@ -33,14 +33,23 @@ bool ArrayCountsFit(const uint8_t* data, int size);
 /// viscera type, the header's counts only (its decode then fails on the fingerprint).
 bool CountsFitForFingerprint(const uint8_t* data, int size);
 
-template <> bool ArrayCountsFit<viscera_proto::force_feedback_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::heartbeat_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::jpeg_frame_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::session_reply_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::session_request_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::session_status_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::skeleton_state_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::step_record_t>(const uint8_t*, int);
-template <> bool ArrayCountsFit<viscera_proto::tool_pose_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::force_feedback_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::heartbeat_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::jpeg_frame_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::session_reply_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::session_request_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::session_status_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::skeleton_state_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::step_record_t>(const uint8_t*, int);
+template <>
+bool ArrayCountsFit<viscera_proto::tool_pose_t>(const uint8_t*, int);
 
 }  // namespace viscera::bus

@@ -14,7 +14,11 @@ Vec3 ClosestOnSegment(const Vec3& port, const Vec3& tip, const Vec3& p, double* 
 }
 
 ContactDetector::ContactDetector(double radius, double margin, bool self_contacts, int self_skip)
-    : radius_(radius), margin_(margin), self_(self_contacts), self_skip_(self_skip), grid_(2.0 * radius + margin) {}
+    : radius_(radius),
+      margin_(margin),
+      self_(self_contacts),
+      self_skip_(self_skip),
+      grid_(2.0 * radius + margin) {}
 
 bool ContactDetector::NearObstacle(const Sphere& s, const Obstacle& o, double extra) const {
   return SignedDistance(o, s.centre) < radius_ + extra;
@@ -27,9 +31,10 @@ bool ContactDetector::NearTool(const Sphere& s, const ToolCapsule& t, double ext
   return (s.centre - p).norm() < radius_ + t.radius + extra;
 }
 
-void ContactDetector::Detect(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
-                             const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out,
-                             double margin) {
+void ContactDetector::Detect(const std::vector<Sphere>& spheres,
+                             const std::vector<Obstacle>& obstacles,
+                             const std::vector<ToolCapsule>& tools,
+                             std::vector<ContactCandidate>* out, double margin) {
   out->clear();
   const double extra = Extra(margin);
   grid_.set_cell(2.0 * radius_ + extra);
@@ -40,23 +45,28 @@ void ContactDetector::Detect(const std::vector<Sphere>& spheres, const std::vect
     const double reach = 2.0 * radius_ + extra;
     grid_.ForEachCandidatePair(centres_, [&](int i, int j) {
       if (j - i < self_skip_) return;
-      if ((centres_[i] - centres_[j]).squaredNorm() < reach * reach) out->push_back({ContactKind::kSelf, i, j});
+      if ((centres_[i] - centres_[j]).squaredNorm() < reach * reach)
+        out->push_back({ContactKind::kSelf, i, j});
     });
   }
   for (int i = 0; i < n; ++i) {
     for (size_t o = 0; o < obstacles.size(); ++o) {
-      if (NearObstacle(spheres[i], obstacles[o], extra)) out->push_back({ContactKind::kEnvironment, i, static_cast<int>(o)});
+      if (NearObstacle(spheres[i], obstacles[o], extra))
+        out->push_back({ContactKind::kEnvironment, i, static_cast<int>(o)});
     }
     for (size_t t = 0; t < tools.size(); ++t) {
-      if (NearTool(spheres[i], tools[t], extra)) out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
+      if (NearTool(spheres[i], tools[t], extra))
+        out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
     }
   }
 }
 
-void ContactDetector::DetectAround(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
-                                   const std::vector<ToolCapsule>& tools, const std::vector<char>& moved_spheres,
-                                   const std::vector<char>& moved_tools, std::vector<ContactCandidate>* out,
-                                   double margin) {
+void ContactDetector::DetectAround(const std::vector<Sphere>& spheres,
+                                   const std::vector<Obstacle>& obstacles,
+                                   const std::vector<ToolCapsule>& tools,
+                                   const std::vector<char>& moved_spheres,
+                                   const std::vector<char>& moved_tools,
+                                   std::vector<ContactCandidate>* out, double margin) {
   const double extra = Extra(margin);
   const int n = static_cast<int>(spheres.size());
   const double reach = 2.0 * radius_ + extra;
@@ -78,17 +88,20 @@ void ContactDetector::DetectAround(const std::vector<Sphere>& spheres, const std
       });
     }
     for (size_t o = 0; o < obstacles.size(); ++o) {
-      if (NearObstacle(spheres[i], obstacles[o], extra)) out->push_back({ContactKind::kEnvironment, i, static_cast<int>(o)});
+      if (NearObstacle(spheres[i], obstacles[o], extra))
+        out->push_back({ContactKind::kEnvironment, i, static_cast<int>(o)});
     }
     for (size_t t = 0; t < tools.size(); ++t) {
-      if (NearTool(spheres[i], tools[t], extra)) out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
+      if (NearTool(spheres[i], tools[t], extra))
+        out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
     }
   }
   // A moved tool against the spheres that did not move (the moved ones found it above).
   for (size_t t = 0; t < tools.size(); ++t) {
     if (!moved_tools[t]) continue;
     for (int i = 0; i < n; ++i) {
-      if (!moved_spheres[i] && NearTool(spheres[i], tools[t], extra)) out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
+      if (!moved_spheres[i] && NearTool(spheres[i], tools[t], extra))
+        out->push_back({ContactKind::kTool, i, static_cast<int>(t)});
     }
   }
 }

@@ -37,14 +37,16 @@ class ContactDetector {
   /// Fills `out` (cleared first) with everything within the contact distance plus `margin`
   /// (the constructor's margin when negative). Allocates nothing once its capacity has grown.
   void Detect(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
-              const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out, double margin = -1.0);
+              const std::vector<ToolCapsule>& tools, std::vector<ContactCandidate>* out,
+              double margin = -1.0);
 
   /// Appends to `out` every candidate Detect would find that involves a sphere marked in
   /// `moved_spheres` or a tool marked in `moved_tools`, each once (the Verlet list's partial
   /// search). Allocates nothing once its capacity has grown.
   void DetectAround(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
                     const std::vector<ToolCapsule>& tools, const std::vector<char>& moved_spheres,
-                    const std::vector<char>& moved_tools, std::vector<ContactCandidate>* out, double margin);
+                    const std::vector<char>& moved_tools, std::vector<ContactCandidate>* out,
+                    double margin);
 
   int self_skip() const { return self_skip_; }
 

@@ -20,14 +20,15 @@ int FaceIndex(const std::string& token, const std::string& path, int line_no) {
   char* end = nullptr;
   errno = 0;
   const long i = std::strtol(digits.c_str(), &end, 10);
-  ThrowUnless(!digits.empty() && *end == '\0' && errno == 0 && std::abs(i) < (1L << 30), path, ":", line_no,
-              ": malformed face index '", token.substr(0, 40), "'");
+  ThrowUnless(!digits.empty() && *end == '\0' && errno == 0 && std::abs(i) < (1L << 30), path, ":",
+              line_no, ": malformed face index '", token.substr(0, 40), "'");
   return static_cast<int>(i);
 }
 
 }  // namespace
 
-MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offset, int resolution) {
+MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offset,
+                         int resolution) {
   std::ifstream in(path);
   ThrowUnless(in.good(), path, ": cannot open mesh");
   std::vector<Vec3> v;
@@ -41,7 +42,8 @@ MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offs
     s >> tag;
     if (tag == "v") {
       Vec3 p;
-      ThrowUnless(static_cast<bool>(s >> p.x() >> p.y() >> p.z()), path, ":", line_no, ": malformed vertex");
+      ThrowUnless(static_cast<bool>(s >> p.x() >> p.y() >> p.z()), path, ":", line_no,
+                  ": malformed vertex");
       v.push_back(scale * p + offset);
     } else if (tag == "f") {
       std::vector<int> idx;
@@ -55,12 +57,14 @@ MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offs
   }
   ThrowUnless(!v.empty() && !f.empty(), path, ": no triangles");
   Points vertices(static_cast<Eigen::Index>(v.size()), 3);
-  for (size_t i = 0; i < v.size(); ++i) vertices.row(static_cast<Eigen::Index>(i)) = v[i].transpose();
-  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces(static_cast<Eigen::Index>(f.size()), 3);
+  for (size_t i = 0; i < v.size(); ++i)
+    vertices.row(static_cast<Eigen::Index>(i)) = v[i].transpose();
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> faces(static_cast<Eigen::Index>(f.size()),
+                                                               3);
   for (size_t i = 0; i < f.size(); ++i) {
     for (int a = 0; a < 3; ++a) {
-      ThrowUnless(f[i](a) >= 0 && f[i](a) < static_cast<int>(v.size()), path, ": face ", i, " uses vertex ",
-                  f[i](a) + 1, " of ", v.size());
+      ThrowUnless(f[i](a) >= 0 && f[i](a) < static_cast<int>(v.size()), path, ": face ", i,
+                  " uses vertex ", f[i](a) + 1, " of ", v.size());
     }
     faces.row(static_cast<Eigen::Index>(i)) = f[i].transpose();
   }
@@ -72,7 +76,8 @@ MeshSdf MeshSdf::FromObj(const std::string& path, double scale, const Vec3& offs
   return MeshSdf(vertices, faces, resolution);
 }
 
-MeshSdf::MeshSdf(const Points& vertices, const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
+MeshSdf::MeshSdf(const Points& vertices,
+                 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
                  int resolution)
     : vertices_(vertices),
       faces_(faces),

@@ -1,7 +1,8 @@
 #pragma once
 /// A closed triangle mesh (OBJ) turned into a signed distance field at load time: distances on a
 /// regular grid around the mesh (point-triangle distance; sign from the generalized winding
-/// number, robust to small holes; collision/sdf_sampling.h), trilinearly interpolated at query time.
+/// number, robust to small holes; collision/sdf_sampling.h), trilinearly interpolated at query
+/// time.
 #include <string>
 #include <vector>
 
@@ -15,11 +16,12 @@ class MeshSdf {
   /// Loads `path` (v and f lines; polygons are fanned into triangles), scales then translates
   /// it, and samples the field on a grid of `resolution` cells along the longest side, padded.
   /// @throws InputError for a missing or malformed file or an empty mesh.
-  static MeshSdf FromObj(const std::string& path, double scale, const Vec3& offset, int resolution = 40);
+  static MeshSdf FromObj(const std::string& path, double scale, const Vec3& offset,
+                         int resolution = 40);
 
   /// Builds the field from triangles directly (#V by 3 vertices, #F by 3 indices).
-  MeshSdf(const Points& vertices, const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
-          int resolution);
+  MeshSdf(const Points& vertices,
+          const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces, int resolution);
 
   /// Signed distance (positive outside the solid) and outward normal (the field's gradient).
   /// Far outside the grid, the distance to the grid box is added.

@@ -13,7 +13,8 @@ Vec3 SafeNormalize(const Vec3& v, const Vec3& fallback) {
 }
 
 // Distance from p to the solid (positive outside), normal outward; `f` is FrameOf(o).
-double SolidDistance(const Obstacle& o, const PreparedObstacle::Frame& f, const Vec3& p, Vec3* normal) {
+double SolidDistance(const Obstacle& o, const PreparedObstacle::Frame& f, const Vec3& p,
+                     Vec3* normal) {
   switch (o.kind) {
     case ObstacleKind::kPlane: {
       *normal = o.normal;
@@ -64,8 +65,7 @@ double SolidDistance(const Obstacle& o, const PreparedObstacle::Frame& f, const 
       if (k1 < 1e-12) return -o.radii.minCoeff();
       return k0 * (k0 - 1.0) * inv_k1;
     }
-    case ObstacleKind::kMesh:
-      return o.sdf->Distance(p, normal);
+    case ObstacleKind::kMesh: return o.sdf->Distance(p, normal);
   }
   return 0.0;
 }
@@ -81,14 +81,18 @@ double Signed(const Obstacle& o, const PreparedObstacle::Frame& f, const Vec3& p
 
 PreparedObstacle::Frame PreparedObstacle::FrameOf(const Obstacle& o) {
   Frame f;
-  if (o.kind == ObstacleKind::kBox || o.kind == ObstacleKind::kEllipsoid) f.rotation = o.orientation.toRotationMatrix();
+  if (o.kind == ObstacleKind::kBox || o.kind == ObstacleKind::kEllipsoid)
+    f.rotation = o.orientation.toRotationMatrix();
   if (o.kind == ObstacleKind::kEllipsoid) f.inv_radii = o.radii.cwiseInverse();
   return f;
 }
 
-PreparedObstacle::PreparedObstacle(Obstacle obstacle) : obstacle_(std::move(obstacle)), frame_(FrameOf(obstacle_)) {}
+PreparedObstacle::PreparedObstacle(Obstacle obstacle)
+    : obstacle_(std::move(obstacle)), frame_(FrameOf(obstacle_)) {}
 
-double PreparedObstacle::SignedDistance(const Vec3& p, Vec3* normal) const { return Signed(obstacle_, frame_, p, normal); }
+double PreparedObstacle::SignedDistance(const Vec3& p, Vec3* normal) const {
+  return Signed(obstacle_, frame_, p, normal);
+}
 
 double SignedDistance(const Obstacle& o, const Vec3& p, Vec3* normal) {
   return Signed(o, PreparedObstacle::FrameOf(o), p, normal);

@@ -17,16 +17,16 @@ enum class ObstacleKind { kPlane, kSphere, kCapsule, kBox, kEllipsoid, kMesh };
 struct Obstacle {
   ObstacleKind kind = ObstacleKind::kPlane;
   std::string name;
-  bool inside = false;   ///< the free space is inside the shape (a cavity)
-  Vec3 point = Vec3::Zero();      ///< plane: a point on it
-  Vec3 normal = Vec3::UnitZ();    ///< plane: unit normal toward free space
-  Vec3 centre = Vec3::Zero();     ///< sphere, box, ellipsoid
-  double radius = 0.0;            ///< sphere, capsule
+  bool inside = false;                      ///< the free space is inside the shape (a cavity)
+  Vec3 point = Vec3::Zero();                ///< plane: a point on it
+  Vec3 normal = Vec3::UnitZ();              ///< plane: unit normal toward free space
+  Vec3 centre = Vec3::Zero();               ///< sphere, box, ellipsoid
+  double radius = 0.0;                      ///< sphere, capsule
   Vec3 a = Vec3::Zero(), b = Vec3::Zero();  ///< capsule axis ends
   Vec3 half_extents = Vec3::Zero();         ///< box
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< box, ellipsoid
-  Vec3 radii = Vec3::Zero();                ///< ellipsoid semi-axes
-  std::shared_ptr<const MeshSdf> sdf;       ///< mesh
+  Vec3 radii = Vec3::Zero();                                        ///< ellipsoid semi-axes
+  std::shared_ptr<const MeshSdf> sdf;                               ///< mesh
 };
 
 /// Signed distance (m) from p to the obstacle's surface, positive in free space; `normal` (unit)

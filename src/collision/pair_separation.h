@@ -12,7 +12,7 @@
 namespace viscera::collision {
 
 struct PairSeparation {
-  double distance = 0.0;      ///< |a - b| (m)
+  double distance = 0.0;        ///< |a - b| (m)
   Vec3 normal = Vec3::UnitZ();  ///< (a - b) / |a - b|; +z when |a - b| <= 1e-12
 };
 
@@ -26,8 +26,8 @@ inline PairSeparation Separation(const Vec3& a, const Vec3& b) {
 /// `count` (1 to 4) pairs at once, Separation's operations lane by lane (IEEE's packed square
 /// root and division round as the scalar ones do): the same bits, with the pairs' square root and
 /// division latencies overlapped. Lanes past `count` repeat the last pair; out[0..count) is set.
-inline void Separations(const std::array<const Vec3*, 4>& a, const std::array<const Vec3*, 4>& b, int count,
-                        PairSeparation* out) {
+inline void Separations(const std::array<const Vec3*, 4>& a, const std::array<const Vec3*, 4>& b,
+                        int count, PairSeparation* out) {
   using Lanes = Eigen::Array4d;
   Lanes dx, dy, dz;
   for (int l = 0; l < 4; ++l) {

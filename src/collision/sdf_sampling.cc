@@ -10,17 +10,21 @@ namespace {
 // The brute-force winding number's decision, summed in triangle order (as MeshSdf always did).
 bool InsideByWinding(const Points& v, const Triangles& f, const Vec3& p) {
   double winding = 0.0;
-  for (Eigen::Index t = 0; t < f.rows(); ++t) winding += SolidAngle(p, v.row(f(t, 0)), v.row(f(t, 1)), v.row(f(t, 2)));
+  for (Eigen::Index t = 0; t < f.rows(); ++t)
+    winding += SolidAngle(p, v.row(f(t, 0)), v.row(f(t, 1)), v.row(f(t, 2)));
   // ~1 inside a closed, outward-oriented mesh, ~0 outside
   return std::abs(winding) / (4.0 * M_PI) > 0.5;
 }
 
-double Signed(bool inside, double squared_distance) { return (inside ? -1.0 : 1.0) * std::sqrt(squared_distance); }
+double Signed(bool inside, double squared_distance) {
+  return (inside ? -1.0 : 1.0) * std::sqrt(squared_distance);
+}
 
 }  // namespace
 
 SdfGrid GridAround(const Points& vertices, int resolution) {
-  const Vec3 lo = vertices.colwise().minCoeff().transpose(), hi = vertices.colwise().maxCoeff().transpose();
+  const Vec3 lo = vertices.colwise().minCoeff().transpose(),
+             hi = vertices.colwise().maxCoeff().transpose();
   SdfGrid grid;
   grid.cell = (hi - lo).maxCoeff() / resolution;
   const double pad = 3.0 * grid.cell;
@@ -32,7 +36,8 @@ SdfGrid GridAround(const Points& vertices, int resolution) {
   return grid;
 }
 
-std::vector<double> SampleBruteForce(const Points& vertices, const Triangles& triangles, const SdfGrid& grid) {
+std::vector<double> SampleBruteForce(const Points& vertices, const Triangles& triangles,
+                                     const SdfGrid& grid) {
   std::vector<double> values(grid.size());
   size_t n = 0;
   for (int k = 0; k < grid.nz; ++k) {
@@ -41,7 +46,8 @@ std::vector<double> SampleBruteForce(const Points& vertices, const Triangles& tr
         const Vec3 p = grid.Point(i, j, k);
         double best = std::numeric_limits<double>::infinity();
         for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-          best = std::min(best, SquaredDistanceToTriangle(p, vertices.row(triangles(t, 0)), vertices.row(triangles(t, 1)),
+          best = std::min(best, SquaredDistanceToTriangle(p, vertices.row(triangles(t, 0)),
+                                                          vertices.row(triangles(t, 1)),
                                                           vertices.row(triangles(t, 2))));
         }
         values[n++] = Signed(InsideByWinding(vertices, triangles, p), best);
@@ -51,8 +57,9 @@ std::vector<double> SampleBruteForce(const Points& vertices, const Triangles& tr
   return values;
 }
 
-std::vector<double> SampleWithHierarchy(const Points& vertices, const Triangles& triangles, const SdfGrid& grid,
-                                        TriangleBvh::BoundScales scales, SamplingStats* stats) {
+std::vector<double> SampleWithHierarchy(const Points& vertices, const Triangles& triangles,
+                                        const SdfGrid& grid, TriangleBvh::BoundScales scales,
+                                        SamplingStats* stats) {
   const TriangleBvh bvh(vertices, triangles, scales);
   std::vector<double> values(grid.size());
   size_t n = 0;

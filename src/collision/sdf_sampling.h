@@ -26,7 +26,8 @@ struct SdfGrid {
 SdfGrid GridAround(const Points& vertices, int resolution);
 
 /// Every grid point against every triangle (#F by 3 indices into `vertices`).
-std::vector<double> SampleBruteForce(const Points& vertices, const Triangles& triangles, const SdfGrid& grid);
+std::vector<double> SampleBruteForce(const Points& vertices, const Triangles& triangles,
+                                     const SdfGrid& grid);
 
 struct SamplingStats {
   int64_t exact_signs = 0;  ///< points whose sign needed the brute-force winding number
@@ -36,7 +37,8 @@ struct SamplingStats {
 /// very same minimum; the sign is decided by the hierarchy's solid angle when its error bound
 /// keeps it clear of the threshold (2 pi), else by the brute-force sum itself.
 /// `scales` exists for the tests' negative controls (TriangleBvh::BoundScales).
-std::vector<double> SampleWithHierarchy(const Points& vertices, const Triangles& triangles, const SdfGrid& grid,
-                                        TriangleBvh::BoundScales scales = {}, SamplingStats* stats = nullptr);
+std::vector<double> SampleWithHierarchy(const Points& vertices, const Triangles& triangles,
+                                        const SdfGrid& grid, TriangleBvh::BoundScales scales = {},
+                                        SamplingStats* stats = nullptr);
 
 }  // namespace viscera::collision

@@ -33,7 +33,8 @@ void SpatialGrid::Build(const std::vector<Vec3>& points) {
   mask_ = capacity - 1;
   // Insert in descending index order, pushing at the front: each cell lists ascending indices.
   for (int i = n - 1; i >= 0; --i) {
-    for (int a = 0; a < 3; ++a) coords_[3 * i + a] = static_cast<int64_t>(std::floor(points[i](a) / cell_));
+    for (int a = 0; a < 3; ++a)
+      coords_[3 * i + a] = static_cast<int64_t>(std::floor(points[i](a) / cell_));
     const uint64_t key = Key(coords_[3 * i], coords_[3 * i + 1], coords_[3 * i + 2]);
     uint64_t slot = Hash(key) & mask_;
     while (slot_head_[slot] >= 0 && slot_key_[slot] != key) slot = (slot + 1) & mask_;
@@ -43,11 +44,13 @@ void SpatialGrid::Build(const std::vector<Vec3>& points) {
   }
 }
 
-std::vector<std::pair<int, int>> SpatialGrid::BruteForcePairs(const std::vector<Vec3>& points, double distance) {
+std::vector<std::pair<int, int>> SpatialGrid::BruteForcePairs(const std::vector<Vec3>& points,
+                                                              double distance) {
   std::vector<std::pair<int, int>> pairs;
   for (size_t i = 0; i < points.size(); ++i) {
     for (size_t j = i + 1; j < points.size(); ++j) {
-      if ((points[i] - points[j]).norm() < distance) pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
+      if ((points[i] - points[j]).norm() < distance)
+        pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
     }
   }
   return pairs;

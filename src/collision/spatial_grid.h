@@ -31,7 +31,8 @@ class SpatialGrid {
   void ForEachNear(const Vec3& p, NearFn&& near) const;
 
   /// All pairs (i < j) of points closer than `distance`, brute force, O(n^2): the reference.
-  static std::vector<std::pair<int, int>> BruteForcePairs(const std::vector<Vec3>& points, double distance);
+  static std::vector<std::pair<int, int>> BruteForcePairs(const std::vector<Vec3>& points,
+                                                          double distance);
 
  private:
   void Build(const std::vector<Vec3>& points);

@@ -33,7 +33,8 @@ void SphereChain::Place(const Points& q) {
 void SphereChain::UpdateCentres(const Points& q) {
   for (Sphere& sp : spheres_) {
     sp.centre = sp.w[0] * q.row(sp.first).transpose() + sp.w[1] * q.row(sp.first + 1).transpose() +
-                sp.w[2] * q.row(sp.first + 2).transpose() + sp.w[3] * q.row(sp.first + 3).transpose();
+                sp.w[2] * q.row(sp.first + 2).transpose() +
+                sp.w[3] * q.row(sp.first + 3).transpose();
   }
 }
 

@@ -13,9 +13,9 @@
 namespace viscera::collision {
 
 struct Sphere {
-  double s = 0.0;                 ///< curve parameter of the centre
-  int first = 0;                  ///< first control point of its window
-  std::array<double, 4> w{};      ///< b_{first+a}(s): maps forces to generalized forces
+  double s = 0.0;             ///< curve parameter of the centre
+  int first = 0;              ///< first control point of its window
+  std::array<double, 4> w{};  ///< b_{first+a}(s): maps forces to generalized forces
   Vec3 centre = Vec3::Zero();
 };
 

@@ -42,7 +42,8 @@ TriangleGeometry GeometryOf(const Points& v, const Triangles& f, int t) {
 // L^2 / (2 A): the triangle's shape factor (inf when it has no area).
 double ShapeFactor(const TriangleGeometry& g) {
   const double twice_area = 2.0 * g.area_normal.norm();
-  return twice_area > 0.0 ? g.longest_edge * g.longest_edge / twice_area : std::numeric_limits<double>::infinity();
+  return twice_area > 0.0 ? g.longest_edge * g.longest_edge / twice_area
+                          : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace
@@ -100,7 +101,8 @@ int TriangleBvh::Build(int first, int count, int depth) {
   node.quadrupole.setZero();
   for (int k = first; k < first + count; ++k) {
     const TriangleGeometry g = GeometryOf(vertices_, triangles_, order_[k]);
-    for (const Vec3& x : {g.a, g.b, g.c}) node.radius = std::max(node.radius, (x - node.centre).norm());
+    for (const Vec3& x : {g.a, g.b, g.c})
+      node.radius = std::max(node.radius, (x - node.centre).norm());
     node.area += g.area_normal.norm();
     node.dipole += g.area_normal;
     node.quadrupole += g.area_normal * ((g.a + g.b + g.c) / 3.0 - node.centre).transpose();
@@ -115,10 +117,11 @@ int TriangleBvh::Build(int first, int count, int depth) {
     int axis = 0;
     (centroid_hi - centroid_lo).maxCoeff(&axis);
     const int half = count / 2;
-    std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
-                     [&](int s, int t) {
+    std::nth_element(order_.begin() + first, order_.begin() + first + half,
+                     order_.begin() + first + count, [&](int s, int t) {
                        const auto centroid = [&](int u) {
-                         return vertices_(triangles_(u, 0), axis) + vertices_(triangles_(u, 1), axis) +
+                         return vertices_(triangles_(u, 0), axis) +
+                                vertices_(triangles_(u, 1), axis) +
                                 vertices_(triangles_(u, 2), axis);
                        };
                        return centroid(s) < centroid(t);
@@ -140,7 +143,8 @@ double TriangleBvh::DistanceLowerBound(const Node& node, const Vec3& p) const {
   //  - on an edge or a vertex, and in forming the point: a few eps of the coordinates and of R.
   const double barycentric = 1000.0 * kEps * node.sliver * far * far;
   if (barycentric > 0.1) return 0.0;  // too close to unbounded to reason about: never prune
-  const double stray = 2.0 * node.longest_edge * barycentric + 16.0 * kEps * (coordinate_scale_ + far);
+  const double stray =
+      2.0 * node.longest_edge * barycentric + 16.0 * kEps * (coordinate_scale_ + far);
   return std::max(0.0, box * (1.0 - 8.0 * kEps) - stray) * (1.0 - 8.0 * kEps) * scales_.distance;
 }
 
@@ -148,7 +152,9 @@ double TriangleBvh::SquaredDistanceTo(const Corners& t, const Vec3& p) const {
   return SquaredDistanceToTriangle(p, t[0], t[1], t[2]);
 }
 
-double TriangleBvh::SolidAngleOf(const Corners& t, const Vec3& p) const { return SolidAngle(p, t[0], t[1], t[2]); }
+double TriangleBvh::SolidAngleOf(const Corners& t, const Vec3& p) const {
+  return SolidAngle(p, t[0], t[1], t[2]);
+}
 
 double TriangleBvh::NearestSquaredDistance(const Vec3& p) const {
   double best = std::numeric_limits<double>::infinity();
@@ -164,10 +170,12 @@ double TriangleBvh::NearestSquaredDistance(const Vec3& p) const {
     const double bound = DistanceLowerBound(node, p);
     if (bound * bound > best) continue;
     if (node.left < 0) {
-      for (int k = node.first; k < node.first + node.count; ++k) best = std::min(best, SquaredDistanceTo(corners_[k], p));
+      for (int k = node.first; k < node.first + node.count; ++k)
+        best = std::min(best, SquaredDistanceTo(corners_[k], p));
       continue;
     }
-    const double left = DistanceLowerBound(nodes_[node.left], p), right = DistanceLowerBound(nodes_[node.right], p);
+    const double left = DistanceLowerBound(nodes_[node.left], p),
+                 right = DistanceLowerBound(nodes_[node.right], p);
     const bool left_first = left <= right;
     stack[top++] = left_first ? node.right : node.left;
     stack[top++] = left_first ? node.left : node.right;
@@ -195,14 +203,16 @@ TriangleBvh::SolidAngleEstimate TriangleBvh::MeshSolidAngle(const Vec3& p) const
       if (share <= kFarFieldShare) {
         const Vec3 u = to_centre / d;
         const double dipole = u.dot(node.dipole) / (d * d);
-        const double quadrupole = (node.quadrupole.trace() - 3.0 * u.dot(node.quadrupole * u)) / (d * d * d);
+        const double quadrupole =
+            (node.quadrupole.trace() - 3.0 * u.dot(node.quadrupole * u)) / (d * d * d);
         estimate.value += dipole + quadrupole;
         remainder += share * node.area / (gap * gap);
         continue;
       }
     }
     if (node.left < 0) {
-      for (int k = node.first; k < node.first + node.count; ++k) estimate.value += SolidAngleOf(corners_[k], p);
+      for (int k = node.first; k < node.first + node.count; ++k)
+        estimate.value += SolidAngleOf(corners_[k], p);
       continue;
     }
     stack[top++] = node.left;

@@ -36,7 +36,8 @@ class TriangleBvh {
 
   struct SolidAngleEstimate {
     double value = 0.0;  ///< sr
-    double error = 0.0;  ///< sr: bounds |value - the brute-force sum of SolidAngle in triangle order|
+    double error =
+        0.0;  ///< sr: bounds |value - the brute-force sum of SolidAngle in triangle order|
   };
   /// The solid angle of the whole mesh seen from `p` (4 pi times its winding number).
   SolidAngleEstimate MeshSolidAngle(const Vec3& p) const;
@@ -46,14 +47,14 @@ class TriangleBvh {
 
  private:
   struct Node {
-    Vec3 lo, hi;            // box of the node's vertices
-    Vec3 centre;            // the expansion's centre (the box's)
-    double radius = 0.0;    // every vertex lies within radius of centre (m)
-    double area = 0.0;      // sum of the triangles' areas (m^2)
-    Vec3 dipole;            // sum of A_t n_t (m^2)
-    Mat3 quadrupole;        // sum of A_t n_t (g_t - centre)^T, g_t the centroid (m^3)
+    Vec3 lo, hi;                // box of the node's vertices
+    Vec3 centre;                // the expansion's centre (the box's)
+    double radius = 0.0;        // every vertex lies within radius of centre (m)
+    double area = 0.0;          // sum of the triangles' areas (m^2)
+    Vec3 dipole;                // sum of A_t n_t (m^2)
+    Mat3 quadrupole;            // sum of A_t n_t (g_t - centre)^T, g_t the centroid (m^3)
     double longest_edge = 0.0;  // m
-    double sliver = 0.0;    // max over triangles of (L_t^2 / (2 A_t))^2 / L_t^2 (1/m^2)
+    double sliver = 0.0;        // max over triangles of (L_t^2 / (2 A_t))^2 / L_t^2 (1/m^2)
     int first = 0, count = 0;   // a leaf's triangles: order_[first, first + count)
     int left = -1, right = -1;  // children, -1 in a leaf
   };
@@ -70,9 +71,9 @@ class TriangleBvh {
   Triangles triangles_;
   BoundScales scales_;
   std::vector<Node> nodes_;
-  std::vector<int> order_;         // triangle indices, grouped by leaf
-  std::vector<Corners> corners_;   // their corners, in the same order
-  std::vector<Corners> always_;    // (near-)degenerate triangles: outside the tree, always evaluated
+  std::vector<int> order_;        // triangle indices, grouped by leaf
+  std::vector<Corners> corners_;  // their corners, in the same order
+  std::vector<Corners> always_;   // (near-)degenerate triangles: outside the tree, always evaluated
   double coordinate_scale_ = 0.0;  // largest |vertex coordinate| (m)
   double rounding_slack_ = 0.0;    // sr: the two sums' rounding, added to every error
 };

@@ -11,20 +11,25 @@ VerletList::VerletList(ContactDetector detector, double skin) : detector_(detect
   ThrowUnless(skin > 0.0, "Verlet list skin ", skin, " m: must be > 0");
 }
 
-void VerletList::MeasureTravel(const std::vector<Sphere>& spheres, const std::vector<ToolCapsule>& tools) {
+void VerletList::MeasureTravel(const std::vector<Sphere>& spheres,
+                               const std::vector<ToolCapsule>& tools) {
   travel_.resize(spheres.size() + tools.size());
-  for (size_t i = 0; i < spheres.size(); ++i) travel_[i] = (spheres[i].centre - centres_at_search_[i]).norm();
+  for (size_t i = 0; i < spheres.size(); ++i)
+    travel_[i] = (spheres[i].centre - centres_at_search_[i]).norm();
   for (size_t t = 0; t < tools.size(); ++t) {
-    travel_[spheres.size() + t] = std::sqrt(std::max((tools[t].tip - tools_at_search_[t].tip).squaredNorm(),
-                                                     (tools[t].port - tools_at_search_[t].port).squaredNorm()));
+    travel_[spheres.size() + t] =
+        std::sqrt(std::max((tools[t].tip - tools_at_search_[t].tip).squaredNorm(),
+                           (tools[t].port - tools_at_search_[t].port).squaredNorm()));
   }
 }
 
 bool VerletList::Update(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
                         const std::vector<ToolCapsule>& tools, double margin) {
-  bool same_bodies = valid_ && spheres.size() == centres_at_search_.size() && tools.size() == tools_at_search_.size();
+  bool same_bodies = valid_ && spheres.size() == centres_at_search_.size() &&
+                     tools.size() == tools_at_search_.size();
   for (size_t t = 0; same_bodies && t < tools.size(); ++t) {
-    same_bodies = tools[t].present == tools_at_search_[t].present && tools[t].radius == tools_at_search_[t].radius;
+    same_bodies = tools[t].present == tools_at_search_[t].present &&
+                  tools[t].radius == tools_at_search_[t].radius;
   }
   if (same_bodies) {
     // A pair left out had a gap of at least searched_margin_ when it was last looked at (when
@@ -38,7 +43,8 @@ bool VerletList::Update(const std::vector<Sphere>& spheres, const std::vector<Ob
     if (2.0 * worst <= spare) return false;
     // Bodies beyond a third of the spare margin are searched again; the others then keep the
     // bound: 2 x spare/3 of travel plus spare/3 of drift.
-    if (spare > kLeastPartialSpare * skin_ && SearchMoved(spheres, obstacles, tools, spare / 3.0)) return true;
+    if (spare > kLeastPartialSpare * skin_ && SearchMoved(spheres, obstacles, tools, spare / 3.0))
+      return true;
   }
 
   searched_margin_ = margin + skin_;
@@ -56,7 +62,8 @@ bool VerletList::Update(const std::vector<Sphere>& spheres, const std::vector<Ob
   return true;
 }
 
-bool VerletList::SearchMoved(const std::vector<Sphere>& spheres, const std::vector<Obstacle>& obstacles,
+bool VerletList::SearchMoved(const std::vector<Sphere>& spheres,
+                             const std::vector<Obstacle>& obstacles,
                              const std::vector<ToolCapsule>& tools, double threshold) {
   const size_t n = spheres.size();
   moved_spheres_.resize(n);
@@ -78,12 +85,14 @@ bool VerletList::SearchMoved(const std::vector<Sphere>& spheres, const std::vect
 
   kept_.clear();
   for (const ContactCandidate& c : candidates_) {
-    const bool involved = moved_spheres_[c.a] || (c.kind == ContactKind::kSelf && moved_spheres_[c.b]) ||
+    const bool involved = moved_spheres_[c.a] ||
+                          (c.kind == ContactKind::kSelf && moved_spheres_[c.b]) ||
                           (c.kind == ContactKind::kTool && moved_tools_[c.b]);
     if (!involved) kept_.push_back(c);
   }
   candidates_.swap(kept_);
-  detector_.DetectAround(spheres, obstacles, tools, moved_spheres_, moved_tools_, &candidates_, searched_margin_);
+  detector_.DetectAround(spheres, obstacles, tools, moved_spheres_, moved_tools_, &candidates_,
+                         searched_margin_);
   for (size_t i = 0; i < n; ++i) {
     if (moved_spheres_[i]) centres_at_search_[i] = spheres[i].centre;
   }

@@ -49,11 +49,11 @@ class VerletList {
   ContactDetector detector_;
   double skin_;
   bool valid_ = false;
-  double searched_margin_ = 0.0;  // the margin of the last whole search (asked + skin)
-  double drift_ = 0.0;            // largest travel of a body a partial search left alone
-  std::vector<Vec3> centres_at_search_;      // each sphere where it was last searched
+  double searched_margin_ = 0.0;         // the margin of the last whole search (asked + skin)
+  double drift_ = 0.0;                   // largest travel of a body a partial search left alone
+  std::vector<Vec3> centres_at_search_;  // each sphere where it was last searched
   std::vector<ToolCapsule> tools_at_search_;  // each tool where it was last searched
-  std::vector<double> travel_;               // per body, MeasureTravel's
+  std::vector<double> travel_;                // per body, MeasureTravel's
   std::vector<char> moved_spheres_, moved_tools_;
   std::vector<ContactCandidate> candidates_, kept_;
   int64_t searches_ = 0, partial_searches_ = 0;

@@ -42,8 +42,8 @@ void ThrowUnless(bool ok, Args&&... args) {
 
 }  // namespace viscera
 
-#define VISCERA_DEMAND(condition)                                                   \
-  do {                                                                              \
+#define VISCERA_DEMAND(condition)                                                        \
+  do {                                                                                   \
     if (!(condition)) ::viscera::internal::DemandFailed(#condition, __FILE__, __LINE__); \
   } while (false)
 

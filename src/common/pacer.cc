@@ -27,7 +27,8 @@ PacerClock PacerClock::Monotonic() { return {&MonotonicNanos, &SleepUntil}; }
 Pacer::Pacer(PacerOptions options, PacerClock clock) : options_(options), clock_(std::move(clock)) {
   ThrowUnless(options_.period_ns > 0, "Pacer: period must be > 0 ns, got ", options_.period_ns);
   ThrowUnless(options_.spin_ns >= 0, "Pacer: spin must be >= 0 ns, got ", options_.spin_ns);
-  ThrowUnless(options_.late_ns >= 0, "Pacer: late threshold must be >= 0 ns, got ", options_.late_ns);
+  ThrowUnless(options_.late_ns >= 0, "Pacer: late threshold must be >= 0 ns, got ",
+              options_.late_ns);
   VISCERA_DEMAND(clock_.now && clock_.sleep_until);
 }
 

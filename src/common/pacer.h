@@ -13,8 +13,8 @@ namespace viscera {
 
 /// The clock a Pacer reads and sleeps on: monotonic nanoseconds. Tests pass a fake one.
 struct PacerClock {
-  std::function<int64_t()> now;                 ///< monotonic time (ns)
-  std::function<void(int64_t)> sleep_until;     ///< sleeps until a monotonic time (ns)
+  std::function<int64_t()> now;              ///< monotonic time (ns)
+  std::function<void(int64_t)> sleep_until;  ///< sleeps until a monotonic time (ns)
   /// The system's CLOCK_MONOTONIC with clock_nanosleep.
   static PacerClock Monotonic();
 };

@@ -43,8 +43,9 @@ class StoppableThread {
   /// CLOCK_MONOTONIC, which steady_clock is on Linux) or a stop request. False once asked to stop.
   bool SleepUntil(int64_t monotonic_ns) {
     std::unique_lock<std::mutex> lock(mutex_);
-    return !wake_.wait_until(lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(monotonic_ns)),
-                             [this] { return stop_; });
+    return !wake_.wait_until(
+        lock, std::chrono::steady_clock::time_point(std::chrono::nanoseconds(monotonic_ns)),
+        [this] { return stop_; });
   }
 
  private:

@@ -26,9 +26,9 @@ struct DeviceLimits {
 
 /// One reading of the device.
 struct DeviceSample {
-  Vec3 position = Vec3::Zero();  ///< tool tip (m, world frame)
+  Vec3 position = Vec3::Zero();                                     ///< tool tip (m, world frame)
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< jaw frame
-  double jaw = 1.0;              ///< 0 closed .. 1 open
+  double jaw = 1.0;                                                 ///< 0 closed .. 1 open
 };
 
 class Device {

@@ -35,7 +35,9 @@ class SampleRing {
     return viscera::Quantile(std::move(copy), p);
   }
   double Max() const {
-    return size() == 0 ? 0.0 : *std::max_element(values_.begin(), values_.begin() + static_cast<long>(size()));
+    return size() == 0
+               ? 0.0
+               : *std::max_element(values_.begin(), values_.begin() + static_cast<long>(size()));
   }
   void Clear() { count_ = 0; }
 
@@ -55,13 +57,15 @@ std::string SetRealtime(int priority) {
 }
 
 // `limited`: the model's force after the limits, before the passivity controller's damping
-void WriteLogLine(std::FILE* log, double t, const Vec3& x, const Vec3& f, const Vec3& limited, const Vec3& fs,
-                  double age_ms, double period_us, double gain, double energy, int64_t nonfinite) {
-  std::fprintf(log,
-               "{\"t\":%.6f,\"position\":[%.9g,%.9g,%.9g],\"force\":[%.9g,%.9g,%.9g],"
-               "\"limited_force\":[%.9g,%.9g,%.9g],\"server_force\":[%.9g,%.9g,%.9g],\"model_age_ms\":",
-               t, x.x(), x.y(), x.z(), f.x(), f.y(), f.z(), limited.x(), limited.y(), limited.z(), fs.x(),
-               fs.y(), fs.z());
+void WriteLogLine(std::FILE* log, double t, const Vec3& x, const Vec3& f, const Vec3& limited,
+                  const Vec3& fs, double age_ms, double period_us, double gain, double energy,
+                  int64_t nonfinite) {
+  std::fprintf(
+      log,
+      "{\"t\":%.6f,\"position\":[%.9g,%.9g,%.9g],\"force\":[%.9g,%.9g,%.9g],"
+      "\"limited_force\":[%.9g,%.9g,%.9g],\"server_force\":[%.9g,%.9g,%.9g],\"model_age_ms\":",
+      t, x.x(), x.y(), x.z(), f.x(), f.y(), f.z(), limited.x(), limited.y(), limited.z(), fs.x(),
+      fs.y(), fs.z());
   if (std::isfinite(age_ms)) {
     std::fprintf(log, "%.3f", age_ms);
   } else {
@@ -80,7 +84,8 @@ DeviceLoop::DeviceLoop(Device* device, ForceLink* link, DeviceLoopOptions option
               "device loop rate must be within (0, 20000] Hz, got ", options_.rate_hz);
   ThrowUnless(options_.seconds >= 0.0, "--seconds must be >= 0, got ", options_.seconds);
   ThrowUnless(options_.deadband_m >= 0.0 && options_.keepalive_s > 0.0, "deadband ",
-              options_.deadband_m, " m must be >= 0 and keep-alive ", options_.keepalive_s, " s > 0");
+              options_.deadband_m, " m must be >= 0 and keep-alive ", options_.keepalive_s,
+              " s > 0");
   ThrowUnless(options_.max_force_n >= 0.0, "max force must be >= 0 N, got ", options_.max_force_n);
   options_.impairment.Validate();
 }
@@ -93,10 +98,12 @@ LoopSummary DeviceLoop::Run() {
   // what the device can render: its force limit, its stiffness limit and the Colgate bound
   LocalModelOptions model_options = options_.model;
   model_options.period_s = period_s;
-  model_options.max_stiffness_n_m = std::min({model_options.max_stiffness_n_m, limits.max_stiffness_n_m,
-                                              ColgateStiffnessBound(limits.damping_n_s_m, period_s)});
-  const double max_force = options_.max_force_n > 0.0 ? std::min(options_.max_force_n, limits.max_force_n)
-                                                      : limits.max_force_n;
+  model_options.max_stiffness_n_m =
+      std::min({model_options.max_stiffness_n_m, limits.max_stiffness_n_m,
+                ColgateStiffnessBound(limits.damping_n_s_m, period_s)});
+  const double max_force = options_.max_force_n > 0.0
+                               ? std::min(options_.max_force_n, limits.max_force_n)
+                               : limits.max_force_n;
   LocalModel model(model_options);
   PassivityController passivity(options_.passivity, limits.max_added_damping_n_s_m);
   ForceLimiter limiter(max_force, options_.max_force_rate_n_s);
@@ -106,7 +113,8 @@ LoopSummary DeviceLoop::Run() {
 
   const double seconds = options_.seconds > 0.0 ? options_.seconds : device_->duration();
   const bool forever = seconds <= 0.0;
-  const size_t capacity = static_cast<size_t>(std::min(600.0, forever ? 600.0 : seconds + 1.0) * options_.rate_hz);
+  const size_t capacity =
+      static_cast<size_t>(std::min(600.0, forever ? 600.0 : seconds + 1.0) * options_.rate_hz);
   SampleRing period_error(capacity), round_trip(capacity), model_age(capacity);
   SampleRing window_error(static_cast<size_t>(options_.rate_hz * options_.report_period_s) + 16);
   SampleRing window_trip(window_error.size() + 4096);
@@ -120,7 +128,8 @@ LoopSummary DeviceLoop::Run() {
   s.max_stiffness_n_m = model_options.max_stiffness_n_m;
   s.passivity = options_.passivity;
 
-  const int64_t spin = options_.spin_ns >= 0 ? options_.spin_ns : AutoSpinNs(s.realtime.rfind("SCHED_FIFO", 0) == 0);
+  const int64_t spin =
+      options_.spin_ns >= 0 ? options_.spin_ns : AutoSpinNs(s.realtime.rfind("SCHED_FIFO", 0) == 0);
   Pacer pacer({.period_ns = period_ns, .spin_ns = std::min(spin, period_ns / 2)});
   pacer.Start();
   const int64_t start = pacer.deadline();
@@ -143,7 +152,8 @@ LoopSummary DeviceLoop::Run() {
       ++s.answers_unmatched;
       return;
     }
-    if (model.Offer(a, pose->position, pose->sent_ns, arrived_ns) == LocalModel::Intake::kAccepted &&
+    if (model.Offer(a, pose->position, pose->sent_ns, arrived_ns) ==
+            LocalModel::Intake::kAccepted &&
         a.pose_seq > last_answered_pose) {
       last_answered_pose = a.pose_seq;
       const double rt_us = static_cast<double>(arrived_ns - pose->sent_ns) * 1e-3;
@@ -205,15 +215,17 @@ LoopSummary DeviceLoop::Run() {
     if (std::isfinite(age)) model_age.Add(age * 1e3);
     s.peak_force_n = std::max(s.peak_force_n, f.norm());
     if (options_.log != nullptr) {
-      WriteLogLine(options_.log, t, x, f, limited, model.has_answer() ? model.newest().force : Vec3::Zero(),
-                   age * 1e3, dt * 1e6, model.gain(), passivity.energy_j(),
+      WriteLogLine(options_.log, t, x, f, limited,
+                   model.has_answer() ? model.newest().force : Vec3::Zero(), age * 1e3, dt * 1e6,
+                   model.gain(), passivity.energy_j(),
                    model.nonfinite() + limiter.nonfinite() + device_nonfinite);
     }
     ++window_periods;
     if (options_.on_report && wake >= next_report) {
       LoopReport r;
       r.t_s = t;
-      r.rate_hz = static_cast<double>(window_periods) * 1e9 / static_cast<double>(wake - window_start);
+      r.rate_hz =
+          static_cast<double>(window_periods) * 1e9 / static_cast<double>(wake - window_start);
       r.period_error_p99_us = window_error.Quantile(0.99);
       r.round_trip_p50_us = window_trip.Quantile(0.5);
       r.model_age_ms = age * 1e3;
@@ -251,7 +263,9 @@ LoopSummary DeviceLoop::Run() {
   // every step of the server answers once: the steps between the first and last heard that
   // never arrived (on the network or in the impairment) are lost
   const int64_t heard = s.answers_received;
-  s.answers_lost = last_step >= first_step && first_step >= 0 ? std::max<int64_t>(0, last_step - first_step + 1 - heard) : 0;
+  s.answers_lost = last_step >= first_step && first_step >= 0
+                       ? std::max<int64_t>(0, last_step - first_step + 1 - heard)
+                       : 0;
   s.link_rejected = link_->rejected();
   s.force_clamped = limiter.clamped();
   s.rate_limited = limiter.rate_limited();

@@ -38,22 +38,22 @@ struct LoopReport {
 };
 
 struct DeviceLoopOptions {
-  double rate_hz = 1000.0;        ///< device loop rate (Hz), > 0
-  double seconds = 0.0;           ///< run time (s); 0: the device's duration, or until stop
-  int64_t spin_ns = -1;           ///< pacer spin margin (ns); < 0: AutoSpinNs (common/pacer.h)
-  int realtime_priority = 0;      ///< > 0: SCHED_FIFO at this priority (reported when refused)
-  double deadband_m = 0.0;        ///< publish when moved more than this (m); 0: every period
-  double keepalive_s = 0.02;      ///< with a deadband: publish at least this often (s)
+  double rate_hz = 1000.0;    ///< device loop rate (Hz), > 0
+  double seconds = 0.0;       ///< run time (s); 0: the device's duration, or until stop
+  int64_t spin_ns = -1;       ///< pacer spin margin (ns); < 0: AutoSpinNs (common/pacer.h)
+  int realtime_priority = 0;  ///< > 0: SCHED_FIFO at this priority (reported when refused)
+  double deadband_m = 0.0;    ///< publish when moved more than this (m); 0: every period
+  double keepalive_s = 0.02;  ///< with a deadband: publish at least this often (s)
   /// Local model; its max_stiffness_n_m is lowered to the device's limit and the Colgate bound.
   LocalModelOptions model;
-  double max_force_n = 0.0;       ///< force limit (N); 0 or above the device's: the device's
+  double max_force_n = 0.0;           ///< force limit (N); 0 or above the device's: the device's
   double max_force_rate_n_s = 200.0;  ///< force-rate limit (N/s)
-  bool passivity = true;          ///< false: observe only (for comparison)
-  ImpairmentOptions impairment;   ///< applied to poses out and answers in
-  std::FILE* log = nullptr;       ///< JSON line per period when set (docs/haptics.md)
+  bool passivity = true;              ///< false: observe only (for comparison)
+  ImpairmentOptions impairment;       ///< applied to poses out and answers in
+  std::FILE* log = nullptr;           ///< JSON line per period when set (docs/haptics.md)
   double report_period_s = 0.5;
   std::function<void(const LoopReport&)> on_report;  ///< live report, when set
-  const std::atomic<bool>* stop = nullptr;            ///< ends the loop when it turns true
+  const std::atomic<bool>* stop = nullptr;           ///< ends the loop when it turns true
 };
 
 struct LoopSummary {
@@ -70,7 +70,7 @@ struct LoopSummary {
   int64_t poses_sent = 0, poses_lost = 0;  ///< lost: by the impairment
   int64_t answers_received = 0;            ///< delivered to the model
   int64_t answers_accepted = 0, answers_out_of_order = 0, answers_unmatched = 0;
-  int64_t answers_lost = 0;                ///< steps of the server never heard
+  int64_t answers_lost = 0;  ///< steps of the server never heard
   int64_t link_rejected = 0;
   double peak_force_n = 0.0;
   double max_force_n = 0.0, max_force_rate_n_s = 0.0, max_stiffness_n_m = 0.0;

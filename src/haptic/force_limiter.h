@@ -22,9 +22,9 @@ class ForceLimiter {
   const Vec3& last() const { return last_; }
   double max_force_n() const { return max_force_; }
   double max_rate_n_s() const { return max_rate_; }
-  int64_t nonfinite() const { return nonfinite_; }       ///< forces that were NaN or infinite
-  int64_t clamped() const { return clamped_; }           ///< periods at the force limit
-  int64_t rate_limited() const { return rate_limited_; } ///< periods at the rate limit
+  int64_t nonfinite() const { return nonfinite_; }        ///< forces that were NaN or infinite
+  int64_t clamped() const { return clamped_; }            ///< periods at the force limit
+  int64_t rate_limited() const { return rate_limited_; }  ///< periods at the rate limit
 
  private:
   double max_force_, max_rate_;

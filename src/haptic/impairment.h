@@ -90,7 +90,9 @@ class ImpairedChannel {
     int64_t due_ns;
     int64_t order;  // equal due times keep their sending order
     T message;
-    bool operator>(const Item& o) const { return due_ns != o.due_ns ? due_ns > o.due_ns : order > o.order; }
+    bool operator>(const Item& o) const {
+      return due_ns != o.due_ns ? due_ns > o.due_ns : order > o.order;
+    }
   };
   ImpairmentOptions options_;
   SplitMix64 rng_;

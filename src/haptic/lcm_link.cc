@@ -43,7 +43,8 @@ LcmLink::LcmLink(bus::LcmBus* bus, int64_t session_id, std::vector<uint8_t> toke
 LcmLink::~LcmLink() { bus_->Unsubscribe(subscription_); }
 
 void LcmLink::SendPose(int64_t seq, const DeviceSample& sample) {
-  bus::FillToolPose(session_id_, seq, token_, tool_, sample.position, sample.orientation, sample.jaw, &pose_);
+  bus::FillToolPose(session_id_, seq, token_, tool_, sample.position, sample.orientation,
+                    sample.jaw, &pose_);
   if (!bus_->Publish(pose_channel_, pose_)) ++publish_failures_;
 }
 

@@ -37,7 +37,7 @@ class LcmLink : public ForceLink {
   bus::SubscriptionId subscription_ = 0;
   viscera_proto::tool_pose_t pose_{};
   std::vector<std::pair<Answer, int64_t>> pending_;  // filled by the handler, drained by Poll
-  int64_t wall_to_monotonic_ns_ = 0;  // LCM stamps receive times on the wall clock
+  int64_t wall_to_monotonic_ns_ = 0;                 // LCM stamps receive times on the wall clock
   int64_t rejected_ = 0, publish_failures_ = 0;
 };
 

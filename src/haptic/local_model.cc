@@ -30,12 +30,14 @@ Mat3 RestoringStiffness(const Mat3& k_sent, double max_n_m, bool* clipped) {
 LocalModel::LocalModel(LocalModelOptions options) : options_(options) {
   ThrowUnless(options_.max_stiffness_n_m > 0.0, "local model: stiffness cap must be > 0 N/m, got ",
               options_.max_stiffness_n_m);
-  ThrowUnless(options_.fade_s > 0.0 && options_.stale_after_s >= 0.0 && options_.nonfinite_hold_s >= 0.0,
-              "local model: fade ", options_.fade_s, " s must be > 0, stale-after ",
-              options_.stale_after_s, " s and hold ", options_.nonfinite_hold_s, " s >= 0");
-  ThrowUnless(options_.crossfade_periods >= 1 && options_.period_s > 0.0 && options_.max_crossfade_s >= 0.0,
-              "local model: cross-fade must be >= 1 period (got ", options_.crossfade_periods, ") of ",
-              options_.period_s, " s > 0, at most ", options_.max_crossfade_s, " s >= 0");
+  ThrowUnless(
+      options_.fade_s > 0.0 && options_.stale_after_s >= 0.0 && options_.nonfinite_hold_s >= 0.0,
+      "local model: fade ", options_.fade_s, " s must be > 0, stale-after ", options_.stale_after_s,
+      " s and hold ", options_.nonfinite_hold_s, " s >= 0");
+  ThrowUnless(
+      options_.crossfade_periods >= 1 && options_.period_s > 0.0 && options_.max_crossfade_s >= 0.0,
+      "local model: cross-fade must be >= 1 period (got ", options_.crossfade_periods, ") of ",
+      options_.period_s, " s > 0, at most ", options_.max_crossfade_s, " s >= 0");
   crossfade_ns_ = static_cast<int64_t>(options_.crossfade_periods * options_.period_s * 1e9);
 }
 
@@ -61,7 +63,8 @@ LocalModel::Intake LocalModel::Offer(const Answer& answer, const Vec3& x_answere
     const auto interval = static_cast<double>(now_ns - to_since_ns_);
     interval_ns_ = interval_ns_ > 0.0 ? 0.9 * interval_ns_ + 0.1 * interval : interval;
     const double shortest = options_.crossfade_periods * options_.period_s * 1e9;
-    crossfade_ns_ = static_cast<int64_t>(std::max(shortest, std::min(interval_ns_, options_.max_crossfade_s * 1e9)));
+    crossfade_ns_ = static_cast<int64_t>(
+        std::max(shortest, std::min(interval_ns_, options_.max_crossfade_s * 1e9)));
   }
   // what is rendered now is where the new answer's fade starts: frozen as a model with the
   // blended stiffness around the last position, one-sided along its own force
@@ -88,7 +91,8 @@ LocalModel::Intake LocalModel::Offer(const Answer& answer, const Vec3& x_answere
 void LocalModel::FlagNonFinite(int64_t now_ns) {
   ++nonfinite_;
   gain_ = 0.0;
-  hold_until_ns_ = std::max(hold_until_ns_, now_ns + static_cast<int64_t>(options_.nonfinite_hold_s * 1e9));
+  hold_until_ns_ =
+      std::max(hold_until_ns_, now_ns + static_cast<int64_t>(options_.nonfinite_hold_s * 1e9));
 }
 
 Vec3 LocalModel::Affine::Eval(const Vec3& x) const {
@@ -100,7 +104,8 @@ Vec3 LocalModel::Affine::Eval(const Vec3& x) const {
 }
 
 double LocalModel::Alpha(int64_t now_ns) const {
-  return std::clamp(static_cast<double>(now_ns - to_since_ns_) / static_cast<double>(crossfade_ns_), 0.0, 1.0);
+  return std::clamp(static_cast<double>(now_ns - to_since_ns_) / static_cast<double>(crossfade_ns_),
+                    0.0, 1.0);
 }
 
 Vec3 LocalModel::Blend(const Vec3& x, int64_t now_ns) const {

@@ -15,10 +15,10 @@
 ///   a = F_s + K x_a, and the force fades linearly in time from the old model's force to the new
 ///   one's. An answer arriving mid-fade starts from what was rendered then (frozen as a model
 ///   with the blended K around the last position), so nothing jumps when the answers' direction
-///   flips (a contact that pushes, then one that pulls). The fade lasts the typical interval between answers (at
-///   least crossfade_periods device periods, at most max_crossfade_s): what the model could not
-///   predict (a tip slipping sideways) is spread over the time until the next answer, a
-///   first-order hold, instead of arriving as a step at a 100 Hz session;
+///   flips (a contact that pushes, then one that pulls). The fade lasts the typical interval
+///   between answers (at least crossfade_periods device periods, at most max_crossfade_s): what the
+///   model could not predict (a tip slipping sideways) is spread over the time until the next
+///   answer, a first-order hold, instead of arriving as a step at a 100 Hz session;
 /// - stale or out-of-order answers (an older server sequence or answered pose) are dropped,
 ///   never replayed;
 /// - g fades the force smoothly (raised cosine) to zero once the newest answer's pose is older
@@ -36,9 +36,9 @@ namespace viscera::haptic {
 
 /// One force_feedback_t of the rendered tool, as the loop hands it over.
 struct Answer {
-  int64_t seq = -1;        ///< header.seq (server's force messages, all tools)
-  int64_t step = 0;        ///< mechanics step that produced it
-  int64_t pose_seq = -1;   ///< the pose it answers
+  int64_t seq = -1;               ///< header.seq (server's force messages, all tools)
+  int64_t step = 0;               ///< mechanics step that produced it
+  int64_t pose_seq = -1;          ///< the pose it answers
   Vec3 force = Vec3::Zero();      ///< N on the hand, world frame
   Mat3 stiffness = Mat3::Zero();  ///< N/m as sent (server's spring stiffness K_s)
   bool grasping = false;
@@ -83,7 +83,7 @@ class LocalModel {
   int64_t out_of_order() const { return out_of_order_; }
   int64_t nonfinite() const { return nonfinite_; }
   int64_t stiffness_capped() const { return stiffness_capped_; }  ///< answers whose K was clipped
-  int64_t fade_events() const { return fade_events_; }  ///< times a stale fade began
+  int64_t fade_events() const { return fade_events_; }            ///< times a stale fade began
 
  private:
   struct Affine {  // F(x) = a - K x, one-sided along n (unit or zero) unless grasping
@@ -98,9 +98,9 @@ class LocalModel {
 
   LocalModelOptions options_;
   Affine from_, to_;
-  int64_t to_since_ns_ = 0;    // when `to_` arrived
-  int64_t crossfade_ns_ = 0;   // current cross-fade length
-  double interval_ns_ = 0.0;   // running mean of the interval between accepted answers
+  int64_t to_since_ns_ = 0;   // when `to_` arrived
+  int64_t crossfade_ns_ = 0;  // current cross-fade length
+  double interval_ns_ = 0.0;  // running mean of the interval between accepted answers
   bool has_answer_ = false;
   Answer newest_;
   int64_t newest_pose_seq_ = -1, newest_seq_ = -1;

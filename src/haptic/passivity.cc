@@ -12,8 +12,8 @@ constexpr double kMinSpeedSquared = 1e-12;  // (m/s)^2: below 1 um/s damping can
 
 PassivityController::PassivityController(bool enabled, double max_damping_n_s_m)
     : enabled_(enabled), max_damping_(max_damping_n_s_m) {
-  ThrowUnless(max_damping_n_s_m >= 0.0, "passivity controller: max damping must be >= 0 N s/m, got ",
-              max_damping_n_s_m);
+  ThrowUnless(max_damping_n_s_m >= 0.0,
+              "passivity controller: max damping must be >= 0 N s/m, got ", max_damping_n_s_m);
 }
 
 void PassivityController::Observe(const Vec3& x) {

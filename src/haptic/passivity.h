@@ -37,10 +37,10 @@ class PassivityController {
   void Commit(const Vec3& sent) { held_ = sent; }
 
   bool enabled() const { return enabled_; }
-  double energy_j() const { return energy_; }          ///< E (J): < 0 is energy created
-  double min_energy_j() const { return min_energy_; }  ///< lowest E seen (J)
-  double dissipated_j() const { return dissipated_; }  ///< by the added damping (J, predicted)
-  int64_t activations() const { return activations_; } ///< periods with damping added
+  double energy_j() const { return energy_; }            ///< E (J): < 0 is energy created
+  double min_energy_j() const { return min_energy_; }    ///< lowest E seen (J)
+  double dissipated_j() const { return dissipated_; }    ///< by the added damping (J, predicted)
+  int64_t activations() const { return activations_; }   ///< periods with damping added
   double last_damping() const { return last_damping_; }  ///< N s/m
 
  private:

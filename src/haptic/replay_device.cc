@@ -37,11 +37,13 @@ ReplayDevice ReplayDevice::Parse(const std::string& text, const std::string& sou
                 source, ":", number, ": needs \"t\" (s) and \"position\" ([x, y, z], m)");
     Vec3 x;
     for (int a = 0; a < 3; ++a) {
-      ThrowUnless(j["position"][a].is_number(), source, ":", number, ": position[", a, "] is not a number");
+      ThrowUnless(j["position"][a].is_number(), source, ":", number, ": position[", a,
+                  "] is not a number");
       x(a) = j["position"][a].get<double>();
     }
     const double t = j["t"].get<double>();
-    ThrowUnless(std::isfinite(t) && x.allFinite(), source, ":", number, ": non-finite t or position");
+    ThrowUnless(std::isfinite(t) && x.allFinite(), source, ":", number,
+                ": non-finite t or position");
     ThrowUnless(d.t_.empty() || t >= d.t_.back(), source, ":", number, ": t = ", t,
                 " s goes back in time (previous ", d.t_.empty() ? 0.0 : d.t_.back(), " s)");
     d.t_.push_back(t);

@@ -30,9 +30,9 @@ class ReplayDevice : public Device {
  private:
   ReplayDevice() = default;
   DeviceLimits limits_;
-  std::vector<double> t_;      // s, from the log's first sample
-  std::vector<Vec3> x_;        // m
-  size_t cursor_ = 0;          // reads go forward: the segment of the last read
+  std::vector<double> t_;  // s, from the log's first sample
+  std::vector<Vec3> x_;    // m
+  size_t cursor_ = 0;      // reads go forward: the segment of the last read
   Vec3 last_force_ = Vec3::Zero();
 };
 

@@ -17,8 +17,8 @@ SimDevice::SimDevice(script::ToolScript script, std::string tool, SimHandOptions
   ThrowUnless(script_.Has(tool_), "the tool script has no rows for tool \"", tool_, "\"");
   ThrowUnless(options_.mass_kg > 0 && options_.stiffness_n_m > 0 && options_.damping_n_s_m >= 0 &&
                   options_.limits.damping_n_s_m >= 0,
-              "simulated hand: mass ", options_.mass_kg, " kg and stiffness ", options_.stiffness_n_m,
-              " N/m must be > 0, dampings >= 0");
+              "simulated hand: mass ", options_.mass_kg, " kg and stiffness ",
+              options_.stiffness_n_m, " N/m must be > 0, dampings >= 0");
   x_ = Target(0.0);
 }
 

@@ -22,7 +22,9 @@ struct SimHandOptions {
   /// The device's (limits.damping_n_s_m is its friction b_d). A discrete damper of alpha is
   /// stable on a mass m at period T while alpha T / m stays well under 1: 50 N s/m on 0.15 kg
   /// at 1 kHz.
-  DeviceLimits limits{.max_force_n = 3.0, .max_stiffness_n_m = 800.0, .damping_n_s_m = 0.5,
+  DeviceLimits limits{.max_force_n = 3.0,
+                      .max_stiffness_n_m = 800.0,
+                      .damping_n_s_m = 0.5,
                       .max_added_damping_n_s_m = 50.0};
 };
 

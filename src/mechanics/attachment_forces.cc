@@ -13,8 +13,8 @@ void AddCurvePointOuter(const CurvePoint& at, const Mat3& h, BlockBand* m) {
   }
 }
 
-double AddAttachmentForces(std::span<const Attachment> attachments, const Points& q, const Points& qd,
-                           Points* F, BlockBand* K, BlockBand* D) {
+double AddAttachmentForces(std::span<const Attachment> attachments, const Points& q,
+                           const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
   double energy = 0.0;
   for (const Attachment& att : attachments) {
     const Vec3 x = Model::Evaluate(att.at, q) - att.anchor;
@@ -32,7 +32,8 @@ double AddAttachmentForces(std::span<const Attachment> attachments, const Points
       energy += 0.5 * att.stiffness * stretch * stretch;
       f -= att.stiffness * stretch * t;
       const Mat3 ttT = t * t.transpose();
-      h = att.stiffness * (ttT + std::max(0.0, 1.0 - att.rest_length / l) * (Mat3::Identity() - ttT));
+      h = att.stiffness *
+          (ttT + std::max(0.0, 1.0 - att.rest_length / l) * (Mat3::Identity() - ttT));
     }
     for (int a = 0; a < 4; ++a) F->row(att.at.first + a) += att.at.w(a) * f.transpose();
     if (K) AddCurvePointOuter(att.at, h, K);

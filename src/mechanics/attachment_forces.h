@@ -16,7 +16,8 @@ namespace viscera::mechanics {
 void AddCurvePointOuter(const CurvePoint& at, const Mat3& h, BlockBand* m);
 
 /// Adds forces to F (#N by 3); returns the energy (J). K and D as in AddSpringForces.
-double AddAttachmentForces(std::span<const Attachment> attachments, const Points& q, const Points& qd,
-                           Points* F, BlockBand* K = nullptr, BlockBand* D = nullptr);
+double AddAttachmentForces(std::span<const Attachment> attachments, const Points& q,
+                           const Points& qd, Points* F, BlockBand* K = nullptr,
+                           BlockBand* D = nullptr);
 
 }  // namespace viscera::mechanics

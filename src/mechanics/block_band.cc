@@ -12,7 +12,8 @@ VISCERA_AVX_CLONE void BlockBand::Multiply(const double* x_data, double* y_data)
   // x_(i+d) for d = 0 .. 3): the same numbers, one store per row instead of seven updates.
   for (int i = 0; i < n_; ++i) {
     Vec3 sum = Vec3::Zero();
-    for (int d = std::min(i, kWidth - 1); d >= 1; --d) sum += block(i - d, d).transpose() * x.row(i - d).transpose();
+    for (int d = std::min(i, kWidth - 1); d >= 1; --d)
+      sum += block(i - d, d).transpose() * x.row(i - d).transpose();
     for (int d = 0; d < kWidth && i + d < n_; ++d) sum += block(i, d) * x.row(i + d).transpose();
     y.row(i) = sum.transpose();
   }

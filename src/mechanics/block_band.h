@@ -17,7 +17,12 @@ using Sym3 = std::array<double, 6>;
 
 /// The symmetric part's entries of m (m's own if m is symmetric).
 inline Sym3 ToSym3(const Mat3& m) {
-  return {m(0, 0), m(1, 1), m(2, 2), 0.5 * (m(0, 1) + m(1, 0)), 0.5 * (m(0, 2) + m(2, 0)), 0.5 * (m(1, 2) + m(2, 1))};
+  return {m(0, 0),
+          m(1, 1),
+          m(2, 2),
+          0.5 * (m(0, 1) + m(1, 0)),
+          0.5 * (m(0, 2) + m(2, 0)),
+          0.5 * (m(1, 2) + m(2, 1))};
 }
 
 class BlockBand {
@@ -31,7 +36,8 @@ class BlockBand {
   }
   /// Every entry +0.0 (all bits zero), by one memset: the blocks are contiguous doubles.
   void SetZero() {
-    if (!blocks_.empty()) std::memset(Entries(), 0, sizeof(double) * 9 * blocks_.size());  // null when empty
+    if (!blocks_.empty())
+      std::memset(Entries(), 0, sizeof(double) * 9 * blocks_.size());  // null when empty
   }
   /// *this = other; by one memcpy when the sizes agree (no allocation).
   void Assign(const BlockBand& other) {
@@ -39,7 +45,8 @@ class BlockBand {
       *this = other;
       return;
     }
-    if (!blocks_.empty()) std::memcpy(Entries(), other.blocks_.data()->data(), sizeof(double) * 9 * blocks_.size());
+    if (!blocks_.empty())
+      std::memcpy(Entries(), other.blocks_.data()->data(), sizeof(double) * 9 * blocks_.size());
   }
   int n() const { return n_; }
 
@@ -63,7 +70,8 @@ class BlockBand {
   void AddSymmetric(int i, int j, double s, const Sym3& h) {
     VISCERA_ASSERT(std::abs(i - j) < kWidth);
     double* b = (i <= j ? block(i, j - i) : block(j, i - j)).data();  // column-major 3x3
-    const double xx = s * h[0], yy = s * h[1], zz = s * h[2], xy = s * h[3], xz = s * h[4], yz = s * h[5];
+    const double xx = s * h[0], yy = s * h[1], zz = s * h[2], xy = s * h[3], xz = s * h[4],
+                 yz = s * h[5];
     b[0] += xx;
     b[1] += xy;
     b[2] += xz;

@@ -51,7 +51,8 @@ VISCERA_AVX_CLONE bool BlockBandCholesky::Factor(const BlockBand& a) {
     // Below: L(i,j) = (A(i,j) - sum_k L(i,k) L(j,k)^T) L(j,j)^-T for k < j within both bands.
     for (int i = j + 1; i <= std::min(n_ - 1, j + kBand); ++i) {
       Mat3 b = Lower(a, i, j);
-      for (int k = std::max(0, i - kBand); k < j; ++k) b.noalias() -= L(i, i - k) * L(j, j - k).transpose();
+      for (int k = std::max(0, i - kBand); k < j; ++k)
+        b.noalias() -= L(i, i - k) * L(j, j - k).transpose();
       L(i, i - j).noalias() = b * inv_diag_[j].transpose();
     }
   }
@@ -86,7 +87,8 @@ template <class T>
 }
 
 template <class T>
-[[gnu::always_inline]] inline Row3<T> Product(const double* m, const Row3<T>& v) {  // m column-major
+[[gnu::always_inline]] inline Row3<T> Product(const double* m,
+                                              const Row3<T>& v) {  // m column-major
   return {(Splat<T>(m[0]) * v.x + Splat<T>(m[3]) * v.y) + Splat<T>(m[6]) * v.z,
           (Splat<T>(m[1]) * v.x + Splat<T>(m[4]) * v.y) + Splat<T>(m[7]) * v.z,
           Splat<T>(m[2]) * v.x + (Splat<T>(m[5]) * v.y + Splat<T>(m[8]) * v.z)};
@@ -122,7 +124,8 @@ struct TwoColumns {
   double* a;
   double* b;
   Row3<Pair> Load(int i) const {
-    return {Pair{a[3 * i], b[3 * i]}, Pair{a[3 * i + 1], b[3 * i + 1]}, Pair{a[3 * i + 2], b[3 * i + 2]}};
+    return {Pair{a[3 * i], b[3 * i]}, Pair{a[3 * i + 1], b[3 * i + 1]},
+            Pair{a[3 * i + 2], b[3 * i + 2]}};
   }
   void Store(int i, const Row3<Pair>& v) const {
     a[3 * i] = v.x[0];
@@ -168,7 +171,9 @@ template <class T, class Rows>
   }
 }
 
-VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const { Solve<double>(OneColumn{b}); }
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const {
+  Solve<double>(OneColumn{b});
+}
 
 VISCERA_AVX_CLONE void BlockBandCholesky::SolveTwoInPlace(double* a, double* b) const {
   Solve<Pair>(TwoColumns{a, b});

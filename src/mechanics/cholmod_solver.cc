@@ -96,7 +96,8 @@ void CholmodSolver::SolveInPlace(double* b, int num_columns, CholmodSolveWorkspa
 
 CholmodBandSolver::CholmodBandSolver() : solver_(&common_), work_(&common_) {}
 
-void CholmodBandSolver::Factor(const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& band) {
+void CholmodBandSolver::Factor(
+    const Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>& band) {
   const int n = static_cast<int>(band.rows());
   std::vector<int> col_ptr(n + 1, 0), row_index;
   std::vector<double> values;

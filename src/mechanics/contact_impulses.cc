@@ -13,8 +13,9 @@ constexpr double kSpeedTolerance = 1e-6;  // m/s: a contact's speed this close t
 // s[j] += change[k] * G(j, column[k]) for every j, k = 0 .. pending - 1 in that order (each
 // speed gets the changes in the order they were made). Products and sums only: the AVX clone
 // (four speeds at a time) gives the baseline one's numbers bit for bit (avx_clone.h).
-VISCERA_AVX_CLONE void AddChanges(double* s, Eigen::Index count, const double* g, Eigen::Index stride,
-                                   const Eigen::Index* column, const double* change, int pending) {
+VISCERA_AVX_CLONE void AddChanges(double* s, Eigen::Index count, const double* g,
+                                  Eigen::Index stride, const Eigen::Index* column,
+                                  const double* change, int pending) {
   const double* c0 = g + column[0] * stride;
   switch (pending) {
     case 1:
@@ -22,13 +23,15 @@ VISCERA_AVX_CLONE void AddChanges(double* s, Eigen::Index count, const double* g
       break;
     case 2: {
       const double* c1 = g + column[1] * stride;
-      for (Eigen::Index j = 0; j < count; ++j) s[j] = (s[j] + change[0] * c0[j]) + change[1] * c1[j];
+      for (Eigen::Index j = 0; j < count; ++j)
+        s[j] = (s[j] + change[0] * c0[j]) + change[1] * c1[j];
       break;
     }
     case 3: {
       const double* c1 = g + column[1] * stride;
       const double* c2 = g + column[2] * stride;
-      for (Eigen::Index j = 0; j < count; ++j) s[j] = ((s[j] + change[0] * c0[j]) + change[1] * c1[j]) + change[2] * c2[j];
+      for (Eigen::Index j = 0; j < count; ++j)
+        s[j] = ((s[j] + change[0] * c0[j]) + change[1] * c1[j]) + change[2] * c2[j];
       break;
     }
     default: {
@@ -36,7 +39,8 @@ VISCERA_AVX_CLONE void AddChanges(double* s, Eigen::Index count, const double* g
       const double* c2 = g + column[2] * stride;
       const double* c3 = g + column[3] * stride;
       for (Eigen::Index j = 0; j < count; ++j) {
-        s[j] = (((s[j] + change[0] * c0[j]) + change[1] * c1[j]) + change[2] * c2[j]) + change[3] * c3[j];
+        s[j] = (((s[j] + change[0] * c0[j]) + change[1] * c1[j]) + change[2] * c2[j]) +
+               change[3] * c3[j];
       }
       break;
     }
@@ -45,8 +49,8 @@ VISCERA_AVX_CLONE void AddChanges(double* s, Eigen::Index count, const double* g
 
 }  // namespace
 
-int SolveContactImpulses(const MatX& delassus, Eigen::Index count, const VecX& target, double immobile, VecX* lambda,
-                         VecX* speed) {
+int SolveContactImpulses(const MatX& delassus, Eigen::Index count, const VecX& target,
+                         double immobile, VecX* lambda, VecX* speed) {
   VecX& l = *lambda;
   double* s = speed->data();
   const double* g = delassus.data();

@@ -17,8 +17,8 @@ namespace viscera::mechanics {
 /// @param lambda     count: the impulses (N s), solved from zero
 /// @param speed      count: s0 on entry, s at the returned λ
 /// @return the sweeps used (at most kMaxContactSweeps)
-int SolveContactImpulses(const MatX& delassus, Eigen::Index count, const VecX& target, double immobile, VecX* lambda,
-                         VecX* speed);
+int SolveContactImpulses(const MatX& delassus, Eigen::Index count, const VecX& target,
+                         double immobile, VecX* lambda, VecX* speed);
 constexpr int kMaxContactSweeps = 100;
 
 }  // namespace viscera::mechanics

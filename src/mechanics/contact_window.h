@@ -14,7 +14,8 @@ namespace viscera::mechanics::contact_window {
 
 /// F's rows first to first + 3 += w[a] f^T (F: a row-major #N by 3 matrix's storage).
 /// @pre 0 <= first and first + 3 < N.
-[[gnu::always_inline]] inline void AddForce(double* F, int first, const std::array<double, 4>& w, const Vec3& f) {
+[[gnu::always_inline]] inline void AddForce(double* F, int first, const std::array<double, 4>& w,
+                                            const Vec3& f) {
   using lanes::Load4, lanes::Store4, lanes::V4;
   double* r = F + 3 * first;  // the window's 12 values, contiguous
   const double x = f.x(), y = f.y(), z = f.z();
@@ -31,8 +32,9 @@ namespace viscera::mechanics::contact_window {
 /// K += (w w^T) (x) k on the window's 10 upper blocks from `first`, and D the same with d if
 /// given: BlockBand::AddSymmetric(first + a, first + b, w[a] * w[b], k) for a <= b, entry by entry.
 /// @pre 0 <= first and first + 3 < K's n (and D's, with d).
-[[gnu::always_inline]] inline void AddOuter(int first, const std::array<double, 4>& w, const Sym3& k, const Sym3* d,
-                                            BlockBand* K, BlockBand* D) {
+[[gnu::always_inline]] inline void AddOuter(int first, const std::array<double, 4>& w,
+                                            const Sym3& k, const Sym3* d, BlockBand* K,
+                                            BlockBand* D) {
   const lanes::Block9 kf = Full(k);
   const lanes::Block9 df = d ? Full(*d) : lanes::Block9{};
   for (int a = 0; a < 4; ++a) {

@@ -48,8 +48,8 @@ void ComputeForces(const Model& model, const Points& q, const Points& qd,
 
   const double e_stretch = AddSpringForces(model.stretch_springs(), q, qd, F, K, D);
   const double e_bend = AddSpringForces(model.bend_springs(), q, qd, F, K, D);
-  const double e_continuous = AddStretchingForces(model, q, scratch, F, K, jac ? &jac->rank1_u : nullptr,
-                                                  jac ? &jac->rank1_coeff : nullptr);
+  const double e_continuous = AddStretchingForces(
+      model, q, scratch, F, K, jac ? &jac->rank1_u : nullptr, jac ? &jac->rank1_coeff : nullptr);
   const double e_attachment = AddAttachmentForces(model.attachments(), q, qd, F, K, D);
   const double e_mesentery = AddMesenteryForces(model.tethers(), q, qd, F, K, D);
   for (const PointLoad& load : loads) model.curve().AddForce(load.s, load.force, F);
@@ -70,7 +70,8 @@ double KineticEnergy(const Model& model, const Points& qd, Points* scratch) {
   return 0.5 * (qd.array() * scratch->array()).sum();
 }
 
-Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd, Interactions* interactions) {
+Energies ComputeEnergies(const Model& model, const Points& q, const Points& qd,
+                         Interactions* interactions) {
   StretchScratch scratch;
   scratch.Resize(model.num_points());
   Points f(model.num_points(), 3);

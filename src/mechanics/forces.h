@@ -1,7 +1,7 @@
 #pragma once
 /// All forces of the mechanical layer, assembled as generalized forces (France et al. 2005,
-/// eq. 4): gravity, viscous friction, Provot springs, Terzopoulos stretching, attachments, the mesentery and
-/// external point loads. Q_i += b_i(s) F for a force F applied at curve parameter s.
+/// eq. 4): gravity, viscous friction, Provot springs, Terzopoulos stretching, attachments, the
+/// mesentery and external point loads. Q_i += b_i(s) F for a force F applied at curve parameter s.
 #include <span>
 
 #include "mechanics/block_band.h"
@@ -28,7 +28,9 @@ struct Energies {
   double attachment = 0.0;  ///< attachment springs
   double mesentery = 0.0;   ///< the mesentery's taut tethers
   double contact = 0.0;     ///< penalty contacts and grasp springs
-  double potential() const { return gravity + stretch + bend + continuous + attachment + mesentery + contact; }
+  double potential() const {
+    return gravity + stretch + bend + continuous + attachment + mesentery + contact;
+  }
   double total() const { return kinetic + potential(); }
 };
 

@@ -39,7 +39,8 @@ void ImpactLimiter::SolvePending(const collision::SphereChain& chain) {
       for (int k = 0; k < 4; ++k) columns_(sp.first + k, static_cast<Eigen::Index>(c)) = sp.w[k];
     }
     mass_.SolveConstrainedInPlace(&columns_);
-    for (size_t c = 0; c < count; ++c) y_.col(pending_[first + c]) = columns_.col(static_cast<Eigen::Index>(c));
+    for (size_t c = 0; c < count; ++c)
+      y_.col(pending_[first + c]) = columns_.col(static_cast<Eigen::Index>(c));
   }
   pending_.clear();
 }
@@ -58,7 +59,8 @@ void ImpactLimiter::Reset() {
   delassus_.Reset();  // the columns are solved again: so are the entries
 }
 
-double ImpactLimiter::Apply(const std::vector<Contact>& contacts, const collision::SphereChain& chain, Points* u, Points* v) {
+double ImpactLimiter::Apply(const std::vector<Contact>& contacts,
+                            const collision::SphereChain& chain, Points* u, Points* v) {
   const auto c = static_cast<Eigen::Index>(contacts.size());
   if (c == 0) return 0.0;
   for (const Contact& k : contacts) {

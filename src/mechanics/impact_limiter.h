@@ -41,7 +41,8 @@ class ImpactLimiter {
   /// Finds the impulses that bring every contact's normal speed up to its target (or leave it
   /// where it is if it already is) and adds their velocity change to u (#N by 3) and to v (if
   /// given), never so much that v's kinetic energy grows. Returns the energy removed from v (J).
-  double Apply(const std::vector<Contact>& contacts, const collision::SphereChain& chain, Points* u, Points* v);
+  double Apply(const std::vector<Contact>& contacts, const collision::SphereChain& chain, Points* u,
+               Points* v);
 
  private:
   // Column slot of sphere s in y_ (M^-1 applied to its basis weights), solved on first use.
@@ -52,15 +53,15 @@ class ImpactLimiter {
 
   const Model& model_;
   MassSolver mass_;
-  double immobile_;                  // 1/kg: a contact this hard to move is pinned
-  Points columns_;                   // three spheres' weights at a time, solved in place
-  MatX y_;                           // #N by slots: M^-1 w_s per involved sphere
-  std::vector<int> slot_of_;         // per sphere, -1 when not involved
-  std::vector<int> sphere_of_;       // per slot
-  std::vector<int> pending_;         // slots not solved yet
+  double immobile_;                        // 1/kg: a contact this hard to move is pinned
+  Points columns_;                         // three spheres' weights at a time, solved in place
+  MatX y_;                                 // #N by slots: M^-1 w_s per involved sphere
+  std::vector<int> slot_of_;               // per sphere, -1 when not involved
+  std::vector<int> sphere_of_;             // per slot
+  std::vector<int> pending_;               // slots not solved yet
   IncrementalDelassus<Contact> delassus_;  // kept while the spheres' columns stand (until Reset)
   VecX lambda_, speed_, target_;
-  std::vector<Vec3> impulse_;        // per slot
+  std::vector<Vec3> impulse_;  // per slot
 };
 
 }  // namespace viscera::mechanics

@@ -10,7 +10,6 @@
 #include "mechanics/interactions.h"
 #include "mechanics/mass_solver.h"
 
-
 namespace viscera::mechanics {
 
 ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interactions* interactions)
@@ -27,7 +26,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
             (interactions == nullptr || model.params().contacts.impact_constraints)),
       // Stick-slip friction with the impact and depth constraints, as BDF2: held by the limiter
       // alone, a jammed pile's stuck pairs were pushed deep in a 100 Hz step and gained energy.
-      stick_slip_(interactions != nullptr && model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
+      stick_slip_(interactions != nullptr &&
+                  model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
                   model.params().contacts.impact_constraints),
       system_(model.num_points()),
       solver_(&common_),
@@ -47,12 +47,14 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   // m |g|^2 = |total weight| |g|: the generalized weight W satisfies M^-1 W = g at every point.
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
-  for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_, &cg_correction_, &cg_previous_correction_}) v->setZero(3 * n_);
+  for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_, &cg_correction_, &cg_previous_correction_})
+    v->setZero(3 * n_);
   num_tools_ = static_cast<int>(model.params().tools.size());
   tip_B_.setZero(3 * n_, 3 * num_tools_);
   tip_Y_.setZero(3 * n_, 3 * num_tools_);
   for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
-  for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_}) v->setZero(3 * num_tools_);
+  for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_})
+    v->setZero(3 * num_tools_);
   if (use_cholmod_) BuildPattern();
 }
 
@@ -94,8 +96,10 @@ void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& stat
   // K Δq as K v was taken: the band, the rank-one part, without the self pairs' common modes.
   jac_.stiffness.Multiply(state.last_dq, &history_);
   const double c = jac_.rank1_coeff;
-  if (c > 0.0) history_ += (c * (jac_.rank1_u.array() * state.last_dq.array()).sum()) * jac_.rank1_u;
-  if (interactions_ != nullptr && interactions_->coupled_pairs() > 0) interactions_->AddCommonModeTerms(state.last_dq, &history_);
+  if (c > 0.0)
+    history_ += (c * (jac_.rank1_u.array() * state.last_dq.array()).sum()) * jac_.rank1_u;
+  if (interactions_ != nullptr && interactions_->coupled_pairs() > 0)
+    interactions_->AddCommonModeTerms(state.last_dq, &history_);
   b_ -= (w.history * w.h_eff) * Eigen::Map<const VecX>(history_.data(), 3 * n_);
   BandMultiply(model_.mass_band(), state.last_dqd, &history_);
   b_ += w.history * Eigen::Map<const VecX>(history_.data(), 3 * n_);
@@ -145,7 +149,8 @@ void ImplicitEulerIntegrator::PrepareConstraints() {
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
     rank1_denom_ = 1.0 + rank1_w_ * u.dot(rhs_.col(1));
-    for (Eigen::Index k = 2; k < rhs_.cols(); ++k) rhs_.col(k) -= (rank1_w_ * u.dot(rhs_.col(k)) / rank1_denom_) * rhs_.col(1);
+    for (Eigen::Index k = 2; k < rhs_.cols(); ++k)
+      rhs_.col(k) -= (rank1_w_ * u.dot(rhs_.col(k)) / rank1_denom_) * rhs_.col(1);
   }
   // Pins: S = G Y with Y = A^-1 G^T (columns 2..), factored once per sub-step.
   if (num_pins_ == 0) return;
@@ -218,8 +223,10 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   // forces nearly cancel (the cavity's median b is 0.2 % of gravity's impulse, in this norm), and
   // a fraction of b asked for velocities exact to a tenth of a micrometre per second (settled fall:
   // 10.7 iterations per sub-step, 3.4 with the floor; docs/contacts.md).
-  const double gravity_reference = gravity_floor_ ? h * h * weight_scale_ : 0.0;  // (h W)^T M^-1 (h W) = m (h g)^2
-  const double reference = std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
+  const double gravity_reference =
+      gravity_floor_ ? h * h * weight_scale_ : 0.0;  // (h W)^T M^-1 (h W) = m (h g)^2
+  const double reference =
+      std::max(b.dot(dv), gravity_reference);        // b^T P^-1 b: dv is the band's answer
   cg_q_ = cg_correction_ - cg_previous_correction_;  // cg_q_ is free until the first product
   cg_previous_correction_ = cg_correction_;
   cg_correction_ += cg_q_;
@@ -233,7 +240,8 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   last_cg_stop_ = stop;
   cg_p_ = cg_z_;
   int it = 0;
-  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap : kMaxCgIterationsExtended;
+  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap
+                                                       : kMaxCgIterationsExtended;
   while (it < cap && rz > stop) {
     ++it;
     MultiplyExact(cg_p_, &cg_q_);
@@ -281,7 +289,8 @@ bool ImplicitEulerIntegrator::UnseenStretchWithin(const Points& q, const Points&
   bool within = true;
   for (Eigen::Index i = 0; i + 1 < q.rows(); ++i) {
     const SegmentMotion m = Motion(q, dq, i);
-    within &= (m.first_order > 0.0 || m.l2 == 0.0) & (m.sideways <= 2.0 * limit * m.l2 * m.first_order);
+    within &=
+        (m.first_order > 0.0 || m.l2 == 0.0) & (m.sideways <= 2.0 * limit * m.l2 * m.first_order);
   }
   return within;
 }
@@ -303,8 +312,8 @@ void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h
   if (stick_slip_) interactions_->UseFriction(nullptr, 0.0);  // State::friction may move
 }
 
-void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
-                                            State* state) {
+void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, double h,
+                                            int halvings, double unseen, State* state) {
   const double end = tip_end_, span = tip_span_;  // the tools' targets: half the way each
   tip_span_ = 0.5 * span;
   tip_end_ = end - tip_span_;
@@ -316,8 +325,9 @@ void ImplicitEulerIntegrator::AdvanceHalves(std::span<const PointLoad> loads, do
   tip_span_ = span;
 }
 
-void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings,
-                                             double parent_unseen, bool bdf2, State* state) {
+void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, double h,
+                                             int halvings, double parent_unseen, bool bdf2,
+                                             State* state) {
   Points& q = state->q;
   Points& v = state->qd;
   ++substeps_;
@@ -442,7 +452,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     // Halving shrinks what the velocities and the forces move (4 to 16 times); what it does not
     // shrink (a position correction, a speed the step length does not set) it cannot mend, and
     // is then accepted as the plain step would.
-    const double unseen = UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
+    const double unseen =
+        UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
     if (unseen > 0.0 && (halvings == 0 || unseen < 0.5 * parent_unseen)) {
       ++halved_substeps_;
       AdvanceHalves(loads, h, halvings, unseen, state);

@@ -32,7 +32,8 @@ class ImplicitEulerIntegrator final : public Integrator {
 
   /// The scheme's coefficients for one sub-step of h, with Δq, Δv the last sub-step's motion and
   /// change of velocity (State::last_dq, last_dqd):
-  ///   (M + ĥ D + ĥ² K) dv = ĥ (F - ĥ K v) + μ (M Δv - ĥ K Δq),   v' = v + dv,   q' = q + μ Δq + ĥ v'.
+  ///   (M + ĥ D + ĥ² K) dv = ĥ (F - ĥ K v) + μ (M Δv - ĥ K Δq),   v' = v + dv,   q' = q + μ Δq + ĥ
+  ///   v'.
   /// Backward Euler: ĥ = h, μ = 0. BDF2 (q' = (4 q - q_prev) / 3 + (2h/3) v', the same for v and
   /// M v' - (2h/3) F(q', v')), linearized at (q, v): ĥ = 2h/3, μ = 1/3.
   struct StepWeights {
@@ -45,7 +46,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Sub-steps whose BDF2 step would have needed impact or depth constraints, done again as
   /// backward Euler, whose end velocity moves q as those constraints assume.
   int64_t impact_redos() const { return impact_redos_; }
-  /// Solves done again because a contact's stick or slip was revised (Interactions::ReviseFriction).
+  /// Solves done again because a contact's stick or slip was revised
+  /// (Interactions::ReviseFriction).
   int64_t friction_redos() const { return friction_redos_; }
   /// Sub-steps taken as BDF2.
   int64_t bdf2_substeps() const { return bdf2_substeps_; }
@@ -122,7 +124,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// The last sub-step's CG: its stop (on r^T M^-1 r, M the preconditioner) and its correction
   /// (exact answer minus the band's) with the one before. The next coupled sub-step starts from
   /// the band's answer plus 2 cg_correction() - cg_previous_correction() (both 0 after an
-  /// uncoupled sub-step). Read by bench_direct_coupling to rerun that CG with other preconditioners.
+  /// uncoupled sub-step). Read by bench_direct_coupling to rerun that CG with other
+  /// preconditioners.
   double last_cg_stop() const { return last_cg_stop_; }
   const VecX& cg_correction() const { return cg_correction_; }
   const VecX& cg_previous_correction() const { return cg_previous_correction_; }
@@ -131,17 +134,18 @@ class ImplicitEulerIntegrator final : public Integrator {
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
   // parent_unseen: the unseen stretch of the sub-step these are halves of (infinite at the top).
   // bdf2: whether this sub-step may be BDF2 (the scheme's, unless done again for its impacts).
-  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings, double parent_unseen, bool bdf2,
-                      State* state);
+  void AdvanceHalving(std::span<const PointLoad> loads, double h, int halvings,
+                      double parent_unseen, bool bdf2, State* state);
   // The sub-step of length h done as two halves (the tools' targets half the way each).
-  void AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen, State* state);
+  void AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
+                     State* state);
   void BuildPattern();
-  void AssembleSystem(const StepWeights& w);   // system_ = M + ĥ D + ĥ^2 K
+  void AssembleSystem(const StepWeights& w);  // system_ = M + ĥ D + ĥ^2 K
   // b_ += μ (M Δv - ĥ K Δq) (BDF2); kv_'s common modes still weighed as for K v.
   void AddHistory(const StepWeights& w, const State& state);
   bool FactorSystem();
-  void SolveColumns();             // rhs_ <- system_^-1 rhs_
-  void PrepareConstraints();       // after SolveColumns: the rank-one and pins' terms
+  void SolveColumns();        // rhs_ <- system_^-1 rhs_
+  void PrepareConstraints();  // after SolveColumns: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
@@ -157,7 +161,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool NeedsEndConstraints(double h, const Points& dq);
   // One kind of end constraint on the velocity `base`: *delta = A^-1 J^T Λ (3N), or returns false
   // when no pair needs one.
-  bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base, VecX* delta);
+  bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base,
+                           VecX* delta);
   // delta (3N, from SolveEndConstraints on self pairs) less the momentum the band's excess on the
   // pairs' common motion gave it (set_impact_momentum_kept).
   void KeepPairsMomentum(double h, VecX* delta);
@@ -186,31 +191,32 @@ class ImplicitEulerIntegrator final : public Integrator {
 
   const Model& model_;
   Interactions* interactions_;
-  int n_;                        // control points
+  int n_;  // control points
   int num_pins_;
   bool use_cholmod_;
-  bool guard_;                   // params().linearization_guard
-  bool bdf2_;                    // params().implicit_scheme is BDF2, with impact constraints
-  bool stick_slip_;              // contacts with stick-slip friction (State::friction's anchors)
+  bool guard_;       // params().linearization_guard
+  bool bdf2_;        // params().implicit_scheme is BDF2, with impact constraints
+  bool stick_slip_;  // contacts with stick-slip friction (State::friction's anchors)
   BlockBand system_;
   BlockBandCholesky band_factor_;
   CholmodCommon common_;
   CholmodSolver solver_;
   CholmodSolveWorkspace solve_work_;      // the multi-column solve of rhs_ columns 1..
   CholmodSolveWorkspace solve_one_work_;  // one vector (CG): its own, so neither reallocates
-  std::vector<int> slot_;        // (block i, d, alpha, beta) -> index in the CSC values, or -1
+  std::vector<int> slot_;  // (block i, d, alpha, beta) -> index in the CSC values, or -1
   StretchScratch scratch_;
   ForceJacobians jac_;
   Points force_, kv_;
-  Points history_;               // K Δq, then M Δv (AddHistory)
-  Points step_dq_;               // the sub-step's motion, checked before it is accepted
-  MatX rhs_;                     // 3N by (2 + 3 #pins): [r, u, G^T columns], solved in place
-  MatX schur_;                   // 3 #pins square
+  Points history_;  // K Δq, then M Δv (AddHistory)
+  Points step_dq_;  // the sub-step's motion, checked before it is accepted
+  MatX rhs_;        // 3N by (2 + 3 #pins): [r, u, G^T columns], solved in place
+  MatX schur_;      // 3 #pins square
   Eigen::LDLT<MatX> schur_ldlt_;
   VecX pin_rhs_, pin_lambda_;
-  VecX b_, cg_r_, cg_z_, cg_p_, cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
-  VecX cg_correction_;                  // exact answer minus the band's, last sub-step (warm start)
-  VecX cg_previous_correction_;         // the one before: the warm start extrapolates the two
+  VecX b_, cg_r_, cg_z_, cg_p_,
+      cg_q_;                     // CG: right-hand side, residual, preconditioned, direction, A p
+  VecX cg_correction_;           // exact answer minus the band's, last sub-step (warm start)
+  VecX cg_previous_correction_;  // the one before: the warm start extrapolates the two
   // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
   // band system), their Delassus matrix and impulses.
   std::vector<ImpactLimiter::Contact> impact_set_;
@@ -222,9 +228,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool gravity_floor_ = true;
   bool impact_redo_ = true;
   bool impact_momentum_kept_ = true;
-  double weight_scale_ = 0.0;           // m |g|^2, m the whole tube's mass
-  double rank1_w_ = 0.0;                // h^2 times the rank-one coefficient, this sub-step
-  double rank1_denom_ = 1.0;            // 1 + w u.z of Sherman-Morrison
+  double weight_scale_ = 0.0;  // m |g|^2, m the whole tube's mass
+  double rank1_w_ = 0.0;       // h^2 times the rank-one coefficient, this sub-step
+  double rank1_denom_ = 1.0;   // 1 + w u.z of Sherman-Morrison
   int64_t factorization_failures_ = 0;
   int last_cg_iterations_ = 0;
   double last_cg_stop_ = 0.0;

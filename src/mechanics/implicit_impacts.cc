@@ -27,7 +27,8 @@ double TotalMass(const Band& mass) {
 
 }  // namespace
 
-double ImplicitEulerIntegrator::ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const {
+double ImplicitEulerIntegrator::ContactSpeed(const ImpactLimiter::Contact& c,
+                                             const double* x) const {
   const auto& spheres = interactions_->chain().spheres();
   Vec3 u = Vec3::Zero();
   const collision::Sphere& sa = spheres[c.a];
@@ -43,8 +44,8 @@ void ImplicitEulerIntegrator::ApplyBandInverseToColumns(Eigen::Index first, Eige
   for (Eigen::Index j = first; j < end; ++j) ApplyBandInverse(impact_columns_.col(j).data());
 }
 
-bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base,
-                                                  VecX* delta) {
+bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint kind, double h,
+                                                  const Points& base, VecX* delta) {
   // The constrained step: A dv = b + J^T Λ with Λ ≥ 0 the least impulses that bring every
   // selected pair's end depth within its bound (J (v + dv) ≥ target): the implicit step's
   // quadratic model minimized under those constraints. With v + A^-1 b = base already solved, Λ
@@ -60,9 +61,13 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
   impact_delassus_.Reset();  // the columns are solved again below
   bool any = false;
   for (int round = 0; round < kMaxImpactRounds; ++round) {
-    if (!interactions_->GatherEndConstraints(kind, h, impact_check_, base, round == 0, &impact_set_)) break;
+    if (!interactions_->GatherEndConstraints(kind, h, impact_check_, base, round == 0,
+                                             &impact_set_))
+      break;
     const auto c = static_cast<Eigen::Index>(impact_set_.size());
-    if (impact_columns_.cols() < c) impact_columns_.conservativeResize(3 * n_, std::max<Eigen::Index>(c, 2 * impact_columns_.cols()));
+    if (impact_columns_.cols() < c)
+      impact_columns_.conservativeResize(3 * n_,
+                                         std::max<Eigen::Index>(c, 2 * impact_columns_.cols()));
     if (impact_lambda_.size() < c) {
       const Eigen::Index room = std::max<Eigen::Index>(c, 2 * impact_lambda_.size());
       impact_lambda_.resize(room);
@@ -91,7 +96,8 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
       impact_speed_(i) = impact_set_[i].normal_speed;
       impact_target_(i) = impact_set_[i].target;
     }
-    SolveContactImpulses(impact_delassus_.matrix(), c, impact_target_, immobile, &impact_lambda_, &impact_speed_);
+    SolveContactImpulses(impact_delassus_.matrix(), c, impact_target_, immobile, &impact_lambda_,
+                         &impact_speed_);
     delta->noalias() = impact_columns_.leftCols(c) * impact_lambda_.head(c);
     impact_check_ = base + Eigen::Map<const Points>(delta->data(), n_, 3);
     any = true;
@@ -103,7 +109,8 @@ bool ImplicitEulerIntegrator::SolveEndConstraints(Interactions::EndConstraint ki
   // attachments, its mesentery or a tool gives the world momentum through them, and a translation
   // would move it along those ties too.
   const ModelParams& p = model_.params();
-  const bool free = model_.pins().empty() && p.attachments.empty() && !p.mesentery && p.tools.empty();
+  const bool free =
+      model_.pins().empty() && p.attachments.empty() && !p.mesentery && p.tools.empty();
   const bool only_self = std::all_of(impact_set_.begin(), impact_set_.end(),
                                      [](const ImpactLimiter::Contact& c) { return c.b >= 0; });
   if (impact_momentum_kept_ && free && only_self) KeepPairsMomentum(h, delta);
@@ -122,7 +129,7 @@ void ImplicitEulerIntegrator::KeepPairsMomentum(double h, VecX* delta) {
   // holds as solved.
   if (interactions_->coupled_pairs() == 0) return;
   interactions_->WeighCommonModes(-h * h, -h);  // backward Euler's, as the solve weighed them
-  impact_check_.setZero();                       // free after the rounds: scratch, no allocation
+  impact_check_.setZero();                      // free after the rounds: scratch, no allocation
   interactions_->AddCommonModeTerms(delta->data(), impact_check_.data());
   const Vec3 drift = impact_check_.colwise().sum().transpose() / TotalMass(model_.mass_band());
   for (int j = 0; j < n_; ++j) delta->segment<3>(3 * j) -= drift;
@@ -132,24 +139,26 @@ bool ImplicitEulerIntegrator::NeedsEndConstraints(double h, const Points& dq) {
   if (interactions_ == nullptr || !model_.params().contacts.impact_constraints) return false;
   // The constraints bound where the sub-step leaves the pairs: the speed that moves q by dq.
   impact_check_ = dq / h;
-  return interactions_->GatherEndConstraints(Interactions::EndConstraint::kImpact, h, impact_check_, impact_check_, true,
-                                             &impact_set_) ||
-         interactions_->GatherEndConstraints(Interactions::EndConstraint::kDepth, h, impact_check_, impact_check_, true,
-                                             &impact_set_);
+  return interactions_->GatherEndConstraints(Interactions::EndConstraint::kImpact, h, impact_check_,
+                                             impact_check_, true, &impact_set_) ||
+         interactions_->GatherEndConstraints(Interactions::EndConstraint::kDepth, h, impact_check_,
+                                             impact_check_, true, &impact_set_);
 }
 
 bool ImplicitEulerIntegrator::ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv) {
   if (interactions_ == nullptr || !model_.params().contacts.impact_constraints) return false;
   // Impacts: their impulses stay in the velocity (inelastic, never a push apart).
   impact_v_ = v + Eigen::Map<const Points>(dv.data(), n_, 3);
-  const bool impacts = SolveEndConstraints(Interactions::EndConstraint::kImpact, h, impact_v_, &impact_dv_);
+  const bool impacts =
+      SolveEndConstraints(Interactions::EndConstraint::kImpact, h, impact_v_, &impact_dv_);
   if (impacts) {
     dv += impact_dv_;
     impact_v_ += Eigen::Map<const Points>(impact_dv_.data(), n_, 3);
   }
   // Depth: a position correction only (q moves by h times it, v keeps none of it), so it never
   // gives a pair a separating speed.
-  const bool depth = SolveEndConstraints(Interactions::EndConstraint::kDepth, h, impact_v_, &depth_dq_);
+  const bool depth =
+      SolveEndConstraints(Interactions::EndConstraint::kDepth, h, impact_v_, &depth_dq_);
   if (impacts || depth) ++impact_substeps_;
   return depth;
 }

@@ -26,7 +26,8 @@ void ImplicitEulerIntegrator::AddTipStiffness(const State& state) {
   // K v's rows of the tips and the links' part of the tube's: b = h (F - h K v) over both.
   const auto& rows = interactions_->tip_rows();
   for (int t = 0; t < num_tools_; ++t) {
-    tip_kv_.segment<3>(3 * t) = rows[t].present ? Vec3(rows[t].k * state.tools[t].tip_velocity) : Vec3::Zero();
+    tip_kv_.segment<3>(3 * t) =
+        rows[t].present ? Vec3(rows[t].k * state.tools[t].tip_velocity) : Vec3::Zero();
   }
   for (const Interactions::TipLink& link : interactions_->tip_links()) {
     const Vec3& vt = state.tools[link.tool].tip_velocity;
@@ -62,7 +63,8 @@ void ImplicitEulerIntegrator::ReduceTips(double h) {
   tip_B_.setZero();
   for (const Interactions::TipLink& link : interactions_->tip_links()) {
     const Mat3 block = h * link.d + h * h * link.k;
-    for (int i = 0; i < 4; ++i) tip_B_.block<3, 3>(3 * (link.first + i), 3 * link.tool) += link.w[i] * block;
+    for (int i = 0; i < 4; ++i)
+      tip_B_.block<3, 3>(3 * (link.first + i), 3 * link.tool) += link.w[i] * block;
   }
   tip_tmp_.noalias() = tip_c_inv_ * tip_b_;
   b_.noalias() -= tip_B_ * tip_tmp_;
@@ -103,13 +105,15 @@ void ImplicitEulerIntegrator::SubtractTipSchur(const double* x, double* y) const
   yv.noalias() -= tip_B_ * tip_tmp2_;
 }
 
-bool ImplicitEulerIntegrator::SolveTips(double h, const Points& v, const double* dv, const State& state) {
+bool ImplicitEulerIntegrator::SolveTips(double h, const Points& v, const double* dv,
+                                        const State& state) {
   // dv_t = C^-1 (b_t - B' dv): the tips answer the tube's final velocities (impacts included).
   tip_tmp_ = tip_b_;
   if (tips_linked_) tip_tmp_.noalias() -= tip_B_.transpose() * Eigen::Map<const VecX>(dv, 3 * n_);
   tip_dv_.noalias() = tip_c_inv_ * tip_tmp_;
   if (!tips_linked_ || tip_rounds_ >= kMaxTipRounds) return false;
-  for (int t = 0; t < num_tools_; ++t) tip_v_.segment<3>(3 * t) = state.tools[t].tip_velocity + tip_dv_.segment<3>(3 * t);
+  for (int t = 0; t < num_tools_; ++t)
+    tip_v_.segment<3>(3 * t) = state.tools[t].tip_velocity + tip_dv_.segment<3>(3 * t);
   return interactions_->ReviseTipContacts(h, v, dv, tip_v_);
 }
 

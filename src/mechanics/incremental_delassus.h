@@ -32,7 +32,8 @@ class IncrementalDelassus {
       filled_.clear();
     }
     size_t kept = 0;
-    while (kept < filled_.size() && kept < contacts.size() && Same(filled_[kept], contacts[kept])) ++kept;
+    while (kept < filled_.size() && kept < contacts.size() && Same(filled_[kept], contacts[kept]))
+      ++kept;
     filled_.assign(contacts.begin(), contacts.end());  // grows with the high-water mark only
     for (auto j = static_cast<Eigen::Index>(kept); j < c; ++j) {
       for (Eigen::Index i = 0; i <= j; ++i) {

@@ -18,6 +18,7 @@ class Integrator {
 
 /// The integrator the model asks for, with its own scratch. The model (and `interactions`, which
 /// may be null) must outlive it.
-std::unique_ptr<Integrator> MakeIntegrator(const Model& model, Interactions* interactions = nullptr);
+std::unique_ptr<Integrator> MakeIntegrator(const Model& model,
+                                           Interactions* interactions = nullptr);
 
 }  // namespace viscera::mechanics

@@ -44,7 +44,8 @@ Interactions::Law Interactions::ContactLaw(double depth) const {
   // Tools' contacts too: linear, a tool pressing a loop into the wall sank by its force over k
   // (80 % of R at 5 N; docs/contacts.md, "Tools and haptics").
   if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
-  const double s = (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
+  const double s =
+      (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
   const double e = depth - d1;
   law.force += s * e * e;
   law.slope += 2.0 * s * e;
@@ -62,7 +63,8 @@ Interactions::Interactions(const Model& model)
       radius_(model.params().radius),
       margin_(Margin(model)),
       chain_(model.curve(), model.params().length, model.params().radius),
-      candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self, SelfSkip(chain_)),
+      candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
+                                             SelfSkip(chain_)),
                   kVerletSkin * radius_),
       impacts_(model, chain_.size()) {
   obstacles_.reserve(model.params().obstacles.size());
@@ -75,7 +77,8 @@ Interactions::Interactions(const Model& model)
   grasp_offset_.assign(tools, Vec3::Zero());
   grasp_scale_.assign(tools, 0.0);
   held_sphere_.assign(tools, -1);
-  tips_in_solve_ = model.params().integrator == IntegratorKind::kImplicitEuler && model.params().contacts.tips_in_solve;
+  tips_in_solve_ = model.params().integrator == IntegratorKind::kImplicitEuler &&
+                   model.params().contacts.tips_in_solve;
   tip_from_.assign(tools, Vec3::Zero());
   tip_to_.assign(tools, Vec3::Zero());
   coupling_rows_.assign(tools, TipRows{});
@@ -99,7 +102,8 @@ Interactions::Interactions(const Model& model)
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
   const ContactParams& cp = model.params().contacts;
-  tangential_stiffness_ = cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : kTangentialShare * cp.stiffness;
+  tangential_stiffness_ =
+      cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : kTangentialShare * cp.stiffness;
   friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
   friction_stuck_.reserve(static_cast<size_t>(chain_.size()) * 8);
@@ -127,7 +131,8 @@ void Interactions::Configure(const Points& q, bool place) {
 }
 
 void Interactions::UpdateCandidates(double margin) {
-  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin)) geometry_valid_ = false;
+  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin))
+    geometry_valid_ = false;
 }
 
 void Interactions::EnsureGeometry() {
@@ -155,7 +160,8 @@ void Interactions::EnsureGeometry() {
   double deepest = -std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < list.size(); ++i) {
     // NaN (a blown-up step) counts as deepest: nothing is skipped on it.
-    const double depth = std::isnan(geometry_[i].depth) ? std::numeric_limits<double>::infinity() : geometry_[i].depth;
+    const double depth = std::isnan(geometry_[i].depth) ? std::numeric_limits<double>::infinity()
+                                                        : geometry_[i].depth;
     if (list[i].kind != ContactKind::kTool) deepest = std::max(deepest, depth);
   }
   deepest_ = deepest;
@@ -203,8 +209,9 @@ void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
   contact_window::AddForce(F->data(), sp.first, sp.w, f);
 }
 
-VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
-                                  BlockBand* K, BlockBand* D) const {
+VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w,
+                                                    const Mat3& hk, const Mat3* hd, BlockBand* K,
+                                                    BlockBand* D) const {
   // The window's 10 upper blocks, K's and D's in one pass, by their symmetric entries.
   const Sym3 k = ToSym3(hk);
   const Sym3 d = hd ? ToSym3(*hd) : Sym3{};
@@ -212,7 +219,8 @@ VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<
 }
 
 bool Interactions::Held(const ContactCandidate& c) const {
-  return c.kind == ContactKind::kTool && held_sphere_[c.b] >= 0 && std::abs(c.a - held_sphere_[c.b]) <= held_span_;
+  return c.kind == ContactKind::kTool && held_sphere_[c.b] >= 0 &&
+         std::abs(c.a - held_sphere_[c.b]) <= held_span_;
 }
 
 Interactions::Penalty Interactions::Geometry(const ContactCandidate& c) const {
@@ -258,7 +266,8 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const 
   return Vec3::Zero();
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Penalty& geometry) const {
+Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c,
+                                             const Penalty& geometry) const {
   const ContactParams& cp = model_.params().contacts;
   Penalty p = geometry;
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
@@ -290,7 +299,8 @@ Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c, const Pe
 }
 
 void Interactions::GatherVelocities(const Points& qd) {
-  const bool same = gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
+  const bool same =
+      gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
   if (same) return;
   double fastest = 0.0;
   for (int k = 0; k < chain_.size(); ++k) {
@@ -302,7 +312,8 @@ void Interactions::GatherVelocities(const Points& qd) {
   gathered_ = true;
 }
 
-double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
+double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K,
+                               BlockBand* D) {
   const ContactParams& cp = model_.params().contacts;
   Configure(q, false);
   GatherVelocities(qd);
@@ -322,10 +333,12 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const bool activated = c.kind == ContactKind::kTool && !tip_activated_.empty() && TipActivated(static_cast<int>(i));
+    const bool activated = c.kind == ContactKind::kTool && !tip_activated_.empty() &&
+                           TipActivated(static_cast<int>(i));
     if (geometry_[i].clearance > reach && !activated) continue;
     if (c.kind == ContactKind::kTool && !tip_released_.empty() &&
-        std::find(tip_released_.begin(), tip_released_.end(), static_cast<int>(i)) != tip_released_.end()) {
+        std::find(tip_released_.begin(), tip_released_.end(), static_cast<int>(i)) !=
+            tip_released_.end()) {
       continue;
     }
     Penalty p = Evaluate(c, geometry_[i]);
@@ -381,7 +394,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       tip_rows_[c.b].k += (p.lever * p.lever) * kn;
       tip_rows_[c.b].d += (p.lever * p.lever) * dn;
       tip_links_.push_back({c.b, sa.first, sa.w, -p.lever * kn, -p.lever * dn});
-      tip_pairs_.push_back({static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
+      tip_pairs_.push_back(
+          {static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
     }
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
@@ -418,15 +432,18 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
     const Vec3 x = GraspStretch(static_cast<int>(t), q);
     energy += 0.5 * k * x.squaredNorm();
-    for (int a = 0; a < 4; ++a) F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
+    for (int a = 0; a < 4; ++a)
+      F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
     tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
     tip_rows_[t].tissue += k * x;
     if (K) {
-      const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2), grasp_at_[t].w(3)};
+      const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2),
+                                    grasp_at_[t].w(3)};
       AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), nullptr, K, nullptr);
       if (tips_in_solve_) {
         tip_rows_[t].k += k * Mat3::Identity();
-        tip_links_.push_back({static_cast<int>(t), grasp_at_[t].first, w, -k * Mat3::Identity(), Mat3::Zero()});
+        tip_links_.push_back(
+            {static_cast<int>(t), grasp_at_[t].first, w, -k * Mat3::Identity(), Mat3::Zero()});
       }
     }
   }
@@ -456,7 +473,8 @@ void Interactions::AddCommonModeTerms(const double* xd, double* yd) const {
     }
     const Mat3& m = pair.weighed;
     const double* mc = m.data();  // column-major
-    const Pair2 f_xy = (In2(mc) * common_xy(0) + In2(mc + 3) * common_xy(1)) + In2(mc + 6) * common_z;
+    const Pair2 f_xy =
+        (In2(mc) * common_xy(0) + In2(mc + 3) * common_xy(1)) + In2(mc + 6) * common_z;
     const double f_z = (m(2, 0) * common_xy(0) + m(2, 1) * common_xy(1)) + m(2, 2) * common_z;
     double* ya = yd + 3 * pair.first_a;
     double* yb = yd + 3 * pair.first_b;
@@ -543,7 +561,8 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     RefreshToolGeometry();
   }
   LimitImpacts(h, &state->qd, nullptr);
-  if (!impact_set_.empty()) state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
+  if (!impact_set_.empty())
+    state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 
 void Interactions::ReleaseHeldSpheres() {
@@ -574,7 +593,9 @@ void Interactions::EndStep(State* state) {
     const Penalty& p = geometry_[i];
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) {
       stats.min_clearance = p.clearance;
-      stats.deepest = c.kind == ContactKind::kSelf ? "self" : c.kind == ContactKind::kTool ? "tool" : "environment";
+      stats.deepest = c.kind == ContactKind::kSelf   ? "self"
+                      : c.kind == ContactKind::kTool ? "tool"
+                                                     : "environment";
     }
     if (p.clearance >= margin_) continue;
     switch (c.kind) {
@@ -612,7 +633,9 @@ void Interactions::EndStep(State* state) {
       const ContactCandidate& c = list[i];
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
       const Penalty& p = geometry_[i];
-      if (p.depth > 0.0) k += Series(kc, p.lever * p.lever * ContactLaw(p.depth).slope) * p.normal * p.normal.transpose();
+      if (p.depth > 0.0)
+        k += Series(kc, p.lever * p.lever * ContactLaw(p.depth).slope) * p.normal *
+             p.normal.transpose();
     }
     if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();
     ts.stiffness = k;

@@ -3,8 +3,8 @@
 /// the sphere chain and its contacts (self, environment, tools: penalty springs with damping and
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
-/// friction may have a static phase (contacts.friction_law; docs/contacts.md, "Friction"). Owned by the stepping thread's
-/// Workspace; allocates nothing in steady state.
+/// friction may have a static phase (contacts.friction_law; docs/contacts.md, "Friction"). Owned by
+/// the stepping thread's Workspace; allocates nothing in steady state.
 #include <algorithm>
 #include <array>
 #include <span>
@@ -72,15 +72,17 @@ class Interactions {
   /// kImpact: impacts (closing faster than the penalty stops) within impact_depth, never pushed
   ///   apart (their impulse stays in the velocity);
   /// kDepth: any pair within impact_depth + (10 % - impact_depth) / 4 of the radius (6.25 % with
-  ///   the defaults), pushed back if deeper (a position correction only: the sphere chain's re-placement along
-  ///   the arc length slides spheres into each other while an impact stretches the tube).
+  ///   the defaults), pushed back if deeper (a position correction only: the sphere chain's
+  ///   re-placement along the arc length slides spheres into each other while an impact stretches
+  ///   the tube).
   enum class EndConstraint { kImpact, kDepth };
   /// Collects the self and environment pairs that the end velocity v_check (#N by 3) leaves
   /// beyond `kind`'s bound. `first` starts a new set; later calls keep the pairs already in it,
   /// in the same order, and add the new ones. Each contact of the set gets its normal speed at
   /// v_base and its target. Returns whether the set grew (false when impact_depth or
   /// impact_constraints is off).
-  bool GatherEndConstraints(EndConstraint kind, double h, const Points& v_check, const Points& v_base, bool first,
+  bool GatherEndConstraints(EndConstraint kind, double h, const Points& v_check,
+                            const Points& v_base, bool first,
                             std::vector<ImpactLimiter::Contact>* contacts);
 
   /// With the implicit integrator the tools' tips are unknowns of the tube's solve (three per
@@ -165,7 +167,8 @@ class Interactions {
   static constexpr double kTangentialShare = 0.2;
   /// The key a pair's anchor is found by: its kind and its two sides' indices.
   static uint64_t FrictionKey(collision::ContactKind kind, int a, int b) {
-    return (static_cast<uint64_t>(kind) << 42) | (static_cast<uint64_t>(a) << 21) | static_cast<uint64_t>(b);
+    return (static_cast<uint64_t>(kind) << 42) | (static_cast<uint64_t>(a) << 21) |
+           static_cast<uint64_t>(b);
   }
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
@@ -173,7 +176,9 @@ class Interactions {
 
   const collision::SphereChain& chain() const { return chain_; }
   /// Every pair that may touch within the sub-step, and some farther (a Verlet list).
-  const std::vector<collision::ContactCandidate>& candidates() const { return candidates_.candidates(); }
+  const std::vector<collision::ContactCandidate>& candidates() const {
+    return candidates_.candidates();
+  }
   /// Broad-phase searches so far (the list is reused between them).
   int64_t searches() const { return candidates_.searches(); }
   /// Partial searches so far: only the bodies that moved far (collision::VerletList).
@@ -245,8 +250,8 @@ class Interactions {
   void AddToWindow(int sphere, const Vec3& f, Points* F) const;
   // K += (w w^T) (x) hk on the window from `first`, and D the same with hd if given.
   // @pre hk, hd symmetric (as every contact's blocks are).
-  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd, BlockBand* K,
-                      BlockBand* D) const;
+  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
+                      BlockBand* K, BlockBand* D) const;
   // What both AdvanceTool and PrepareTool do first: a tool's first active target places its tip,
   // the coupling fades toward on (active) or off, the jaws and orientation follow the target.
   // Returns false for a tool never yet active (nothing more to do); *active: the target's.
@@ -280,7 +285,7 @@ class Interactions {
   bool configured_ = false, placed_ = false, gathered_ = false;
   std::vector<Penalty> geometry_;  // per candidate, valid while geometry_valid_
   bool geometry_valid_ = false;
-  double deepest_ = 0.0;           // the deepest self or environment candidate in geometry_ (m)
+  double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   std::vector<bool> grasping_;
@@ -311,16 +316,16 @@ class Interactions {
   std::vector<PairCoupling> pairs_;
   ImpactLimiter impacts_;
   std::vector<ImpactLimiter::Contact> impact_contacts_;
-  std::vector<int> impact_set_;     // candidates in the impulse solve
+  std::vector<int> impact_set_;  // candidates in the impulse solve
   std::vector<char> in_impact_set_;
-  Points impact_u0_, impact_v0_;    // velocities before the impulses
+  Points impact_u0_, impact_v0_;     // velocities before the impulses
   std::vector<int> end_impact_set_;  // candidates in the implicit solve's impact constraints
   std::vector<Vec3> end_velocity_;   // GatherEndConstraints: each sphere's velocity at v_check
   Points end_checked_;               // that v_check, and the largest squared speed; valid while
   double end_fastest_ = 0.0;         // end_gathered_ (the chain's configuration unchanged)
   bool end_finite_ = true, end_gathered_ = false;
   std::vector<char> in_end_impact_set_;
-  double impact_speed_ = -1.0;      // m/s: closing speeds below this are the penalty's
+  double impact_speed_ = -1.0;  // m/s: closing speeds below this are the penalty's
   // A tool's contacts as its tip cycles see them: each cycle evaluates the contact law again from
   // the sub-step start's geometry and speeds, moved by the tip's own motion since.
   struct TipContact {
@@ -355,7 +360,8 @@ class Interactions {
   // solve ended in contact: solved again with them acting (candidate indices).
   std::vector<int> tip_activated_;
   bool TipActivated(int candidate) const {
-    return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) != tip_activated_.end();
+    return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) !=
+           tip_activated_.end();
   }
   // Stick-slip friction: the anchors the sub-step starts from and its length (UseFriction), the
   // pairs friction held in the last force evaluation, and the anchors being made from them.
@@ -378,7 +384,8 @@ class Interactions {
   std::vector<FrictionPair> friction_pairs_;
   // A friction pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N
   // values, or nullptr), less lever times the tool's `tip` for a tool pair.
-  static Vec3 PairMotion(const FrictionPair& pair, const Points& x, const double* dx, const Vec3& tip);
+  static Vec3 PairMotion(const FrictionPair& pair, const Points& x, const double* dx,
+                         const Vec3& tip);
   std::vector<uint64_t> friction_stuck_;  // pairs ReviseFriction made stick in this sub-step
   std::vector<uint64_t> friction_slid_;   // ... and slide
   std::vector<FrictionAnchor> next_anchors_;

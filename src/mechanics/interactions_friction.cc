@@ -35,8 +35,9 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
   const Vec3& n = p->normal;
   const Mat3 tangent = Mat3::Identity() - n * n.transpose();
   const uint64_t key = FrictionKey(c.kind, c.a, c.b);
-  const auto found = std::lower_bound(anchors_->begin(), anchors_->end(), key,
-                                      [](const FrictionAnchor& a, uint64_t k) { return a.key < k; });
+  const auto found =
+      std::lower_bound(anchors_->begin(), anchors_->end(), key,
+                       [](const FrictionAnchor& a, uint64_t k) { return a.key < k; });
   const bool anchored = found != anchors_->end() && found->key == key;
   const double kt = tangential_stiffness_;
   // The anchor's spring within this sub-step's cone: an impact's damping raises f_n for a
@@ -50,9 +51,10 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
   // if its trial force is within the cone. (The trial from the start's speed is a poor guess at
   // 100 Hz: k_t h v_t exceeds the cone at 2 mm/s, and contacts that friction stops within a
   // sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at mu 0.3.)
-  const bool stuck = ((anchored ? !found->sliding : (kt * trial + ct * p->slip).norm() <= limit) &&
-                      std::find(friction_slid_.begin(), friction_slid_.end(), key) == friction_slid_.end()) ||
-                     std::find(friction_stuck_.begin(), friction_stuck_.end(), key) != friction_stuck_.end();
+  const bool stuck =
+      ((anchored ? !found->sliding : (kt * trial + ct * p->slip).norm() <= limit) &&
+       std::find(friction_slid_.begin(), friction_slid_.end(), key) == friction_slid_.end()) ||
+      std::find(friction_stuck_.begin(), friction_stuck_.end(), key) != friction_stuck_.end();
   Vec3 force, direction = Vec3::Zero();
   if (stuck) {
     // -k_t s - c v_t at the start; the solve's K and D make it -k_t (s + h v_t') - c v_t'.
@@ -89,7 +91,8 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
   friction_pairs_.push_back(pair);
 }
 
-Vec3 Interactions::PairMotion(const FrictionPair& pair, const Points& x, const double* dx, const Vec3& tip) {
+Vec3 Interactions::PairMotion(const FrictionPair& pair, const Points& x, const double* dx,
+                              const Vec3& tip) {
   auto window = [&](int first, const std::array<double, 4>& w) {
     Vec3 m = Vec3::Zero();
     for (int i = 0; i < 4; ++i) {
@@ -119,8 +122,11 @@ bool Interactions::ReviseFriction(const Points& v, const double* dv, const doubl
     if (pair.stuck) {
       // Held stuck, the contact pushed well beyond the cone over the sub-step (a launched loop's
       // stuck springs stopped it dead): it slides.
-      if ((kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm() <= kFrictionOverload * pair.limit) continue;
-      if (std::find(friction_slid_.begin(), friction_slid_.end(), pair.key) != friction_slid_.end()) continue;
+      if ((kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm() <=
+          kFrictionOverload * pair.limit)
+        continue;
+      if (std::find(friction_slid_.begin(), friction_slid_.end(), pair.key) != friction_slid_.end())
+        continue;
       friction_slid_.push_back(pair.key);
       revised = true;
       continue;
@@ -136,7 +142,9 @@ void Interactions::AdvanceFriction(const Points& dq, double h, State* state) {
   const double kt = tangential_stiffness_;
   next_anchors_.clear();
   for (const FrictionPair& pair : friction_pairs_) {
-    const Vec3 tip = pair.kind == ContactKind::kTool ? Vec3(h * state->tools[pair.tool].tip_velocity) : Vec3::Zero();
+    const Vec3 tip = pair.kind == ContactKind::kTool
+                         ? Vec3(h * state->tools[pair.tool].tip_velocity)
+                         : Vec3::Zero();
     const Vec3 moved = PairMotion(pair, dq, nullptr, tip);
     Vec3 stretch = pair.stretch + moved;
     const double size = kt * stretch.norm();
@@ -147,7 +155,8 @@ void Interactions::AdvanceFriction(const Points& dq, double h, State* state) {
     next_anchors_.push_back({pair.key, stretch, sliding});
   }
   friction_energy_ = 0.0;
-  for (const FrictionAnchor& anchor : next_anchors_) friction_energy_ += 0.5 * kt * anchor.stretch.squaredNorm();
+  for (const FrictionAnchor& anchor : next_anchors_)
+    friction_energy_ += 0.5 * kt * anchor.stretch.squaredNorm();
   std::sort(next_anchors_.begin(), next_anchors_.end(),
             [](const FrictionAnchor& a, const FrictionAnchor& b) { return a.key < b.key; });
   state->friction.swap(next_anchors_);

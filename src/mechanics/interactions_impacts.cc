@@ -51,7 +51,8 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
       // tunnel (docs/contacts.md, "Tools and haptics").
       if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
       const Penalty& p = geometry_[i];
-      const double un = (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
+      const double un =
+          (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
       // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
       // Slower pairs are the penalty's (the law stops them within `allowed`): a tool pressing
       // loops together is felt through the contacts' springs, not absorbed by impulses.
@@ -88,19 +89,26 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
   }
 }
 
-bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Points& v_check, const Points& v_base,
-                                        bool first, std::vector<ImpactLimiter::Contact>* contacts) {
+bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Points& v_check,
+                                        const Points& v_base, bool first,
+                                        std::vector<ImpactLimiter::Contact>* contacts) {
   const ContactParams& cp = model_.params().contacts;
   const bool impact = kind == EndConstraint::kImpact;
-  if (!(cp.impact_depth > 0.0) || !cp.impact_constraints || (!impact && cp.impact_depth >= kDepthGoal)) return false;
+  if (!(cp.impact_depth > 0.0) || !cp.impact_constraints ||
+      (!impact && cp.impact_depth >= kDepthGoal))
+    return false;
   // The depth bound sits a quarter of the way from impact_depth to the goal: the linearized end
   // depth misses up to ~3.5 % of R (pairs that appear or turn within the sub-step), and a pile
   // held where the law is 25 k stiff, not 50 k (half-way), gains no energy from its single
   // linearization per sub-step (docs/contacts.md, "Impacts").
-  const double allowed = (impact ? cp.impact_depth : cp.impact_depth + 0.25 * (kDepthGoal - cp.impact_depth)) * radius_;
+  const double allowed =
+      (impact ? cp.impact_depth : cp.impact_depth + 0.25 * (kDepthGoal - cp.impact_depth)) *
+      radius_;
   const double impact_speed = impact ? ImpactSpeed() : 0.0;
   // The least normal speed that ends the sub-step within `allowed`; impacts are never pushed apart.
-  auto target = [&](const Penalty& p) { return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h; };
+  auto target = [&](const Penalty& p) {
+    return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h;
+  };
   EnsureGeometry();  // the sub-step's start, as the forces saw it
   const auto& list = candidates();
   if (first) {
@@ -109,14 +117,16 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   }
   // Sphere velocities straight from v_check and v_base: the gathered ones are the step's.
   auto normal_speed = [&](const ContactCandidate& c, const Penalty& p, const Points& v) {
-    const Vec3 other = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v) : OtherVelocity(c, p.lever);
+    const Vec3 other =
+        c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v) : OtherVelocity(c, p.lever);
     return (SphereVelocity(c.a, v) - other).dot(p.normal);
   };
   // The scan reads v_check's sphere velocities once per sphere, not once per pair and side: the
   // same numbers (SphereVelocity of the same rows), a fraction of the work.
   // They stand while v_check and the chain are the last scan's (the depth scan after an impact
   // scan that added no impulse reads the same velocities).
-  const bool same = end_gathered_ && v_check.rows() == end_checked_.rows() && (v_check.array() == end_checked_.array()).all();
+  const bool same = end_gathered_ && v_check.rows() == end_checked_.rows() &&
+                    (v_check.array() == end_checked_.array()).all();
   if (!same) {
     double fastest = 0.0;
     bool finite = true;
@@ -141,15 +151,18 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   // A pair no deeper than this cannot end the sub-step beyond `allowed` at any closing speed up
   // to `closing`: its target is below -closing by far more than the rounding (relative 1e-3,
   // and 1e-12 m), so u_n >= target - 1e-9. Most pairs of a pile, and often all of them.
-  const double shallow = finite ? allowed - h * closing * (1.0 + 1e-3) - 1e-12 : -std::numeric_limits<double>::infinity();
+  const double shallow = finite ? allowed - h * closing * (1.0 + 1e-3) - 1e-12
+                                : -std::numeric_limits<double>::infinity();
   if (deepest_ <= shallow) return false;
   bool grew = false;
   for (size_t i = 0; i < list.size(); ++i) {
-    if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;  // tools: their coupling
+    if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool)
+      continue;  // tools: their coupling
     const ContactCandidate& c = list[i];
     const Penalty& p = geometry_[i];
     if (p.depth <= shallow) continue;
-    const Vec3 other = c.kind == ContactKind::kSelf ? end_velocity_[c.b] : OtherVelocity(c, p.lever);
+    const Vec3 other =
+        c.kind == ContactKind::kSelf ? end_velocity_[c.b] : OtherVelocity(c, p.lever);
     const double un = (end_velocity_[c.a] - other).dot(p.normal);
     if (un >= target(p) - 1e-9 || -un < impact_speed) continue;
     in_end_impact_set_[i] = 1;
@@ -162,7 +175,8 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
     const ContactCandidate& c = list[i];
     const Penalty& p = geometry_[i];
     const double un = normal_speed(c, p, v_base);
-    contacts->push_back({c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un, target(p), un});
+    contacts->push_back(
+        {c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un, target(p), un});
   }
   return true;
 }

@@ -36,7 +36,8 @@ void Interactions::PrepareTool(int index, double h, const Points& q, ToolState* 
   bool active = false;
   if (!FollowTarget(index, h, ts, &active)) return;
   // The target moves across the step from where it was to where it is, as the device's hand did.
-  const double f0 = static_cast<double>(substep_) / substeps_, f1 = static_cast<double>(substep_ + 1) / substeps_;
+  const double f0 = static_cast<double>(substep_) / substeps_,
+               f1 = static_cast<double>(substep_ + 1) / substeps_;
   tip_from_[index] = ts->target_from + f0 * (target.tip - ts->target_from);
   tip_to_[index] = ts->target_from + f1 * (target.tip - ts->target_from);
   tool_velocity_[index] = ts->tip_velocity;
@@ -77,13 +78,15 @@ void Interactions::PlaceTips(const State& state, double fraction) {
   tip_rows_ = coupling_rows_;  // AddForces starts from these; same size: no allocation
 }
 
-bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v) {
+bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv,
+                                     const VecX& tip_v) {
   const double damping = model_.params().contacts.damping;
   auto end_velocity = [&](int sphere_index) {
     const collision::Sphere& sp = chain_.spheres()[sphere_index];
     Vec3 sphere = Vec3::Zero();
     for (int a = 0; a < 4; ++a) {
-      sphere += sp.w[a] * (v.row(sp.first + a).transpose() + Eigen::Map<const Vec3>(dv + 3 * (sp.first + a)));
+      sphere += sp.w[a] *
+                (v.row(sp.first + a).transpose() + Eigen::Map<const Vec3>(dv + 3 * (sp.first + a)));
     }
     return sphere;
   };
@@ -133,7 +136,8 @@ void Interactions::TipAdvanced(int index, double h, ToolState* ts) {
   Vec3 on_tip = rows.force - rows.d * (ts->tip_velocity - tool_velocity_[index]);
   if (!coupling_saturated_[index]) on_tip -= rows.k * (h * ts->tip_velocity);
   // The damper the hand feels fades with the coupling (idle); the tip's own does not.
-  const Vec3 on_hand = -on_tip - (1.0 - ts->coupling_scale) * tp.coupling_damping * ts->tip_velocity;
+  const Vec3 on_hand =
+      -on_tip - (1.0 - ts->coupling_scale) * tp.coupling_damping * ts->tip_velocity;
   hand_impulse_[index] += h * on_hand;
   hand_time_[index] += h;
   if (coupling_saturated_[index]) hand_saturated_[index] = 1;

@@ -65,7 +65,8 @@ bool Interactions::FollowTarget(int index, double h, ToolState* ts, bool* active
   return true;
 }
 
-void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd, ToolState* ts) {
+void Interactions::AdvanceTool(int index, double h, const Points& q, const Points& qd,
+                               ToolState* ts) {
   const ToolParams& tp = model_.params().tools[index];
   const ContactParams& cp = model_.params().contacts;
   const ToolTarget& target = ts->target;
@@ -85,7 +86,8 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     if (c.kind != ContactKind::kTool || c.b != index) continue;
     const Penalty p = Evaluate(c, geometry_[i]);
     if (!p.active) continue;
-    tip_contacts_.push_back({p.normal, p.lever, p.depth, sphere_velocity_[c.a] - OtherVelocity(c, p.lever)});
+    tip_contacts_.push_back(
+        {p.normal, p.lever, p.depth, sphere_velocity_[c.a] - OtherVelocity(c, p.lever)});
     ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
   }
   Vec3 grasp_force = Vec3::Zero();
@@ -113,7 +115,8 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   // device's maximum: a target that jumps 8 cm no longer throws the tip through the tube at 3 m/s.
   const double kc = ts->coupling_scale * tp.coupling_stiffness;
   const bool coupled = target.tip.allFinite() && ts->target_from.allFinite();
-  const double f0 = static_cast<double>(substep_) / substeps_, f1 = static_cast<double>(substep_ + 1) / substeps_;
+  const double f0 = static_cast<double>(substep_) / substeps_,
+               f1 = static_cast<double>(substep_ + 1) / substeps_;
   const Vec3 from = ts->target_from + f0 * (target.tip - ts->target_from);
   const Vec3 to = ts->target_from + f1 * (target.tip - ts->target_from);
   const int cycles = std::max(1, static_cast<int>(std::ceil(h / kTipCycle - 1e-9)));
@@ -138,7 +141,8 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       const double vn = relative.dot(tc.normal);
       const Law law = ContactLaw(depth);
       const double fn = law.force - cp.damping * vn;
-      if (!(fn > 0.0) || tc.lever <= 0.0) continue;  // it would pull: the tube does not hold the tool
+      if (!(fn > 0.0) || tc.lever <= 0.0)
+        continue;  // it would pull: the tube does not hold the tool
       const Vec3 vt = relative - vn * tc.normal;
       const double mu = Friction(ContactKind::kTool);
       const double slip_slope = mu * fn / kFrictionSlip;  // the viscous slope, as AddForces
@@ -146,7 +150,8 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       tissue -= tc.lever * on_sphere;  // on the tool, moved to the tip by the lever rule
       const Mat3 nn = tc.normal * tc.normal.transpose();
       stiffness += law.slope * (axis * axis.transpose());
-      contact_damping += (tc.lever * tc.lever) * (cp.damping * nn + slip_slope * (Mat3::Identity() - nn));
+      contact_damping +=
+          (tc.lever * tc.lever) * (cp.damping * nn + slip_slope * (Mat3::Identity() - nn));
     }
     Vec3 spring = Vec3::Zero();
     if (coupled) spring = kc * (from + (static_cast<double>(i) / cycles) * (to - from) - ts->tip);
@@ -158,8 +163,10 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     const bool saturated = size > tp.max_force;
     if (saturated) spring *= tp.max_force / size;
     const Mat3 k_total = saturated ? stiffness : Mat3(stiffness + kc * Mat3::Identity());
-    const Mat3 a = (tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * contact_damping + dt * dt * k_total;
-    ts->tip_velocity += a.inverse() * (dt * (tissue + spring + damping - dt * k_total * ts->tip_velocity));
+    const Mat3 a = (tp.mass + dt * tp.coupling_damping) * Mat3::Identity() + dt * contact_damping +
+                   dt * dt * k_total;
+    ts->tip_velocity +=
+        a.inverse() * (dt * (tissue + spring + damping - dt * k_total * ts->tip_velocity));
     ts->tip += dt * ts->tip_velocity;
   }
   tool_velocity_[index] = ts->tip_velocity;

@@ -29,8 +29,8 @@ TetherPull TetherPullAt(double e, double d) {
   return p;
 }
 
-double AddMesenteryForces(std::span<const Tether> tethers, const Points& q, const Points& qd, Points* F,
-                          BlockBand* K, BlockBand* D) {
+double AddMesenteryForces(std::span<const Tether> tethers, const Points& q, const Points& qd,
+                          Points* F, BlockBand* K, BlockBand* D) {
   double energy = 0.0;
   for (const Tether& tether : tethers) {
     const Vec3 x = Model::Evaluate(tether.at, q) - tether.root;
@@ -47,7 +47,8 @@ double AddMesenteryForces(std::span<const Tether> tethers, const Points& q, cons
     for (int a = 0; a < 4; ++a) F->row(tether.at.first + a) += tether.at.w(a) * f.transpose();
     const Mat3 ttT = t * t.transpose();
     if (K) {
-      const Mat3 h = tether.stiffness * (pull.slope * ttT + (pull.g / l) * (Mat3::Identity() - ttT));
+      const Mat3 h =
+          tether.stiffness * (pull.slope * ttT + (pull.g / l) * (Mat3::Identity() - ttT));
       AddCurvePointOuter(tether.at, h, K);
     }
     if (D && c > 0.0) AddCurvePointOuter(tether.at, c * ttT, D);

@@ -7,9 +7,9 @@
 /// so the force is C1 in q (no jump in stiffness for the linearized implicit step to miss), soft
 /// while barely taut (a resting pile does not press loops together), stiff under a pull (k at
 /// e = d, 4 k from 2 d on) and never stiffer than 4 k (a tether far past its slack, as in a
-/// scene's starting pose, pulls hard but linearly). The stiffness k g'(e) t t^T + k g(e) / l (I - t t^T) is positive
-/// semi-definite (g >= 0). A taut tether also damps along itself: -c min(e / d, 1) (t . dP/dt) t.
-/// d = 0 makes a plain one-sided spring (g = e).
+/// scene's starting pose, pulls hard but linearly). The stiffness k g'(e) t t^T + k g(e) / l (I - t
+/// t^T) is positive semi-definite (g >= 0). A taut tether also damps along itself: -c min(e / d, 1)
+/// (t . dP/dt) t. d = 0 makes a plain one-sided spring (g = e).
 #include <span>
 
 #include "mechanics/block_band.h"
@@ -29,7 +29,7 @@ TetherPull TetherPullAt(double stretch, double onset);
 /// Adds the tethers' generalized forces to F (#N by 3) and returns their energy (J). K and D
 /// as in AddSpringForces (each tether touches the 4 control points of its window: within the
 /// band). Allocates nothing.
-double AddMesenteryForces(std::span<const Tether> tethers, const Points& q, const Points& qd, Points* F,
-                          BlockBand* K = nullptr, BlockBand* D = nullptr);
+double AddMesenteryForces(std::span<const Tether> tethers, const Points& q, const Points& qd,
+                          Points* F, BlockBand* K = nullptr, BlockBand* D = nullptr);
 
 }  // namespace viscera::mechanics

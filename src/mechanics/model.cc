@@ -10,28 +10,35 @@ namespace viscera::mechanics {
 namespace {
 
 void RequirePositive(const char* name, double value) {
-  ThrowUnless(std::isfinite(value) && value > 0.0, name, " = ", value, ": must be a finite number > 0");
+  ThrowUnless(std::isfinite(value) && value > 0.0, name, " = ", value,
+              ": must be a finite number > 0");
 }
 
 void RequireNonNegative(const char* name, double value) {
-  ThrowUnless(std::isfinite(value) && value >= 0.0, name, " = ", value, ": must be a finite number >= 0");
+  ThrowUnless(std::isfinite(value) && value >= 0.0, name, " = ", value,
+              ": must be a finite number >= 0");
 }
 
 void ValidateMesentery(const MesenteryParams& m) {
-  ThrowUnless(m.root_start.allFinite() && m.root_end.allFinite(), "mesentery.root_start, root_end must be finite");
+  ThrowUnless(m.root_start.allFinite() && m.root_end.allFinite(),
+              "mesentery.root_start, root_end must be finite");
   RequirePositive("mesentery.stiffness", m.stiffness);
   RequireNonNegative("mesentery.damping", m.damping);
   RequireNonNegative("mesentery.onset", m.onset);
   RequireNonNegative("mesentery extra slack", m.extra_slack);
-  ThrowUnless(m.tethers == 0 || m.tethers >= 2, "mesentery.tethers = ", m.tethers, ": must be 0 (one per control point) or >= 2");
-  ThrowUnless(m.lengths.size() >= 2, "mesentery.lengths: need at least two [s, length] pairs, from s = 0 to s = 1");
-  ThrowUnless(m.lengths.front().first == 0.0 && m.lengths.back().first == 1.0, "mesentery.lengths: s must run from 0 to 1, got ",
-              m.lengths.front().first, " to ", m.lengths.back().first);
+  ThrowUnless(m.tethers == 0 || m.tethers >= 2, "mesentery.tethers = ", m.tethers,
+              ": must be 0 (one per control point) or >= 2");
+  ThrowUnless(m.lengths.size() >= 2,
+              "mesentery.lengths: need at least two [s, length] pairs, from s = 0 to s = 1");
+  ThrowUnless(m.lengths.front().first == 0.0 && m.lengths.back().first == 1.0,
+              "mesentery.lengths: s must run from 0 to 1, got ", m.lengths.front().first, " to ",
+              m.lengths.back().first);
   for (size_t i = 0; i < m.lengths.size(); ++i) {
     const auto [s, l] = m.lengths[i];
-    ThrowUnless(std::isfinite(l) && l > 0.0, "mesentery.lengths: length ", l, " at s = ", s, ": must be a finite number > 0");
-    ThrowUnless(i == 0 || s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s, " after s = ", m.lengths[i - 1].first,
-                ": s must increase");
+    ThrowUnless(std::isfinite(l) && l > 0.0, "mesentery.lengths: length ", l, " at s = ", s,
+                ": must be a finite number > 0");
+    ThrowUnless(i == 0 || s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s,
+                " after s = ", m.lengths[i - 1].first, ": s must increase");
   }
 }
 
@@ -45,8 +52,9 @@ void Validate(const ModelParams& p) {
   RequirePositive("intestine.mass", p.mass);
   RequireNonNegative("intestine.stretch_stiffness", p.stretch_stiffness);
   RequireNonNegative("intestine.bend_stiffness", p.bend_stiffness);
-  ThrowUnless(std::isfinite(p.bend_reference_curvature), "intestine.bend_reference_curvature = ",
-              p.bend_reference_curvature, ": must be finite");
+  ThrowUnless(std::isfinite(p.bend_reference_curvature),
+              "intestine.bend_reference_curvature = ", p.bend_reference_curvature,
+              ": must be finite");
   RequireNonNegative("intestine.continuous_stretch", p.continuous_stretch);
   RequireNonNegative("intestine.damping", p.damping);
   RequireNonNegative("intestine.spring_damping", p.spring_damping);
@@ -68,15 +76,17 @@ void Validate(const ModelParams& p) {
   if (p.mesentery) {
     ValidateMesentery(*p.mesentery);
     // more tethers than that add nothing (each one acts through a window of 4 control points)
-    ThrowUnless(p.mesentery->tethers <= 4 * p.initial_q.rows(), "mesentery.tethers = ", p.mesentery->tethers,
-                ": at most 4 per control point (", 4 * p.initial_q.rows(), ")");
+    ThrowUnless(p.mesentery->tethers <= 4 * p.initial_q.rows(),
+                "mesentery.tethers = ", p.mesentery->tethers, ": at most 4 per control point (",
+                4 * p.initial_q.rows(), ")");
   }
 }
 
 }  // namespace
 
 Model::Model(ModelParams params)
-    : params_((Validate(params), std::move(params))), curve_(static_cast<int>(params_.initial_q.rows())) {
+    : params_((Validate(params), std::move(params))),
+      curve_(static_cast<int>(params_.initial_q.rows())) {
   mass_band_ = BuildMassBand(curve_, params_.mass);
   mass_factor_.Factor(mass_band_);
   viscous_damping_.Resize(num_points());
@@ -91,7 +101,8 @@ Model::Model(ModelParams params)
   }
   const VecX row_sums = MassRowSums(mass_band_);
   gravity_force_.resize(num_points(), 3);
-  for (int i = 0; i < num_points(); ++i) gravity_force_.row(i) = row_sums(i) * params_.gravity.transpose();
+  for (int i = 0; i < num_points(); ++i)
+    gravity_force_.row(i) = row_sums(i) * params_.gravity.transpose();
 
   using Rule = spline::GaussLegendre<4>;
   auto node_dw = [&](int segment) {
@@ -147,7 +158,7 @@ void Model::BuildSprings() {
   const int n = num_points();
   const double l0 = rest_segment_length();
   const double kappa_ref = params_.bend_reference_curvature > 0.0 ? params_.bend_reference_curvature
-                                                                   : 1.0 / params_.radius;
+                                                                  : 1.0 / params_.radius;
   // Bend springs (i, i+2): on an arc of curvature kappa the chord over 2 l0 shortens by
   // kappa^2 l0^3 / 3, so the spring energy per unit length is k_b kappa^4 l0^5 / 18. Equal to the
   // rod's EI kappa^2 / 2 at kappa_ref: k_b = 9 EI / (kappa_ref^2 l0^5) (docs/mechanics.md).
@@ -156,12 +167,14 @@ void Model::BuildSprings() {
   // the rest so that the chain's total axial stiffness stays EA. They never drop below half of
   // EA / l0: without them the chain has a zero-energy zig-zag (alternate points folding), which
   // the (i, i+2) springs cannot see.
-  const double k_stretch = std::max(params_.stretch_stiffness / l0 - 4.0 * k_bend, 0.5 * params_.stretch_stiffness / l0);
+  const double k_stretch =
+      std::max(params_.stretch_stiffness / l0 - 4.0 * k_bend, 0.5 * params_.stretch_stiffness / l0);
   if (4.0 * k_bend * l0 > params_.stretch_stiffness) {
-    warnings_.push_back(Cat("at ", n, " control points the bend springs alone give an axial stiffness of ",
-                            4.0 * k_bend * l0, " N, more than stretch_stiffness = ", params_.stretch_stiffness,
-                            " N: the tube is stiffer in stretch than asked. Use fewer control points, a larger "
-                            "bend_reference_curvature or a smaller bend_stiffness (docs/mechanics.md)"));
+    warnings_.push_back(
+        Cat("at ", n, " control points the bend springs alone give an axial stiffness of ",
+            4.0 * k_bend * l0, " N, more than stretch_stiffness = ", params_.stretch_stiffness,
+            " N: the tube is stiffer in stretch than asked. Use fewer control points, a larger "
+            "bend_reference_curvature or a smaller bend_stiffness (docs/mechanics.md)"));
   }
   const double c = params_.spring_damping * segment_mass();
   for (int i = 0; i + 1 < n; ++i) stretch_springs_.push_back({i, i + 1, l0, k_stretch, c});

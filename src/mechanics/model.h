@@ -24,7 +24,7 @@ struct Spring {
 /// A point of the curve, through its 4 basis weights, and where it is held.
 struct CurvePoint {
   double s = 0.0;
-  int first = 0;                        ///< first control point of its window
+  int first = 0;                                ///< first control point of its window
   Eigen::Vector4d w = Eigen::Vector4d::Zero();  ///< b_{first+a}(s)
 };
 

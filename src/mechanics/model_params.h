@@ -26,11 +26,11 @@ enum class ContinuousScope { kGlobal, kSegment };
 
 /// A soft spring from a curve point to a fixed world point (anatomical attachment, mesentery).
 struct AttachmentParams {
-  double s = 0.0;                 ///< curve parameter in [0, 1]
-  std::optional<Vec3> point;      ///< world anchor (m); default: where the curve point starts
-  double stiffness = 0.0;         ///< N/m
-  double damping = 0.0;           ///< N s/m, on the curve point's velocity
-  double rest_length = 0.0;       ///< m; 0 = zero-length spring
+  double s = 0.0;             ///< curve parameter in [0, 1]
+  std::optional<Vec3> point;  ///< world anchor (m); default: where the curve point starts
+  double stiffness = 0.0;     ///< N/m
+  double damping = 0.0;       ///< N s/m, on the curve point's velocity
+  double rest_length = 0.0;   ///< m; 0 = zero-length spring
 };
 
 /// The mesentery ([mesentery]): a fan of one-sided tethers from a root line on the posterior wall
@@ -43,10 +43,11 @@ struct MesenteryParams {
   /// Slack length profile: (s, L) pairs, s strictly increasing from 0 to 1, L > 0 (m);
   /// L(s) is interpolated linearly between them.
   std::vector<std::pair<double, double>> lengths;
-  double stiffness = 0.0;   ///< N/m per metre of tube (a tether gets it times its share of tube)
-  double damping = 0.0;     ///< N s/m per metre of tube, along a taut tether
-  double onset = 0.01;      ///< m: stretch d where the J-shaped pull k e^3 / (3 d^2) reaches stiffness k
-  int tethers = 0;          ///< tethers at equal steps of s; 0: one per control point
+  double stiffness = 0.0;  ///< N/m per metre of tube (a tether gets it times its share of tube)
+  double damping = 0.0;    ///< N s/m per metre of tube, along a taut tether
+  double onset =
+      0.01;         ///< m: stretch d where the J-shaped pull k e^3 / (3 d^2) reaches stiffness k
+  int tethers = 0;  ///< tethers at equal steps of s; 0: one per control point
   /// m added to every tether's length: a scene's settling starts with the tethers loose enough
   /// for its starting pose and tightens them gradually (scene::Settle). 0 in a running scene.
   double extra_slack = 0.0;
@@ -56,9 +57,9 @@ enum class FrictionLaw { kStickSlip, kRegularized };
 
 /// Penalty contacts of the sphere chain ([contacts]; France et al. 2005, section 3.5).
 struct ContactParams {
-  bool self = false;        ///< self-contacts (scenes default to true)
-  double stiffness = 500.0; ///< N/m per unit penetration
-  double damping = 1.0;     ///< N s/m along the normal
+  bool self = false;         ///< self-contacts (scenes default to true)
+  double stiffness = 500.0;  ///< N/m per unit penetration
+  double damping = 1.0;      ///< N s/m along the normal
   /// Coulomb coefficients (docs/mechanics.md, "Tissue card"): the tube against the environment
   /// (wet serosa on peritoneum), against itself (serosa on serosa) and against a tool's steel.
   double friction = 0.3;
@@ -71,7 +72,8 @@ struct ContactParams {
   FrictionLaw friction_law = FrictionLaw::kRegularized;
   /// N/m: the stuck contact's tangential spring; 0: a fifth of the normal stiffness.
   double tangential_stiffness = 0.0;
-  double margin = -1.0;     ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
+  double margin =
+      -1.0;  ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
   /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own
   /// window (false: cheaper, but a pair moving together is dragged; docs/contacts.md).
   bool exact_pairs = true;
@@ -80,8 +82,8 @@ struct ContactParams {
   double impact_depth = 0.05;
   /// Implicit integrator: impulses inside the implicit solve (through its system matrix) stop the
   /// impacts that the step's own forces would still drive deeper than impact_depth, and push any
-  /// pair back within impact_depth + (10 % - impact_depth) / 4 of the radius by a position correction
-  /// (docs/contacts.md, "Impacts").
+  /// pair back within impact_depth + (10 % - impact_depth) / 4 of the radius by a position
+  /// correction (docs/contacts.md, "Impacts").
   bool impact_constraints = true;
   /// The contact spheres stay where they were first placed along the tube (material points)
   /// instead of being re-placed along its arc length at every sub-step, which slides them into
@@ -98,8 +100,8 @@ inline constexpr double kFrictionSlip = 0.01;
 
 struct ModelParams {
   // [simulation]
-  double rate_hz = 100.0;         ///< steps per simulated second
-  int substeps = 1;               ///< integrator sub-steps per step
+  double rate_hz = 100.0;  ///< steps per simulated second
+  int substeps = 1;        ///< integrator sub-steps per step
   IntegratorKind integrator = IntegratorKind::kRk4;
   MassSolverKind mass_solver = MassSolverKind::kBanded;
   LinearSolverKind linear_solver = LinearSolverKind::kBlockBand;
@@ -118,19 +120,19 @@ struct ModelParams {
   Vec3 gravity{0.0, 0.0, -9.81};  ///< m/s^2
 
   // [intestine]
-  double length = 0.0;            ///< rest length L (m); the rest shape is straight
-  double radius = 0.0;            ///< tube radius (m)
-  double mass = 0.0;              ///< total mass (kg)
-  double stretch_stiffness = 0.0; ///< axial stiffness EA (N)
-  double bend_stiffness = 0.0;    ///< bending stiffness EI (N m^2)
+  double length = 0.0;             ///< rest length L (m); the rest shape is straight
+  double radius = 0.0;             ///< tube radius (m)
+  double mass = 0.0;               ///< total mass (kg)
+  double stretch_stiffness = 0.0;  ///< axial stiffness EA (N)
+  double bend_stiffness = 0.0;     ///< bending stiffness EI (N m^2)
   /// Curvature (1/m) at which the Provot bend springs' energy equals the rod's
   /// (docs/mechanics.md); <= 0 means 1 / radius.
   double bend_reference_curvature = 0.0;
   double continuous_stretch = 0.0;  ///< k of the Terzopoulos energy (J)
   ContinuousScope continuous_scope = ContinuousScope::kGlobal;
-  double damping = 0.0;           ///< viscous friction (1/s): force density -damping * rho * dP/dt
-  double spring_damping = 0.0;    ///< along each spring (1/s), times the segment mass
-  std::vector<double> pinned;     ///< curve parameters held where they start
+  double damping = 0.0;         ///< viscous friction (1/s): force density -damping * rho * dP/dt
+  double spring_damping = 0.0;  ///< along each spring (1/s), times the segment mass
+  std::vector<double> pinned;   ///< curve parameters held where they start
   std::vector<AttachmentParams> attachments;
   std::optional<MesenteryParams> mesentery;
 

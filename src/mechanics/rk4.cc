@@ -6,11 +6,12 @@ Rk4Integrator::Rk4Integrator(const Model& model, Interactions* interactions)
     : model_(model), interactions_(interactions), mass_solver_(model) {
   const int n = model.num_points();
   scratch_.Resize(n);
-  for (Points* p : {&q_stage_, &v_stage_, &k1v_, &k2v_, &k3v_, &k4v_, &k2q_, &k3q_, &k4q_}) p->setZero(n, 3);
+  for (Points* p : {&q_stage_, &v_stage_, &k1v_, &k2v_, &k3v_, &k4v_, &k2q_, &k3q_, &k4q_})
+    p->setZero(n, 3);
 }
 
-void Rk4Integrator::Acceleration(std::span<const PointLoad> loads, const Points& q, const Points& qd,
-                                 Points* a) {
+void Rk4Integrator::Acceleration(std::span<const PointLoad> loads, const Points& q,
+                                 const Points& qd, Points* a) {
   ComputeForces(model_, q, qd, loads, &scratch_, a, nullptr, nullptr, interactions_);
   mass_solver_.SolveConstrainedInPlace(a);
 }

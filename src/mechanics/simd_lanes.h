@@ -33,7 +33,8 @@ typedef double V2 __attribute__((vector_size(16)));
 /// Correctly rounded as std::sqrt; sqrtpd, with no errno path (for sums of squares).
 [[gnu::always_inline]] inline V4 Sqrt(V4 v) {
 #if !defined(__SSE2__)
-  return V4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};  // elsewhere than x86
+  return V4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]),
+            std::sqrt(v[3])};  // elsewhere than x86
 #else
   const V2 lo = (V2)_mm_sqrt_pd((__m128d)V2{v[0], v[1]});
   const V2 hi = (V2)_mm_sqrt_pd((__m128d)V2{v[2], v[3]});
@@ -53,7 +54,9 @@ struct Block9 {
 }
 
 /// s h, entry by entry.
-[[gnu::always_inline]] inline Block9 Scaled(double s, const Block9& h) { return {Splat(s) * h.lo, Splat(s) * h.mid, s * h.last}; }
+[[gnu::always_inline]] inline Block9 Scaled(double s, const Block9& h) {
+  return {Splat(s) * h.lo, Splat(s) * h.mid, s * h.last};
+}
 
 /// The identity's column-major entries, as Block9's lanes.
 inline constexpr V4 kIdentityLo{1.0, 0.0, 0.0, 0.0};

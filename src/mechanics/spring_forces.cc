@@ -10,8 +10,8 @@ namespace viscera::mechanics {
 using lanes::Splat;
 using lanes::V4;
 
-VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
-                       BlockBand* K, BlockBand* D) {
+VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const Points& q,
+                                         const Points& qd, Points* F, BlockBand* K, BlockBand* D) {
   double energy = 0.0;
   // The lengths and their inverses first, a chunk of springs at a time, 4 per vector: the
   // square roots and divisions of consecutive springs overlap instead of each spring's
@@ -40,7 +40,8 @@ VISCERA_AVX_CLONE double AddSpringForces(std::span<const Spring> springs, const 
       const double stretch = l - sp.rest;
       energy += 0.5 * sp.stiffness * stretch * stretch;
       const double relative_speed = (qd.row(sp.j) - qd.row(sp.i)).dot(t.transpose());
-      const Vec3 f = (sp.stiffness * stretch + sp.damping * relative_speed) * t;  // pulls i toward j
+      const Vec3 f =
+          (sp.stiffness * stretch + sp.damping * relative_speed) * t;  // pulls i toward j
       F->row(sp.i) += f.transpose();
       F->row(sp.j) -= f.transpose();
       if (!K && !(D && sp.damping > 0.0)) continue;  // forces only (RK4, energies)

@@ -12,7 +12,7 @@ namespace viscera::mechanics {
 /// Adds the springs' generalized forces to F (#N by 3) and returns their energy (J).
 /// When K / D are given, adds the stiffness -dF/dq (its geometric part clamped to stay
 /// positive semi-definite under compression) and the damping -dF/dqd.
-double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
-                       BlockBand* K = nullptr, BlockBand* D = nullptr);
+double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd,
+                       Points* F, BlockBand* K = nullptr, BlockBand* D = nullptr);
 
 }  // namespace viscera::mechanics

@@ -23,7 +23,8 @@ double LargestEigenvalue(const Model& model, const BlockBand& a, const Points& u
   std::vector<Points> v(steps + 1, Points::Zero(n, 3)), mv(steps + 1, Points::Zero(n, 3));
   // A fixed, non-smooth start, projected onto the constraints (x = P M^-1 M x).
   Points x(n, 3), y(n, 3);
-  for (int i = 0; i < n; ++i) x.row(i) << (i % 2 ? 1.0 : -1.0), (i % 3 ? 0.7 : -0.4), (i % 5 ? 0.3 : -1.1);
+  for (int i = 0; i < n; ++i)
+    x.row(i) << (i % 2 ? 1.0 : -1.0), (i % 3 ? 0.7 : -0.4), (i % 5 ? 0.3 : -1.1);
   BandMultiply(model.mass_band(), x, &y);
   mass.SolveConstrainedInPlace(&y);
   auto m_dot = [](const Points& p, const Points& mq) { return (p.array() * mq.array()).sum(); };
@@ -57,7 +58,8 @@ double LargestEigenvalue(const Model& model, const BlockBand& a, const Points& u
     t(i, i) = alpha(i);
     if (i + 1 < k) t(i, i + 1) = t(i + 1, i) = beta(i);
   }
-  return std::max(0.0, Eigen::SelfAdjointEigenSolver<MatX>(t, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
+  return std::max(
+      0.0, Eigen::SelfAdjointEigenSolver<MatX>(t, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
 }
 
 }  // namespace
@@ -76,8 +78,8 @@ StabilityEstimate EstimateStability(const Model& model, const State& state) {
   const double half = 0.5 * e.damping_max;
   e.rate_max = half + std::sqrt(half * half + e.omega_max * e.omega_max);
   e.h_times_rate = model.substep_size() * e.rate_max;
-  e.stable_substeps = std::max(
-      1, static_cast<int>(std::ceil(e.rate_max * model.step_size() / kRk4StabilityLimit)));
+  e.stable_substeps =
+      std::max(1, static_cast<int>(std::ceil(e.rate_max * model.step_size() / kRk4StabilityLimit)));
   return e;
 }
 

@@ -23,19 +23,19 @@ struct ContactStats {
 /// A contact that friction holds (docs/contacts.md, "Friction"): the stretch of its tangential
 /// spring, from where the contact stuck (sticking) or as far as the cone lets it (sliding).
 struct FrictionAnchor {
-  uint64_t key = 0;           ///< the pair: Interactions::FrictionKey(kind, a, b)
+  uint64_t key = 0;             ///< the pair: Interactions::FrictionKey(kind, a, b)
   Vec3 stretch = Vec3::Zero();  ///< m, in the contact's tangent plane when last stepped
   bool sliding = false;         ///< it slid in the last sub-step (the next one starts so)
 };
 
 struct State {
-  double t = 0.0;          ///< simulated time (s)
-  Points q;                ///< control points (m), #N by 3
-  Points qd;               ///< their velocities (m/s), #N by 3
+  double t = 0.0;                ///< simulated time (s)
+  Points q;                      ///< control points (m), #N by 3
+  Points qd;                     ///< their velocities (m/s), #N by 3
   std::vector<ToolState> tools;  ///< one per model tool: pose, grasp, force feedback
   ContactStats contacts;
-  int64_t steps = 0;       ///< steps taken
-  int substeps = 0;        ///< sub-steps the last step took (more during impacts)
+  int64_t steps = 0;  ///< steps taken
+  int substeps = 0;   ///< sub-steps the last step took (more during impacts)
   /// Steps whose result was not finite; each one reset the state to the model's start.
   int64_t nonfinite_resets = 0;
   /// Sub-steps whose linear solve stayed short of its tolerance even with more iterations and

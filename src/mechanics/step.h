@@ -22,7 +22,8 @@ class Workspace {
  public:
   /// @pre model outlives the workspace.
   explicit Workspace(const Model& model)
-      : interactions_(Interactions::Needed(model) ? std::make_unique<Interactions>(model) : nullptr),
+      : interactions_(Interactions::Needed(model) ? std::make_unique<Interactions>(model)
+                                                  : nullptr),
         integrator_(MakeIntegrator(model, interactions_.get())) {}
   Workspace(const Workspace&) = delete;
   Workspace& operator=(const Workspace&) = delete;

@@ -19,7 +19,8 @@ using lanes::V4;
 
 // Fills the node tangents and speeds of every segment (its 4 nodes in the lanes); returns the
 // per-segment lengths' sum.
-[[gnu::always_inline]] inline double EvaluateNodes(const Model& model, const Points& q, StretchScratch* s) {
+[[gnu::always_inline]] inline double EvaluateNodes(const Model& model, const Points& q,
+                                                   StretchScratch* s) {
   const V4 weights{Rule::kWeights[0], Rule::kWeights[1], Rule::kWeights[2], Rule::kWeights[3]};
   double total = 0.0;
   for (int j = 0; j < model.num_segments(); ++j) {
@@ -33,7 +34,8 @@ using lanes::V4;
     const V4 dz = (c0 * Splat(w[2]) + c1 * Splat(w[5])) + (c2 * Splat(w[8]) + c3 * Splat(w[11]));
     const V4 speed = lanes::Sqrt((dx * dx + dy * dy) + dz * dz);
     const lanes::Mask4 positive = speed > Splat(0.0);
-    const V4 inv_speed = (V4)((lanes::Mask4)(Splat(1.0) / speed) & positive);  // 0 where the speed is not > 0
+    const V4 inv_speed =
+        (V4)((lanes::Mask4)(Splat(1.0) / speed) & positive);  // 0 where the speed is not > 0
     const int node = 4 * j;
     Store4(&s->node_speed[node], speed);
     Store4(&s->node_inv_speed[node], inv_speed);
@@ -58,7 +60,8 @@ Eigen::RowVector3d NodeTangent(const StretchScratch& s, int node) {
 
 // Adds coeff * dl_j/dq to out (#N by 3): row by row, each row's 4 node terms in node order (the
 // additions into each row of a pass node by node, in their order; one load and store per row).
-[[gnu::always_inline]] inline void AddSegmentGradient(const Model& model, const StretchScratch& s, int j, double coeff, Points* out) {
+[[gnu::always_inline]] inline void AddSegmentGradient(const Model& model, const StretchScratch& s,
+                                                      int j, double coeff, Points* out) {
   const Eigen::Matrix4d& dw = model.NodeDerivatives(j);
   const int f = model.curve().FirstIndex(j);
   Eigen::RowVector3d t[4];
@@ -96,8 +99,10 @@ class PairWeights {
 // segment's nodes before its 10 blocks are written. Each block is built as the whole
 // column-major 3x3 that AddSymmetric(f + a, f + b, 1.0, h) adds (its mirrored entries are the
 // same products), 4 entries per vector: entries 0-3, 4-7 and 8.
-[[gnu::always_inline]] inline void AddSegmentLengthHessian(const Model& model, const StretchScratch& s, int j, double coeff,
-                                                           PairWeights* weights, BlockBand* K) {
+[[gnu::always_inline]] inline void AddSegmentLengthHessian(const Model& model,
+                                                           const StretchScratch& s, int j,
+                                                           double coeff, PairWeights* weights,
+                                                           BlockBand* K) {
   weights->For(model.NodeDerivatives(j));
   const PairWeights& w = *weights;
   const int f = model.curve().FirstIndex(j);
@@ -110,16 +115,21 @@ class PairWeights {
       continue;
     }
     const double c = coeff * Rule::kWeights[g] * s.node_inv_speed[node];
-    const lanes::Block9 tt = lanes::OuterSelf(s.node_tangent_x[node], s.node_tangent_y[node], s.node_tangent_z[node]);
-    p[g] = {Splat(c) * (lanes::kIdentityLo - tt.lo), Splat(c) * (lanes::kIdentityMid - tt.mid), c * (1.0 - tt.last)};
+    const lanes::Block9 tt =
+        lanes::OuterSelf(s.node_tangent_x[node], s.node_tangent_y[node], s.node_tangent_z[node]);
+    p[g] = {Splat(c) * (lanes::kIdentityLo - tt.lo), Splat(c) * (lanes::kIdentityMid - tt.mid),
+            c * (1.0 - tt.last)};
   }
   int pair = 0;
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b, ++pair) {
       const lanes::Block9 h{
-          ((w(pair, 0) * p[0].lo + w(pair, 1) * p[1].lo) + w(pair, 2) * p[2].lo) + w(pair, 3) * p[3].lo,
-          ((w(pair, 0) * p[0].mid + w(pair, 1) * p[1].mid) + w(pair, 2) * p[2].mid) + w(pair, 3) * p[3].mid,
-          ((w(pair, 0)[0] * p[0].last + w(pair, 1)[0] * p[1].last) + w(pair, 2)[0] * p[2].last) + w(pair, 3)[0] * p[3].last};
+          ((w(pair, 0) * p[0].lo + w(pair, 1) * p[1].lo) + w(pair, 2) * p[2].lo) +
+              w(pair, 3) * p[3].lo,
+          ((w(pair, 0) * p[0].mid + w(pair, 1) * p[1].mid) + w(pair, 2) * p[2].mid) +
+              w(pair, 3) * p[3].mid,
+          ((w(pair, 0)[0] * p[0].last + w(pair, 1)[0] * p[1].last) + w(pair, 2)[0] * p[2].last) +
+              w(pair, 3)[0] * p[3].last};
       lanes::AddBlock(K, f + a, f + b, h);
     }
   }
@@ -141,8 +151,9 @@ double CurveLength(const Model& model, const Points& q, StretchScratch* scratch)
   return EvaluateNodes(model, q, scratch);
 }
 
-VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q, StretchScratch* s, Points* F,
-                           BlockBand* K, Points* rank1_u, double* rank1_coeff) {
+VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q, StretchScratch* s,
+                                             Points* F, BlockBand* K, Points* rank1_u,
+                                             double* rank1_coeff) {
   const double k = model.params().continuous_stretch;
   if (rank1_coeff) *rank1_coeff = 0.0;
   if (k <= 0.0) return 0.0;
@@ -156,14 +167,16 @@ VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q
     const double de_dl = 2.0 * k * strain * lambda / l0;
     const double d2e_dl2 = 2.0 * k * (3.0 * lambda * lambda - 1.0) / (l0 * l0);
     s->length_gradient.setZero();
-    for (int j = 0; j < model.num_segments(); ++j) AddSegmentGradient(model, *s, j, 1.0, &s->length_gradient);
+    for (int j = 0; j < model.num_segments(); ++j)
+      AddSegmentGradient(model, *s, j, 1.0, &s->length_gradient);
     *F -= de_dl * s->length_gradient;
     if (K) {
       // Positive semi-definite parts only: a compressed curve gets no negative stiffness.
       const double c = std::max(0.0, de_dl);
       if (c > 0.0) {
         PairWeights weights;
-        for (int j = 0; j < model.num_segments(); ++j) AddSegmentLengthHessian(model, *s, j, c, &weights, K);
+        for (int j = 0; j < model.num_segments(); ++j)
+          AddSegmentLengthHessian(model, *s, j, c, &weights, K);
       }
       if (rank1_u && rank1_coeff) {
         *rank1_u = s->length_gradient;
@@ -191,7 +204,8 @@ VISCERA_AVX_CLONE double AddStretchingForces(const Model& model, const Points& q
       const int f = model.curve().FirstIndex(j);
       Eigen::Matrix<double, 4, 3> g = Eigen::Matrix<double, 4, 3>::Zero();
       for (int n = 0; n < 4; ++n) {
-        for (int a = 0; a < 4; ++a) g.row(a) += Rule::kWeights[n] * dw(n, a) * NodeTangent(*s, 4 * j + n);
+        for (int a = 0; a < 4; ++a)
+          g.row(a) += Rule::kWeights[n] * dw(n, a) * NodeTangent(*s, 4 * j + n);
       }
       for (int a = 0; a < 4; ++a) {
         for (int b = a; b < 4; ++b) K->Add(f + a, f + b, d2e_dl2 * g.row(a).transpose() * g.row(b));

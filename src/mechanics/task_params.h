@@ -24,11 +24,11 @@ struct TargetParams {
 /// Thresholds and rates of the assessment ([assessment]); docs/assessment.md says where the
 /// defaults come from.
 struct AssessmentParams {
-  double traction_force = 3.0;    ///< N on the tissue: above it, tissue-damage range
-  double traction_hold = 0.5;     ///< s above traction_force that make one traction event
-  double regrasp_window = 1.0;    ///< s: a grasp this soon after a release is a regrasp
-  double exposed_fraction = 0.9;  ///< exposure at which a target counts as exposed
-  double exposure_rate_hz = 10.0; ///< exposure evaluations per second (server)
+  double traction_force = 3.0;     ///< N on the tissue: above it, tissue-damage range
+  double traction_hold = 0.5;      ///< s above traction_force that make one traction event
+  double regrasp_window = 1.0;     ///< s: a grasp this soon after a release is a regrasp
+  double exposed_fraction = 0.9;   ///< exposure at which a target counts as exposed
+  double exposure_rate_hz = 10.0;  ///< exposure evaluations per second (server)
 };
 
 struct TaskParams {

@@ -14,23 +14,23 @@ namespace viscera::mechanics {
 /// A tool of the scene ([[tool]]), immutable.
 struct ToolParams {
   std::string name;
-  double radius = 0.0025;          ///< shaft and jaw radius (m)
-  double length = 0.35;            ///< shaft length (m), for rendering and reach checks
-  Vec3 port = Vec3::Zero();        ///< trocar point the shaft passes through (m)
-  double max_force = 5.0;          ///< device-safe force clamp (N)
+  double radius = 0.0025;             ///< shaft and jaw radius (m)
+  double length = 0.35;               ///< shaft length (m), for rendering and reach checks
+  Vec3 port = Vec3::Zero();           ///< trocar point the shaft passes through (m)
+  double max_force = 5.0;             ///< device-safe force clamp (N)
   double coupling_stiffness = 300.0;  ///< virtual coupling (N/m)
   double coupling_damping = 4.0;      ///< virtual coupling (N s/m)
-  double mass = 0.05;              ///< simulated tool tip mass (kg); its weight is not felt
-  double grasp_stiffness = 500.0;  ///< jaw-to-tube spring while grasping (N/m)
-  double grasp_reach = 0.0;        ///< how far from the jaws a tube can be grasped (m); 0 = 2 radii
-  double idle_timeout = 0.25;      ///< s without a target before the tool goes idle (server side)
+  double mass = 0.05;                 ///< simulated tool tip mass (kg); its weight is not felt
+  double grasp_stiffness = 500.0;     ///< jaw-to-tube spring while grasping (N/m)
+  double grasp_reach = 0.0;    ///< how far from the jaws a tube can be grasped (m); 0 = 2 radii
+  double idle_timeout = 0.25;  ///< s without a target before the tool goes idle (server side)
 };
 
 /// What the device asks for, one per tool, each step.
 struct ToolTarget {
-  Vec3 tip = Vec3::Zero();  ///< target tip position (m)
+  Vec3 tip = Vec3::Zero();                                          ///< target tip position (m)
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< jaw frame
-  double jaw = 1.0;         ///< jaw opening, 0 = closed .. 1 = open
+  double jaw = 1.0;  ///< jaw opening, 0 = closed .. 1 = open
   /// false when the device is idle (no recent pose): the coupling force fades to zero and the
   /// jaws open.
   bool active = true;
@@ -38,8 +38,8 @@ struct ToolTarget {
 
 /// The simulated tool and its haptic output after a step.
 struct ToolState {
-  bool initialized = false;          ///< false until the first target: the tip then starts there
-  ToolTarget target;                 ///< the latest target (held when a step brings none)
+  bool initialized = false;  ///< false until the first target: the tip then starts there
+  ToolTarget target;         ///< the latest target (held when a step brings none)
   /// The target's tip at the start of this step: the coupling follows the target from there to
   /// `target.tip` across the step, as a device's hand moved, not in one jump at its start.
   Vec3 target_from = Vec3::Zero();
@@ -48,13 +48,13 @@ struct ToolState {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   double jaw = 1.0;
   bool grasping = false;
-  double grasp_s = 0.0;              ///< curve parameter held while grasping
-  double coupling_scale = 1.0;       ///< 1 while active, fades to 0 when idle
+  double grasp_s = 0.0;         ///< curve parameter held while grasping
+  double coupling_scale = 1.0;  ///< 1 while active, fades to 0 when idle
   /// Force on the user's hand (N): pressing down into tissue gives an upward force. Clamped.
   Vec3 force = Vec3::Zero();
-  Vec3 torque = Vec3::Zero();        ///< about the port (N m)
-  Mat3 stiffness = Mat3::Zero();     ///< local dF/dx (N/m) for haptic interpolation between steps
-  bool clamped = false;              ///< force was limited to max_force this step
+  Vec3 torque = Vec3::Zero();     ///< about the port (N m)
+  Mat3 stiffness = Mat3::Zero();  ///< local dF/dx (N/m) for haptic interpolation between steps
+  bool clamped = false;           ///< force was limited to max_force this step
   /// Force the tool puts on the intestine (N): its contacts with the tube and its grasp spring,
   /// as the last sub-step applied them (the assessment's tissue force; zero while idle).
   Vec3 tissue_force = Vec3::Zero();

@@ -21,9 +21,9 @@
 namespace viscera::render {
 
 struct FrameOptions {
-  int width = 640;         ///< pixels
+  int width = 640;  ///< pixels
   int height = 480;
-  int jpeg_quality = 85;   ///< 1..100
+  int jpeg_quality = 85;  ///< 1..100
   /// "parametric", "implicit", "convolution" or "hybrid" (focus at the camera's look-at).
   std::string skin = "parametric";
   /// The skin's own options; `radius` is replaced by the scene's tube radius.
@@ -61,7 +61,8 @@ class FrameRenderer {
   /// a view of the context's buffer (no copy), valid until the next Render.
   /// @pre called on the creating thread.
   /// @throws InputError when q has another row count or is not finite.
-  cv::Mat Render(const Points& q, std::span<const mechanics::ToolState> tools, const Laparoscope& camera);
+  cv::Mat Render(const Points& q, std::span<const mechanics::ToolState> tools,
+                 const Laparoscope& camera);
   cv::Mat Render(const mechanics::State& state, const Laparoscope& camera) {
     return Render(state.q, state.tools, camera);
   }

@@ -53,7 +53,8 @@ GpuMesh::~GpuMesh() {
 void GpuMesh::Upload(const float* positions, const float* normals, long num_vertices,
                      const uint32_t* indices, long num_indices, const float* texture) {
   // validate: GL would read out of bounds on a bad index
-  ThrowUnless(num_indices % 3 == 0, "GpuMesh::Upload: ", num_indices, " indices is not whole triangles");
+  ThrowUnless(num_indices % 3 == 0, "GpuMesh::Upload: ", num_indices,
+              " indices is not whole triangles");
   if (num_indices > 0) {
     const uint32_t largest = *std::max_element(indices, indices + num_indices);
     ThrowUnless(largest < num_vertices, "GpuMesh::Upload: index ", largest, " out of range for ",
@@ -63,8 +64,8 @@ void GpuMesh::Upload(const float* positions, const float* normals, long num_vert
   glBindVertexArray(vertex_array_);
   render::Upload(GL_ARRAY_BUFFER, position_buffer_, positions, vertex_bytes, &position_capacity_);
   render::Upload(GL_ARRAY_BUFFER, normal_buffer_, normals, vertex_bytes, &normal_capacity_);
-  render::Upload(GL_ARRAY_BUFFER, texture_buffer_, texture != nullptr ? texture : positions, vertex_bytes,
-                 &texture_capacity_);
+  render::Upload(GL_ARRAY_BUFFER, texture_buffer_, texture != nullptr ? texture : positions,
+                 vertex_bytes, &texture_capacity_);
   render::Upload(GL_ELEMENT_ARRAY_BUFFER, index_buffer_, indices,
                  num_indices * static_cast<long>(sizeof(uint32_t)), &index_capacity_);
   glBindVertexArray(0);
@@ -72,10 +73,12 @@ void GpuMesh::Upload(const float* positions, const float* normals, long num_vert
 }
 
 void GpuMesh::Upload(const TriMesh& mesh) {
-  ThrowUnless(mesh.normals.size() == mesh.positions.size(), "GpuMesh::Upload: ", mesh.positions.size(),
-              " positions but ", mesh.normals.size(), " normals");
-  ThrowUnless(mesh.texture.empty() || mesh.texture.size() == mesh.positions.size(), "GpuMesh::Upload: ",
-              mesh.positions.size(), " positions but ", mesh.texture.size(), " texture points");
+  ThrowUnless(mesh.normals.size() == mesh.positions.size(),
+              "GpuMesh::Upload: ", mesh.positions.size(), " positions but ", mesh.normals.size(),
+              " normals");
+  ThrowUnless(mesh.texture.empty() || mesh.texture.size() == mesh.positions.size(),
+              "GpuMesh::Upload: ", mesh.positions.size(), " positions but ", mesh.texture.size(),
+              " texture points");
   Upload(mesh.positions.empty() ? nullptr : mesh.positions.front().data(),
          mesh.normals.empty() ? nullptr : mesh.normals.front().data(), mesh.num_vertices(),
          mesh.indices.data(), static_cast<long>(mesh.indices.size()),

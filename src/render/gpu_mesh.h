@@ -45,8 +45,8 @@ class GpuMesh {
   /// Uploads #num_vertices x 3 floats of positions, of normals and of texture-space points
   /// (null: the positions), and num_indices vertex indices (a multiple of 3).
   /// @throws InputError when num_indices is not a multiple of 3 or an index is out of range.
-  void Upload(const float* positions, const float* normals, long num_vertices, const uint32_t* indices,
-              long num_indices, const float* texture = nullptr);
+  void Upload(const float* positions, const float* normals, long num_vertices,
+              const uint32_t* indices, long num_indices, const float* texture = nullptr);
   /// @throws InputError also when mesh.texture is neither empty nor #V.
   void Upload(const TriMesh& mesh);
 

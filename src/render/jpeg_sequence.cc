@@ -11,8 +11,8 @@ namespace viscera::render {
 JpegSequence::JpegSequence(std::string directory) : directory_(std::move(directory)) {
   std::error_code error;
   std::filesystem::create_directories(directory_, error);
-  ThrowUnless(std::filesystem::is_directory(directory_), directory_, ": cannot create the frame directory",
-              error ? ": " + error.message() : "");
+  ThrowUnless(std::filesystem::is_directory(directory_), directory_,
+              ": cannot create the frame directory", error ? ": " + error.message() : "");
 }
 
 std::string JpegSequence::Write(const std::vector<uint8_t>& jpeg) {

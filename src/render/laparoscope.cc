@@ -19,7 +19,8 @@ CameraMatrices Laparoscope::Matrices(int width, int height) const {
   return m;
 }
 
-Projection Project(const CameraMatrices& camera, int width, int height, const Eigen::Vector3f& point) {
+Projection Project(const CameraMatrices& camera, int width, int height,
+                   const Eigen::Vector3f& point) {
   const Eigen::Vector4f view = camera.view * point.homogeneous();
   const Eigen::Vector4f clip = camera.projection * view;
   Projection p;

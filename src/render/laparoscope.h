@@ -12,8 +12,8 @@ struct Laparoscope {
   Eigen::Vector3f eye{0.0f, -0.1f, 0.3f};    ///< lens position (m, world)
   Eigen::Vector3f target{0.0f, 0.0f, 0.0f};  ///< look-at point (m, world)
   Eigen::Vector3f up{0.0f, 0.0f, 1.0f};      ///< roughly up in the image (world)
-  float fov_y_degrees = 70.0f;   ///< vertical field of view (laparoscopes see wide: 70-90 degrees)
-  float near = 0.002f;           ///< clip planes (m): the lens may come within mm of tissue
+  float fov_y_degrees = 70.0f;  ///< vertical field of view (laparoscopes see wide: 70-90 degrees)
+  float near = 0.002f;          ///< clip planes (m): the lens may come within mm of tissue
   float far = 3.0f;
   /// Distance (m) at which the scope's light falls to half (CameraMatrices::light_range).
   float light_range = 0.25f;
@@ -34,7 +34,8 @@ struct Projection {
   Eigen::Vector2f pixel;
   float depth = 0.0f;
 };
-Projection Project(const CameraMatrices& camera, int width, int height, const Eigen::Vector3f& point);
+Projection Project(const CameraMatrices& camera, int width, int height,
+                   const Eigen::Vector3f& point);
 
 /// A scope at `eye` looking at `target`, its light reaching half strength at 1.5 times
 /// that distance (as FramingLaparoscope), other values the defaults.

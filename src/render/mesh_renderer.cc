@@ -16,7 +16,8 @@ MeshRenderer::MeshRenderer() {
   glGetIntegerv(GL_MAJOR_VERSION, &major);
   glGetIntegerv(GL_MINOR_VERSION, &minor);
   if (major * 10 + minor < 33) {
-    throw std::runtime_error(Cat("MeshRenderer needs GL 3.3, the context offers ", major, ".", minor));
+    throw std::runtime_error(
+        Cat("MeshRenderer needs GL 3.3, the context offers ", major, ".", minor));
   }
   ProgramFor(Pattern::kPlain);  // shader errors show at construction
   stream_ = std::make_unique<GpuMesh>();
@@ -31,7 +32,8 @@ const MeshRenderer::Program& MeshRenderer::ProgramFor(Pattern pattern) {
   Program& p = programs_[k];
   if (p.program != nullptr) return p;
   p.program = std::make_unique<ShaderProgram>(
-      kTissueVertexShader, Cat("#version 330 core\n#define PATTERN ", k, "\n", kTissueFragmentShader));
+      kTissueVertexShader,
+      Cat("#version 330 core\n#define PATTERN ", k, "\n", kTissueFragmentShader));
   // -1 for a uniform the variant does not use (u_vessel when plain): glUniform ignores it
   auto at = [&](const char* name) { return glGetUniformLocation(p.program->id(), name); };
   p.u_view = at("u_view");
@@ -109,7 +111,8 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
   }
 
   const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) throw std::runtime_error(Cat("GL error 0x", std::hex, error, " in Draw"));
+  if (error != GL_NO_ERROR)
+    throw std::runtime_error(Cat("GL error 0x", std::hex, error, " in Draw"));
 }
 
 }  // namespace viscera::render

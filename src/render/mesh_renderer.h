@@ -28,9 +28,9 @@ enum class Pattern {
 /// Surface look. Colours are linear RGB in [0, 1].
 struct Material {
   Eigen::Vector3f albedo{0.8f, 0.45f, 0.4f};
-  float ambient = 0.15f;   ///< fraction of albedo lit regardless of the light
-  float specular = 0.35f;  ///< strength of the white highlight (moist tissue shines)
-  float shininess = 40.0f; ///< Blinn-Phong exponent
+  float ambient = 0.15f;    ///< fraction of albedo lit regardless of the light
+  float specular = 0.35f;   ///< strength of the white highlight (moist tissue shines)
+  float shininess = 40.0f;  ///< Blinn-Phong exponent
   /// A second, broad highlight lobe (strength, exponent): the wet film on mucosa shines
   /// in a wide soft glow around its sharp highlight. 0: none.
   float sheen = 0.0f;
@@ -96,14 +96,14 @@ class MeshRenderer {
   // one program per Pattern (kTissueFragmentShader with its PATTERN) and its uniforms
   struct Program {
     std::unique_ptr<ShaderProgram> program;
-    int u_view = -1, u_projection = -1, u_albedo = -1, u_ambient = -1, u_specular = -1, u_shininess = -1,
-        u_sheen = -1, u_sheen_shininess = -1, u_metallic = -1, u_light_range = -1, u_opacity = -1, u_vessel = -1,
-        u_spot = -1;
+    int u_view = -1, u_projection = -1, u_albedo = -1, u_ambient = -1, u_specular = -1,
+        u_shininess = -1, u_sheen = -1, u_sheen_shininess = -1, u_metallic = -1, u_light_range = -1,
+        u_opacity = -1, u_vessel = -1, u_spot = -1;
   };
   const Program& ProgramFor(Pattern pattern);
 
   static constexpr int kPatterns = 4;
-  Program programs_[kPatterns];  // compiled when first used
+  Program programs_[kPatterns];      // compiled when first used
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
 };
 

@@ -16,13 +16,13 @@ constexpr int kMaxSize = 8192;
 
 OSMesaContext CreateContext(bool core) {
   // Colour BGRA so that OpenCV takes the buffer as it is; depth for meshes.
-  const int common[] = {OSMESA_FORMAT, OSMESA_BGRA, OSMESA_DEPTH_BITS, 24,
-                        OSMESA_STENCIL_BITS, 0, OSMESA_ACCUM_BITS, 0};
+  const int common[] = {OSMESA_FORMAT,       OSMESA_BGRA, OSMESA_DEPTH_BITS, 24,
+                        OSMESA_STENCIL_BITS, 0,           OSMESA_ACCUM_BITS, 0};
   std::vector<int> attribs(std::begin(common), std::end(common));
   if (core) {
-    attribs.insert(attribs.end(), {OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                                   OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                                   OSMESA_CONTEXT_MINOR_VERSION, 3});
+    attribs.insert(attribs.end(),
+                   {OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
+                    OSMESA_CONTEXT_MINOR_VERSION, 3});
   }
   attribs.push_back(0);
   return OSMesaCreateContextAttribs(attribs.data(), nullptr);
@@ -35,7 +35,9 @@ void LimitRasterizerThreads() { ::setenv("LP_NUM_THREADS", "0", /*overwrite=*/0)
 void KeepRenderMemoryMapped() {
   static std::once_flag once;
   std::call_once(once, [] {
-    if (std::getenv("MALLOC_MMAP_THRESHOLD_") != nullptr || std::getenv("MALLOC_TRIM_THRESHOLD_") != nullptr) return;
+    if (std::getenv("MALLOC_MMAP_THRESHOLD_") != nullptr ||
+        std::getenv("MALLOC_TRIM_THRESHOLD_") != nullptr)
+      return;
     ::mallopt(M_MMAP_THRESHOLD, 16 << 20);
     ::mallopt(M_TRIM_THRESHOLD, 64 << 20);
   });
@@ -43,8 +45,8 @@ void KeepRenderMemoryMapped() {
 
 OffscreenContext::OffscreenContext(int width, int height)
     : width_(width), height_(height), owner_(std::this_thread::get_id()) {
-  ThrowUnless(width >= 1 && width <= kMaxSize && height >= 1 && height <= kMaxSize,
-              "frame size ", width, "x", height, " is outside 1..", kMaxSize);
+  ThrowUnless(width >= 1 && width <= kMaxSize && height >= 1 && height <= kMaxSize, "frame size ",
+              width, "x", height, " is outside 1..", kMaxSize);
   LimitRasterizerThreads();
   KeepRenderMemoryMapped();
   pixels_.assign(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 0);

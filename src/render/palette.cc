@@ -6,8 +6,8 @@
 namespace viscera::render {
 namespace {
 
-Material Make(Eigen::Vector3f albedo, float ambient, float specular, float shininess, float sheen = 0.0f,
-              float sheen_shininess = 6.0f, float metallic = 0.0f) {
+Material Make(Eigen::Vector3f albedo, float ambient, float specular, float shininess,
+              float sheen = 0.0f, float sheen_shininess = 6.0f, float metallic = 0.0f) {
   Material m;
   m.albedo = albedo;
   m.ambient = ambient;
@@ -20,7 +20,8 @@ Material Make(Eigen::Vector3f albedo, float ambient, float specular, float shini
 }
 
 std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -73,8 +74,8 @@ Palette DefaultPalette() {
 }
 
 void DropTextures(Palette* palette) {
-  for (Material* m : {&palette->intestine, &palette->cavity_wall, &palette->mesentery, &palette->tool,
-                      &palette->target}) {
+  for (Material* m : {&palette->intestine, &palette->cavity_wall, &palette->mesentery,
+                      &palette->tool, &palette->target}) {
     m->pattern = Pattern::kPlain;
   }
   for (auto& named : palette->named_organs) named.second.pattern = Pattern::kPlain;

@@ -14,7 +14,8 @@ Laparoscope PortLaparoscope(const mechanics::ScopeParams& scope) {
   const Vec3 image_up = right.cross(shaft);
   const double roll = scope.roll_deg * std::numbers::pi / 180.0;
   const double tilt = scope.optics_deg * std::numbers::pi / 180.0;
-  const Vec3 side = -std::cos(roll) * image_up + std::sin(roll) * right;  // where oblique optics look
+  const Vec3 side =
+      -std::cos(roll) * image_up + std::sin(roll) * right;  // where oblique optics look
   const Vec3 sight = std::cos(tilt) * shaft + std::sin(tilt) * side;
   const double reach = std::max((scope.look_at - tip).norm(), 0.02);
 
@@ -29,9 +30,11 @@ Laparoscope PortLaparoscope(const mechanics::ScopeParams& scope) {
   return l;
 }
 
-Laparoscope SceneLaparoscope(const mechanics::ModelParams& params, const Points& q, int width, int height) {
+Laparoscope SceneLaparoscope(const mechanics::ModelParams& params, const Points& q, int width,
+                             int height) {
   if (params.scope) return PortLaparoscope(*params.scope);
-  return FramingLaparoscope(q.colwise().minCoeff().transpose(), q.colwise().maxCoeff().transpose(), width, height);
+  return FramingLaparoscope(q.colwise().minCoeff().transpose(), q.colwise().maxCoeff().transpose(),
+                            width, height);
 }
 
 }  // namespace viscera::render

@@ -19,6 +19,7 @@ Laparoscope PortLaparoscope(const mechanics::ScopeParams& scope);
 
 /// A scene's default view: its [camera] scope, else FramingLaparoscope of the control points
 /// `q` (#N by 3) for a width x height frame.
-Laparoscope SceneLaparoscope(const mechanics::ModelParams& params, const Points& q, int width, int height);
+Laparoscope SceneLaparoscope(const mechanics::ModelParams& params, const Points& q, int width,
+                             int height);
 
 }  // namespace viscera::render

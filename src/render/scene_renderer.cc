@@ -9,15 +9,17 @@
 
 namespace viscera::render {
 
-SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palette, SceneOptions options)
+SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palette,
+                             SceneOptions options)
     : tool_params_(params.tools),
       palette_(std::move(palette)),
       options_(options),
       length_(params.length),
       radius_(params.radius) {
   if (!options_.textures) DropTextures(&palette_);
-  const Vec3 around = params.initial_q.rows() > 0 ? Vec3(params.initial_q.colwise().mean().transpose())
-                                                  : Vec3(Vec3::Zero());
+  const Vec3 around = params.initial_q.rows() > 0
+                          ? Vec3(params.initial_q.colwise().mean().transpose())
+                          : Vec3(Vec3::Zero());
   int unnamed = 0;
   TriMesh cpu;
   for (const collision::Obstacle& o : params.obstacles) {
@@ -72,8 +74,9 @@ SceneRenderer::~SceneRenderer() = default;
 
 void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
                          const CameraMatrices& camera, const Points* skeleton) {
-  ThrowUnless(tools.empty() || tools.size() == tool_params_.size(), "SceneRenderer::Draw: ", tools.size(),
-              " tool states for ", tool_params_.size(), " tools");
+  ThrowUnless(tools.empty() || tools.size() == tool_params_.size(),
+              "SceneRenderer::Draw: ", tools.size(), " tool states for ", tool_params_.size(),
+              " tools");
   renderer_.Clear(palette_.background);
   // near to far, roughly: the bowel and the tools before the wall and organs behind them, so the
   // depth test rejects the wall's hidden fragments before they are shaded
@@ -97,7 +100,8 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   membrane_cpu_.Clear();
   if (skeleton != nullptr && !membrane_s_.empty() && skeleton->rows() == num_points_) {
     const spline::CatmullRom curve(num_points_);
-    for (size_t k = 0; k < membrane_s_.size(); ++k) membrane_edge_[k] = curve.Position(*skeleton, membrane_s_[k]);
+    for (size_t k = 0; k < membrane_s_.size(); ++k)
+      membrane_edge_[k] = curve.Position(*skeleton, membrane_s_[k]);
     AppendRuledFilm(membrane_root_, membrane_edge_, length_, membrane_across_, &membrane_cpu_);
     membrane_gpu_.Upload(membrane_cpu_);
     renderer_.Draw(membrane_gpu_, camera, palette_.mesentery, Faces::kBoth);

@@ -71,7 +71,7 @@ class SceneRenderer {
   // the mesentery: its root points and curve parameters (empty without [mesentery])
   std::vector<Vec3> membrane_root_, membrane_edge_;
   std::vector<double> membrane_s_;
-  double membrane_across_ = 0.0;  // texture space: m from the root to the bowel
+  double membrane_across_ = 0.0;        // texture space: m from the root to the bowel
   double length_ = 0.0, radius_ = 0.0;  // the tube's: the serosa's texture space
   int num_points_ = 0;
   TriMesh membrane_cpu_;

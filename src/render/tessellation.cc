@@ -22,7 +22,9 @@ void Push(TriMesh* out, const Vec3& p, const Vec3& n) {
 // ring. Going around a ring turns counter-clockwise about the axis from ring 0 to the last,
 // so (k, j) -> (k, j + 1) -> (k + 1, j + 1) is counter-clockwise seen from outside.
 void GridTriangles(uint32_t base, int rings, int slices, TriMesh* out) {
-  const auto at = [&](int k, int j) { return base + static_cast<uint32_t>(k * slices + (j % slices)); };
+  const auto at = [&](int k, int j) {
+    return base + static_cast<uint32_t>(k * slices + (j % slices));
+  };
   for (int k = 0; k + 1 < rings; ++k) {
     for (int j = 0; j < slices; ++j) {
       out->indices.insert(out->indices.end(), {at(k, j), at(k, j + 1), at(k + 1, j + 1)});
@@ -59,7 +61,8 @@ void AppendEllipsoid(const Vec3& centre, const Vec3& radii, const Eigen::Quatern
 }
 
 void AppendSphere(const Vec3& centre, double radius, int slices, int stacks, TriMesh* out) {
-  AppendEllipsoid(centre, Vec3::Constant(radius), Eigen::Quaterniond::Identity(), slices, stacks, out);
+  AppendEllipsoid(centre, Vec3::Constant(radius), Eigen::Quaterniond::Identity(), slices, stacks,
+                  out);
 }
 
 void AppendCapsule(const Vec3& a, const Vec3& b, double radius, int slices, TriMesh* out) {
@@ -78,14 +81,16 @@ void AppendCapsule(const Vec3& a, const Vec3& b, double radius, int slices, TriM
     const Vec3& c = at_b ? b : a;
     for (int j = 0; j < slices; ++j) {
       const double theta = 2.0 * kPi * j / slices;
-      const Vec3 n = std::cos(phi) * (std::cos(theta) * u + std::sin(theta) * v) + std::sin(phi) * w;
+      const Vec3 n =
+          std::cos(phi) * (std::cos(theta) * u + std::sin(theta) * v) + std::sin(phi) * w;
       Push(out, c + radius * n, n);
     }
   }
   GridTriangles(base, 2 * half + 2, slices, out);
 }
 
-void AppendBox(const Vec3& centre, const Vec3& half, const Eigen::Quaterniond& rotation, TriMesh* out) {
+void AppendBox(const Vec3& centre, const Vec3& half, const Eigen::Quaterniond& rotation,
+               TriMesh* out) {
   const Mat3 r = rotation.normalized().toRotationMatrix();
   for (int axis = 0; axis < 3; ++axis) {
     for (const double sign : {-1.0, 1.0}) {
@@ -95,7 +100,8 @@ void AppendBox(const Vec3& centre, const Vec3& half, const Eigen::Quaterniond& r
       const Vec3 t = Vec3::Unit((axis + 2) % 3);
       const uint32_t base = Base(*out);
       for (const auto& [i, j] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
-        const Vec3 local = n.cwiseProduct(half) + i * s.cwiseProduct(half) + j * t.cwiseProduct(half);
+        const Vec3 local =
+            n.cwiseProduct(half) + i * s.cwiseProduct(half) + j * t.cwiseProduct(half);
         Push(out, centre + r * local, r * n);
       }
       out->indices.insert(out->indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
@@ -103,7 +109,8 @@ void AppendBox(const Vec3& centre, const Vec3& half, const Eigen::Quaterniond& r
   }
 }
 
-void AppendPlane(const Vec3& point, const Vec3& normal, const Vec3& around, double half_size, TriMesh* out) {
+void AppendPlane(const Vec3& point, const Vec3& normal, const Vec3& around, double half_size,
+                 TriMesh* out) {
   const Vec3 n = normal.normalized();
   Vec3 u, v;
   Frame(n, &u, &v);
@@ -116,11 +123,13 @@ void AppendPlane(const Vec3& point, const Vec3& normal, const Vec3& around, doub
 }
 
 void AppendTriangles(const Points& vertices,
-                     const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces, TriMesh* out) {
+                     const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
+                     TriMesh* out) {
   // area-weighted normals: each face adds its unnormalized cross product to its corners
   Points normals = Points::Zero(vertices.rows(), 3);
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Vec3 a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)), c = vertices.row(faces(f, 2));
+    const Vec3 a = vertices.row(faces(f, 0)), b = vertices.row(faces(f, 1)),
+               c = vertices.row(faces(f, 2));
     const Vec3 n = (b - a).cross(c - a);
     for (int k = 0; k < 3; ++k) normals.row(faces(f, k)) += n.transpose();
   }
@@ -131,21 +140,14 @@ void AppendTriangles(const Points& vertices,
   }
 }
 
-void AppendObstacle(const collision::Obstacle& o, const Vec3& around, double plane_half_size, TriMesh* out) {
+void AppendObstacle(const collision::Obstacle& o, const Vec3& around, double plane_half_size,
+                    TriMesh* out) {
   using collision::ObstacleKind;
   switch (o.kind) {
-    case ObstacleKind::kPlane:
-      AppendPlane(o.point, o.normal, around, plane_half_size, out);
-      break;
-    case ObstacleKind::kSphere:
-      AppendSphere(o.centre, o.radius, 48, 24, out);
-      break;
-    case ObstacleKind::kCapsule:
-      AppendCapsule(o.a, o.b, o.radius, 32, out);
-      break;
-    case ObstacleKind::kBox:
-      AppendBox(o.centre, o.half_extents, o.orientation, out);
-      break;
+    case ObstacleKind::kPlane: AppendPlane(o.point, o.normal, around, plane_half_size, out); break;
+    case ObstacleKind::kSphere: AppendSphere(o.centre, o.radius, 48, 24, out); break;
+    case ObstacleKind::kCapsule: AppendCapsule(o.a, o.b, o.radius, 32, out); break;
+    case ObstacleKind::kBox: AppendBox(o.centre, o.half_extents, o.orientation, out); break;
     case ObstacleKind::kEllipsoid:
       AppendEllipsoid(o.centre, o.radii, o.orientation, 72, 48, out);
       break;
@@ -156,8 +158,8 @@ void AppendObstacle(const collision::Obstacle& o, const Vec3& around, double pla
   }
 }
 
-void AppendTool(const Vec3& port, const Vec3& tip, const Eigen::Quaterniond& orientation, double jaw,
-                double radius, double shaft_length, TriMesh* out) {
+void AppendTool(const Vec3& port, const Vec3& tip, const Eigen::Quaterniond& orientation,
+                double jaw, double radius, double shaft_length, TriMesh* out) {
   const double reach = (tip - port).norm();
   if (reach < 1e-6) return;
   const Vec3 axis = (tip - port) / reach;  // along the shaft, toward the tip
@@ -176,7 +178,8 @@ void AppendTool(const Vec3& port, const Vec3& tip, const Eigen::Quaterniond& ori
   const double angle = std::clamp(jaw, 0.0, 1.0) * 35.0 * kPi / 180.0 + 0.04;
   for (const double sign : {-1.0, 1.0}) {
     const Vec3 dir = std::cos(angle) * axis + sign * std::sin(angle) * side;
-    AppendCapsule(hinge + 0.3 * radius * sign * side, hinge + jaw_length * dir, 0.55 * radius, 12, out);
+    AppendCapsule(hinge + 0.3 * radius * sign * side, hinge + jaw_length * dir, 0.55 * radius, 12,
+                  out);
   }
 }
 
@@ -191,7 +194,8 @@ void AppendSkin(const skin::Mesh& mesh, double length, double radius, TriMesh* o
     out->normals.push_back(mesh.normals[i].cast<float>());
     if (on_tissue) {
       const Eigen::Vector2d& sa = mesh.surface[i];
-      out->texture.emplace_back(static_cast<float>(sa.x() * length), static_cast<float>(radius * std::cos(sa.y())),
+      out->texture.emplace_back(static_cast<float>(sa.x() * length),
+                                static_cast<float>(radius * std::cos(sa.y())),
                                 static_cast<float>(radius * std::sin(sa.y())));
     } else {
       out->texture.push_back(out->positions.back());
@@ -202,8 +206,8 @@ void AppendSkin(const skin::Mesh& mesh, double length, double radius, TriMesh* o
   }
 }
 
-void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, double along_length, double across_length,
-                     TriMesh* out) {
+void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, double along_length,
+                     double across_length, TriMesh* out) {
   const size_t k = std::min(a.size(), b.size());
   if (k < 2) return;
   const uint32_t base = static_cast<uint32_t>(out->positions.size());
@@ -213,7 +217,8 @@ void AppendRuledFilm(std::span<const Vec3> a, std::span<const Vec3> b, double al
     const Vec3 along = a[std::min(i + 1, k - 1)] - a[i > 0 ? i - 1 : 0];
     Vec3 n = along.cross(b[i] - a[i]);
     n = n.norm() > 1e-12 ? Vec3(n.normalized()) : Vec3(Vec3::UnitZ());
-    const float x = static_cast<float>(along_length * static_cast<double>(i) / static_cast<double>(k - 1));
+    const float x =
+        static_cast<float>(along_length * static_cast<double>(i) / static_cast<double>(k - 1));
     out->positions.push_back(a[i].cast<float>());
     out->positions.push_back(b[i].cast<float>());
     out->normals.insert(out->normals.end(), 2, n.cast<float>());

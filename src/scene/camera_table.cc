@@ -1,8 +1,8 @@
 #include "scene/camera_table.h"
 
+#include <toml++/toml.h>
 #include <cmath>
 #include <numbers>
-#include <toml++/toml.h>
 
 #include "common/check.h"
 #include "scene/toml_reader.h"
@@ -12,7 +12,8 @@ namespace {
 
 double InRange(const TomlReader& r, const char* key, double fallback, double lo, double hi) {
   const double value = r.Double(key, fallback);
-  ThrowUnless(value >= lo && value <= hi, r.Name(key), " = ", value, ": must be in [", lo, ", ", hi, "]");
+  ThrowUnless(value >= lo && value <= hi, r.Name(key), " = ", value, ": must be in [", lo, ", ", hi,
+              "]");
   return value;
 }
 
@@ -49,7 +50,8 @@ std::optional<mechanics::ScopeParams> ReadCamera(const toml::table& root) {
   s.up = up.normalized();
   // the line of sight is within `optics` of the shaft: keep the shaft that far (and 1 degree
   // more) from up, so the image always has an up
-  const double from_up = std::acos(std::abs(axis.normalized().dot(s.up))) * 180.0 / std::numbers::pi;
+  const double from_up =
+      std::acos(std::abs(axis.normalized().dot(s.up))) * 180.0 / std::numbers::pi;
   ThrowUnless(from_up > s.optics_deg + 1.0, r.Name("up"), ": the scope's shaft is ", from_up,
               " degrees from up (or down); with ", s.optics_deg,
               " degree optics it must be more than ", s.optics_deg + 1.0);

@@ -9,19 +9,22 @@ namespace {
 
 double Number(const toml::node& node, const std::string& what) {
   ThrowUnless(node.is_number(), what, " = ", Describe(node), ": expected a number");
-  return node.is_integer() ? static_cast<double>(node.as_integer()->get()) : node.as_floating_point()->get();
+  return node.is_integer() ? static_cast<double>(node.as_integer()->get())
+                           : node.as_floating_point()->get();
 }
 
 std::vector<std::pair<double, double>> ReadLengths(const TomlReader& r) {
   const toml::node* node = r.Node("lengths");
   if (!node) return DefaultMesenteryLengths();
   const toml::array* list = node->as_array();
-  ThrowUnless(list != nullptr, r.Name("lengths"), " = ", Describe(*node), ": expected a list of [s, length]");
+  ThrowUnless(list != nullptr, r.Name("lengths"), " = ", Describe(*node),
+              ": expected a list of [s, length]");
   std::vector<std::pair<double, double>> lengths;
   for (size_t i = 0; i < list->size(); ++i) {
     const std::string what = r.Name("lengths") + "[" + std::to_string(i) + "]";
     const toml::array* pair = list->get(i)->as_array();
-    ThrowUnless(pair != nullptr && pair->size() == 2, what, " = ", Describe(*list->get(i)), ": expected [s, length]");
+    ThrowUnless(pair != nullptr && pair->size() == 2, what, " = ", Describe(*list->get(i)),
+                ": expected [s, length]");
     lengths.emplace_back(Number(*pair->get(0), what), Number(*pair->get(1), what));
   }
   return lengths;

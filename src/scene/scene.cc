@@ -1,8 +1,8 @@
 #include "scene/scene.h"
 
+#include <toml++/toml.h>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "common/check.h"
 #include "mechanics/implicit_euler.h"
@@ -38,13 +38,16 @@ const toml::table& SubTable(const toml::table& root, const std::string& name) {
 // Refuses `value` above `limit` (when the limit is set) with the key and the limit.
 template <typename T>
 void WithinLimit(const std::string& what, T value, T limit) {
-  ThrowUnless(limit <= 0 || value <= limit, what, " = ", value, ": above this server's limit of ", limit);
+  ThrowUnless(limit <= 0 || value <= limit, what, " = ", value, ": above this server's limit of ",
+              limit);
 }
 
-void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelParams* p, double* settle) {
+void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelParams* p,
+                    double* settle) {
   const TomlReader r(table, "simulation");
   *settle = r.Double("settle", 0.0);
-  ThrowUnless(*settle >= 0.0 && *settle <= 60.0, "simulation.settle = ", *settle, ": expected 0..60 s");
+  ThrowUnless(*settle >= 0.0 && *settle <= 60.0, "simulation.settle = ", *settle,
+              ": expected 0..60 s");
   WithinLimit("simulation.settle", *settle, limits.max_settle_s);
   p->rate_hz = r.Double("rate_hz", 100.0);
   ThrowUnless(p->rate_hz > 0.0, "simulation.rate_hz = ", p->rate_hz, ": must be > 0");
@@ -68,8 +71,8 @@ void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelPa
   constexpr int kCap = mechanics::ImplicitEulerIntegrator::kMaxCgIterationsExtended;
   if (r.Has("cg_iteration_cap")) {
     p->cg_iteration_cap = r.Int("cg_iteration_cap");
-    ThrowUnless(p->cg_iteration_cap >= 1 && p->cg_iteration_cap <= kCap, "simulation.cg_iteration_cap = ",
-                p->cg_iteration_cap, ": expected 1..", kCap);
+    ThrowUnless(p->cg_iteration_cap >= 1 && p->cg_iteration_cap <= kCap,
+                "simulation.cg_iteration_cap = ", p->cg_iteration_cap, ": expected 1..", kCap);
   }
   r.Finish();
 }
@@ -100,18 +103,23 @@ std::vector<double> ReadPinned(const TomlReader& r) {
   const toml::node* node = r.Node("pinned");
   if (!node) return pins;
   const toml::array* a = node->as_array();
-  ThrowUnless(a != nullptr, "intestine.pinned = ", Describe(*node), ": expected a list of \"start\", \"end\" or numbers in [0, 1]");
+  ThrowUnless(a != nullptr, "intestine.pinned = ", Describe(*node),
+              ": expected a list of \"start\", \"end\" or numbers in [0, 1]");
   for (const toml::node& item : *a) {
     if (item.is_string()) {
       const std::string s = item.as_string()->get();
-      ThrowUnless(s == "start" || s == "end", "intestine.pinned: \"", s, "\": expected \"start\", \"end\" or a number in [0, 1]");
+      ThrowUnless(s == "start" || s == "end", "intestine.pinned: \"", s,
+                  "\": expected \"start\", \"end\" or a number in [0, 1]");
       pins.push_back(s == "start" ? 0.0 : 1.0);
     } else if (item.is_number()) {
-      const double s = item.is_integer() ? static_cast<double>(item.as_integer()->get()) : item.as_floating_point()->get();
-      ThrowUnless(s >= 0.0 && s <= 1.0, "intestine.pinned: ", s, ": curve parameters lie in [0, 1]");
+      const double s = item.is_integer() ? static_cast<double>(item.as_integer()->get())
+                                         : item.as_floating_point()->get();
+      ThrowUnless(s >= 0.0 && s <= 1.0, "intestine.pinned: ", s,
+                  ": curve parameters lie in [0, 1]");
       pins.push_back(s);
     } else {
-      Fail("intestine.pinned: ", Describe(item), ": expected \"start\", \"end\" or a number in [0, 1]");
+      Fail("intestine.pinned: ", Describe(item),
+           ": expected \"start\", \"end\" or a number in [0, 1]");
     }
   }
   return pins;
@@ -125,8 +133,9 @@ void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelPar
   // the collision chain's size, known before anything is built (a tiny radius asked for
   // gigabytes of spheres and their pairs)
   const double spheres = std::ceil(p->length / p->radius) + 1.0;
-  ThrowUnless(limits.max_spheres <= 0 || spheres <= limits.max_spheres, "intestine.length / intestine.radius = ",
-              spheres, " collision spheres: above this server's limit of ", limits.max_spheres,
+  ThrowUnless(limits.max_spheres <= 0 || spheres <= limits.max_spheres,
+              "intestine.length / intestine.radius = ", spheres,
+              " collision spheres: above this server's limit of ", limits.max_spheres,
               " (a shorter or wider tube)");
   const int n = r.Int("control_points", 0);
   WithinLimit("intestine.control_points", n, limits.max_control_points);
@@ -135,7 +144,8 @@ void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelPar
   p->bend_reference_curvature = NonNegative(r, "bend_reference_curvature", 0.0);
   p->continuous_stretch = NonNegative(r, "continuous_stretch", 0.0);
   p->continuous_scope = r.Choice<ContinuousScope>(
-      "continuous_scope", {{"global", ContinuousScope::kGlobal}, {"segment", ContinuousScope::kSegment}});
+      "continuous_scope",
+      {{"global", ContinuousScope::kGlobal}, {"segment", ContinuousScope::kSegment}});
   p->damping = NonNegative(r, "damping", 0.0);
   p->spring_damping = NonNegative(r, "spring_damping", 0.0);
   p->pinned = ReadPinned(r);
@@ -143,7 +153,8 @@ void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelPar
   ThrowUnless(shape != nullptr, "[intestine.shape]: missing (required table)");
   ThrowUnless(shape->is_table(), "intestine.shape: expected a table");
   p->initial_q = MakeShape(TomlReader(*shape->as_table(), "intestine.shape"), n, p->length);
-  WithinLimit("intestine.shape points", static_cast<int>(p->initial_q.rows()), limits.max_control_points);
+  WithinLimit("intestine.shape points", static_cast<int>(p->initial_q.rows()),
+              limits.max_control_points);
   r.Finish();
 }
 
@@ -163,7 +174,8 @@ void ReadAttachments(const toml::table& root, ModelParams* p) {
     const TomlReader r(*t, "attachment[" + std::to_string(index++) + "]");
     AttachmentParams a;
     a.s = r.Double("at");
-    ThrowUnless(a.s >= 0.0 && a.s <= 1.0, r.Name("at"), " = ", a.s, ": curve parameters lie in [0, 1]");
+    ThrowUnless(a.s >= 0.0 && a.s <= 1.0, r.Name("at"), " = ", a.s,
+                ": curve parameters lie in [0, 1]");
     if (r.Has("point")) a.point = r.Vector("point");
     a.stiffness = Positive(r, "stiffness");
     a.damping = NonNegative(r, "damping", 0.0);
@@ -189,7 +201,8 @@ int CountObjTriangles(const std::string& path, int stop) {
   return triangles;
 }
 
-collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_dir, const SceneLimits& limits) {
+collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_dir,
+                                 const SceneLimits& limits) {
   using collision::ObstacleKind;
   collision::Obstacle o;
   const std::string kind = r.String("kind");
@@ -199,15 +212,18 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
     const toml::node* node = r.Node("orientation");
     if (!node) return Eigen::Quaterniond::Identity();
     const toml::array* a = node->as_array();
-    ThrowUnless(a && a->size() == 4, r.Name("orientation"), " = ", Describe(*node), ": expected [w, x, y, z]");
+    ThrowUnless(a && a->size() == 4, r.Name("orientation"), " = ", Describe(*node),
+                ": expected [w, x, y, z]");
     double v[4];
     for (int i = 0; i < 4; ++i) {
       const toml::node& e = *a->get(i);
       ThrowUnless(e.is_number(), r.Name("orientation"), ": expected numbers");
-      v[i] = e.is_integer() ? static_cast<double>(e.as_integer()->get()) : e.as_floating_point()->get();
+      v[i] = e.is_integer() ? static_cast<double>(e.as_integer()->get())
+                            : e.as_floating_point()->get();
     }
     const Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
-    ThrowUnless(std::isfinite(q.norm()) && q.norm() > 1e-9, r.Name("orientation"), ": must be a non-zero quaternion");
+    ThrowUnless(std::isfinite(q.norm()) && q.norm() > 1e-9, r.Name("orientation"),
+                ": must be a non-zero quaternion");
     return q.normalized();
   };
   if (kind == "plane") {
@@ -248,7 +264,8 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
     const double scale = r.Double("scale", 1.0);
     ThrowUnless(scale > 0.0, r.Name("scale"), " = ", scale, ": must be > 0");
     const int resolution = r.Int("resolution", 40);
-    ThrowUnless(resolution >= 8 && resolution <= 200, r.Name("resolution"), " = ", resolution, ": expected 8..200");
+    ThrowUnless(resolution >= 8 && resolution <= 200, r.Name("resolution"), " = ", resolution,
+                ": expected 8..200");
     WithinLimit(r.Name("resolution"), resolution, limits.max_mesh_resolution);
     if (limits.max_mesh_triangles > 0) {
       WithinLimit(r.Name("file") + " triangles", CountObjTriangles(file, limits.max_mesh_triangles),
@@ -257,7 +274,8 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
     o.sdf = std::make_shared<collision::MeshSdf>(
         collision::MeshSdf::FromObj(file, scale, r.Vector("offset", Vec3::Zero()), resolution));
   } else {
-    Fail(r.Name("kind"), " = \"", kind, "\": expected plane, sphere, capsule, box, ellipsoid or mesh");
+    Fail(r.Name("kind"), " = \"", kind,
+         "\": expected plane, sphere, capsule, box, ellipsoid or mesh");
   }
   r.Finish();
   return o;
@@ -270,8 +288,8 @@ void ReadObstacles(const toml::table& root, const std::string& base_dir, const S
   WithinLimit("[[obstacle]] count", static_cast<int>(tables.size()), limits.max_obstacles);
   for (const toml::table* t : tables) {
     if (limits.check_stop) limits.check_stop();
-    p->obstacles.push_back(
-        ReadObstacle(TomlReader(*t, "obstacle[" + std::to_string(index++) + "]"), base_dir, limits));
+    p->obstacles.push_back(ReadObstacle(TomlReader(*t, "obstacle[" + std::to_string(index++) + "]"),
+                                        base_dir, limits));
   }
 }
 
@@ -290,19 +308,22 @@ void ReadContacts(const toml::table& root, const SceneLimits& limits, ModelParam
   c.friction = NonNegative(r, "friction", c.friction);
   c.self_friction = NonNegative(r, "self_friction", c.self_friction);
   c.tool_friction = NonNegative(r, "tool_friction", c.tool_friction);
-  c.friction_law = r.Choice<mechanics::FrictionLaw>(
-      "friction_law", {{"stick_slip", mechanics::FrictionLaw::kStickSlip}, {"regularized", mechanics::FrictionLaw::kRegularized}},
-      c.friction_law);
-  c.tangential_stiffness = Within(r, "tangential_stiffness", c.tangential_stiffness, 0.0, 1e5, "N/m");
+  c.friction_law =
+      r.Choice<mechanics::FrictionLaw>("friction_law",
+                                       {{"stick_slip", mechanics::FrictionLaw::kStickSlip},
+                                        {"regularized", mechanics::FrictionLaw::kRegularized}},
+                                       c.friction_law);
+  c.tangential_stiffness =
+      Within(r, "tangential_stiffness", c.tangential_stiffness, 0.0, 1e5, "N/m");
   c.margin = NonNegative(r, "margin", 0.25 * p->radius);
-  ThrowUnless(limits.max_margin_radii <= 0.0 || c.margin <= limits.max_margin_radii * p->radius, "contacts.margin = ",
-              c.margin, " m: above this server's limit of ", limits.max_margin_radii, " tube radii (",
-              limits.max_margin_radii * p->radius, " m)");
+  ThrowUnless(limits.max_margin_radii <= 0.0 || c.margin <= limits.max_margin_radii * p->radius,
+              "contacts.margin = ", c.margin, " m: above this server's limit of ",
+              limits.max_margin_radii, " tube radii (", limits.max_margin_radii * p->radius, " m)");
   c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
   c.impact_depth = NonNegative(r, "impact_depth", c.impact_depth);
   c.impact_constraints = r.Bool("impact_constraints", c.impact_constraints);
-  c.spheres_follow_material =
-      r.Choice<bool>("spheres", {{"material", true}, {"arc_length", false}}, c.spheres_follow_material);
+  c.spheres_follow_material = r.Choice<bool>("spheres", {{"material", true}, {"arc_length", false}},
+                                             c.spheres_follow_material);
   r.Finish();
 }
 
@@ -315,16 +336,22 @@ void ReadTools(const toml::table& root, const SceneLimits& limits, ModelParams* 
     mechanics::ToolParams tool;
     tool.name = r.String("name");
     ThrowUnless(!tool.name.empty() && tool.name.size() <= 32 &&
-                    std::all_of(tool.name.begin(), tool.name.end(), [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-'; }),
+                    std::all_of(tool.name.begin(), tool.name.end(),
+                                [](char ch) {
+                                  return std::isalnum(static_cast<unsigned char>(ch)) ||
+                                         ch == '_' || ch == '-';
+                                }),
                 r.Name("name"), " = \"", tool.name, "\": use 1 to 32 letters, digits, '_' or '-'");
     for (const mechanics::ToolParams& other : p->tools) {
-      ThrowUnless(other.name != tool.name, r.Name("name"), " = \"", tool.name, "\": two tools share this name");
+      ThrowUnless(other.name != tool.name, r.Name("name"), " = \"", tool.name,
+                  "\": two tools share this name");
     }
     tool.port = r.Vector("port");
     tool.radius = Within(r, "radius", tool.radius, 1e-4, 0.05, "m");
     tool.length = Within(r, "length", tool.length, 0.01, 2.0, "m");
     tool.max_force = Within(r, "max_force", tool.max_force, 1e-3, 100.0, "N");
-    tool.coupling_stiffness = Within(r, "coupling_stiffness", tool.coupling_stiffness, 1e-3, 1e5, "N/m");
+    tool.coupling_stiffness =
+        Within(r, "coupling_stiffness", tool.coupling_stiffness, 1e-3, 1e5, "N/m");
     tool.coupling_damping = Within(r, "coupling_damping", tool.coupling_damping, 0.0, 1e3, "N s/m");
     tool.mass = Within(r, "mass", tool.mass, 1e-3, 10.0, "kg");
     tool.grasp_stiffness = Within(r, "grasp_stiffness", tool.grasp_stiffness, 1e-3, 1e5, "N/m");
@@ -343,10 +370,12 @@ void ReadTools(const toml::table& root, const SceneLimits& limits, ModelParams* 
 // itself.
 void Settle(double seconds, const std::function<void()>& check_stop, ModelParams* p) {
   const mechanics::Model before(*p);
-  for (size_t i = 0; i < p->attachments.size(); ++i) p->attachments[i].point = before.attachments()[i].anchor;
+  for (size_t i = 0; i < p->attachments.size(); ++i)
+    p->attachments[i].point = before.attachments()[i].anchor;
   double excess = 0.0;
   for (const mechanics::Tether& t : before.tethers()) {
-    excess = std::max(excess, (mechanics::Model::Evaluate(t.at, p->initial_q) - t.root).norm() - t.length);
+    excess = std::max(excess,
+                      (mechanics::Model::Evaluate(t.at, p->initial_q) - t.root).norm() - t.length);
   }
   constexpr int kTighten = 10;
   const int stages = excess > 0.0 ? kTighten + 1 : 1;
@@ -358,12 +387,14 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
   const mechanics::FrictionLaw law = p->contacts.friction_law;
   p->contacts.friction_law = mechanics::FrictionLaw::kRegularized;
   for (int stage = 0; stage < stages; ++stage) {
-    if (p->mesentery) p->mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
+    if (p->mesentery)
+      p->mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
     const mechanics::Model model(*p);
     mechanics::Workspace workspace(model);
     // stage k < kTighten gets 1 / (1.5 kTighten) of the time, the last one the remaining third
     const int begin = stage * total_steps * 2 / (3 * kTighten);
-    const int end = stage + 1 < stages ? (stage + 1) * total_steps * 2 / (3 * kTighten) : total_steps;
+    const int end =
+        stage + 1 < stages ? (stage + 1) * total_steps * 2 / (3 * kTighten) : total_steps;
     for (int k = begin; k < end; ++k) {
       if (check_stop) check_stop();  // an atomic load and a clock read: nothing beside a step
       mechanics::Step(model, {}, &state, &workspace);
@@ -379,25 +410,27 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   scene.source = source;
   for (const auto& [key, node] : root) {
     const std::string k(key.str());
-    if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" || k == "contacts" ||
-        k == "tool" || k == "mesentery" || k == "target" || k == "assessment" || k == "camera") {
+    if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" ||
+        k == "contacts" || k == "tool" || k == "mesentery" || k == "target" || k == "assessment" ||
+        k == "camera") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
   }
   double settle = 0.0;
-  if (root.contains("simulation")) ReadSimulation(SubTable(root, "simulation"), limits, &scene.model, &settle);
+  if (root.contains("simulation"))
+    ReadSimulation(SubTable(root, "simulation"), limits, &scene.model, &settle);
   ReadIntestine(SubTable(root, "intestine"), limits, &scene.model);
   ReadAttachments(root, &scene.model);
   scene.model.mesentery = ReadMesentery(root);
   const size_t slash = source.find_last_of('/');
-  ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1), limits,
-                &scene.model);
+  ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1),
+                limits, &scene.model);
   if (limits.check_stop) limits.check_stop();  // after the distance fields
   ReadContacts(root, limits, &scene.model);
   ReadTools(root, limits, &scene.model);
-  ReadTask(TableArray(root, "target"), root.contains("assessment") ? &SubTable(root, "assessment") : nullptr,
-           &scene.model);
+  ReadTask(TableArray(root, "target"),
+           root.contains("assessment") ? &SubTable(root, "assessment") : nullptr, &scene.model);
   scene.model.scope = ReadCamera(root);
   if (settle > 0.0) {
     // The settle runs without the linearization guard and with backward Euler alone, and is

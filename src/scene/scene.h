@@ -11,7 +11,7 @@
 namespace viscera::scene {
 
 struct Scene {
-  std::string source;                ///< file path or "<string>"
+  std::string source;            ///< file path or "<string>"
   mechanics::ModelParams model;  ///< includes contacts, obstacles and tools
   /// Things the user should know: unknown top-level tables.
   std::vector<std::string> warnings;
@@ -25,7 +25,7 @@ struct SceneLimits {
   int max_obstacles = 0;
   int max_mesh_resolution = 0;  ///< grid cells along a mesh's longest side
   int max_substeps = 0;
-  double max_rate_hz = 0.0;     ///< the scene's own [simulation] rate_hz (settling runs at it)
+  double max_rate_hz = 0.0;  ///< the scene's own [simulation] rate_hz (settling runs at it)
   double max_settle_s = 0.0;
   /// Collision spheres (one per radius of length, collision/sphere_chain.h): bounded from
   /// intestine.length / intestine.radius before the chain or anything else is allocated.
@@ -33,8 +33,8 @@ struct SceneLimits {
   /// contacts.margin in tube radii: a sphere's candidate pairs grow with the cube of its reach
   /// (2 radius + margin); a margin of a metre makes every pair a candidate.
   double max_margin_radii = 0.0;
-  int max_tools = 0;             ///< [[tool]] tables: one force message per tool per step
-  int max_mesh_triangles = 0;    ///< of a mesh obstacle, counted before its field is built
+  int max_tools = 0;           ///< [[tool]] tables: one force message per tool per step
+  int max_mesh_triangles = 0;  ///< of a mesh obstacle, counted before its field is built
   /// Turns a mesh obstacle's `file` value into the path to open, or throws InputError (the
   /// server confines files to its scene directory). Empty: relative to the scene's directory.
   std::function<std::string(const std::string& file)> resolve_file;

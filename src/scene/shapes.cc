@@ -53,7 +53,8 @@ Points MakeShape(const TomlReader& r, int n, double length) {
     r.Finish();
     return q;
   }
-  ThrowUnless(n >= 4, "intestine.control_points = ", n, ": need at least 4 (required unless shape.kind = \"points\")");
+  ThrowUnless(n >= 4, "intestine.control_points = ", n,
+              ": need at least 4 (required unless shape.kind = \"points\")");
   const double spacing = length / (n - 1);
   Points q(n, 3);
   if (kind == "straight") {
@@ -72,7 +73,9 @@ Points MakeShape(const TomlReader& r, int n, double length) {
     const double arc_per_radian = std::sqrt(radius * radius + rise * rise);
     for (int i = 0; i < n; ++i) {
       const double theta = i * spacing / arc_per_radian;
-      q.row(i) = (center + radius * (std::cos(theta) * e1 + std::sin(theta) * e2) + rise * theta * axis).transpose();
+      q.row(i) =
+          (center + radius * (std::cos(theta) * e1 + std::sin(theta) * e2) + rise * theta * axis)
+              .transpose();
     }
   } else if (kind == "serpentine") {
     // A planar sine wave along `direction`, swinging along `lateral`.
@@ -95,7 +98,8 @@ Points MakeShape(const TomlReader& r, int n, double length) {
     }
     q = Resample(dense, n, length);
   } else {
-    Fail(r.Name("kind"), " = \"", kind, "\": expected \"straight\", \"helix\", \"serpentine\" or \"points\"");
+    Fail(r.Name("kind"), " = \"", kind,
+         "\": expected \"straight\", \"helix\", \"serpentine\" or \"points\"");
   }
   r.Finish();
   return q;

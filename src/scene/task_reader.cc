@@ -1,10 +1,10 @@
 #include "scene/task_reader.h"
 
+#include <toml++/toml.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <string>
-#include <toml++/toml.h>
 
 #include "assessment/target_samples.h"
 #include "common/check.h"
@@ -17,18 +17,22 @@ mechanics::TargetParams ReadTarget(const TomlReader& r, const mechanics::ModelPa
   mechanics::TargetParams t;
   t.name = r.String("name");
   ThrowUnless(!t.name.empty() && t.name.size() <= 32 &&
-                  std::all_of(t.name.begin(), t.name.end(), [](char ch) {
-                    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
-                  }),
+                  std::all_of(t.name.begin(), t.name.end(),
+                              [](char ch) {
+                                return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' ||
+                                       ch == '-';
+                              }),
               r.Name("name"), " = \"", t.name, "\": use 1 to 32 letters, digits, '_' or '-'");
   for (const mechanics::TargetParams& other : p.task.targets) {
-    ThrowUnless(other.name != t.name, r.Name("name"), " = \"", t.name, "\": two targets share this name");
+    ThrowUnless(other.name != t.name, r.Name("name"), " = \"", t.name,
+                "\": two targets share this name");
   }
   t.samples = r.Int("samples", t.samples);
   ThrowUnless(t.samples >= 1 && t.samples <= kMaxTargetSamples, r.Name("samples"), " = ", t.samples,
               ": must be in [1, ", kMaxTargetSamples, "]");
   const bool disc = r.Has("radius"), polygon = r.Has("polygon");
-  ThrowUnless(disc != polygon, r.Name("radius"), ": give a disc (centre, normal, radius) or a polygon, ",
+  ThrowUnless(disc != polygon, r.Name("radius"),
+              ": give a disc (centre, normal, radius) or a polygon, ",
               disc ? "not both" : "one of them");
   if (disc) {
     t.centre = r.Vector("centre");
@@ -39,13 +43,15 @@ mechanics::TargetParams ReadTarget(const TomlReader& r, const mechanics::ModelPa
     t.normal = n.normalized();
   } else {
     const Points corners = r.PointList("polygon");
-    ThrowUnless(corners.rows() >= 3, r.Name("polygon"), ": needs at least 3 corners, has ", corners.rows());
+    ThrowUnless(corners.rows() >= 3, r.Name("polygon"), ": needs at least 3 corners, has ",
+                corners.rows());
     for (int i = 0; i < corners.rows(); ++i) t.polygon.push_back(corners.row(i).transpose());
     t.centre = corners.colwise().mean().transpose();
     Vec3 n = assessment::PolygonNormal(t.polygon);
     ThrowUnless(n.norm() > 0.5, r.Name("polygon"), ": its corners enclose no area");
     double off_plane = 0.0;
-    for (const Vec3& c : t.polygon) off_plane = std::max(off_plane, std::abs((c - t.centre).dot(n)));
+    for (const Vec3& c : t.polygon)
+      off_plane = std::max(off_plane, std::abs((c - t.centre).dot(n)));
     const double size = std::sqrt(assessment::PolygonArea(t.polygon));
     ThrowUnless(off_plane <= 0.01 * size, r.Name("polygon"), ": corners are ", off_plane,
                 " m off their plane (more than 1 % of the patch's size): a target is planar");
@@ -79,10 +85,11 @@ void ReadTask(const std::vector<const toml::table*>& targets, const toml::table*
   positive("traction_force", &a.traction_force);
   positive("traction_hold", &a.traction_hold);
   a.regrasp_window = r.Double("regrasp_window", a.regrasp_window);
-  ThrowUnless(a.regrasp_window >= 0.0, r.Name("regrasp_window"), " = ", a.regrasp_window, ": must be >= 0");
+  ThrowUnless(a.regrasp_window >= 0.0, r.Name("regrasp_window"), " = ", a.regrasp_window,
+              ": must be >= 0");
   a.exposed_fraction = r.Double("exposed_fraction", a.exposed_fraction);
-  ThrowUnless(a.exposed_fraction > 0.0 && a.exposed_fraction <= 1.0, r.Name("exposed_fraction"), " = ",
-              a.exposed_fraction, ": must be in (0, 1]");
+  ThrowUnless(a.exposed_fraction > 0.0 && a.exposed_fraction <= 1.0, r.Name("exposed_fraction"),
+              " = ", a.exposed_fraction, ": must be in (0, 1]");
   positive("exposure_rate", &a.exposure_rate_hz);
   ThrowUnless(a.exposure_rate_hz <= 100.0, r.Name("exposure_rate"), " = ", a.exposure_rate_hz,
               ": at most 100 evaluations per second");

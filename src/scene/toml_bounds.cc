@@ -59,14 +59,16 @@ void CheckTomlBounds(std::string_view text, const TomlBounds& bounds) {
     switch (c) {
       case '.':
         ++dots;
-        ThrowUnless(dots < bounds.max_key_depth, "line ", line, ": a dotted key or [table] header nests deeper than ",
-                    "the limit of ", bounds.max_key_depth, " levels");
+        ThrowUnless(dots < bounds.max_key_depth, "line ", line,
+                    ": a dotted key or [table] header nests deeper than ", "the limit of ",
+                    bounds.max_key_depth, " levels");
         break;
       case '[':
       case '{':
         ++brackets;
         ThrowUnless(brackets <= bounds.max_bracket_depth, "line ", line,
-                    ": arrays or inline tables nest deeper than the limit of ", bounds.max_bracket_depth, " levels");
+                    ": arrays or inline tables nest deeper than the limit of ",
+                    bounds.max_bracket_depth, " levels");
         dots = 0;
         break;
       case ']':
@@ -79,11 +81,8 @@ void CheckTomlBounds(std::string_view text, const TomlBounds& bounds) {
         dots = 0;
         break;
       case ',':
-      case '=':
-        dots = 0;
-        break;
-      default:
-        break;
+      case '=': dots = 0; break;
+      default: break;
     }
     ++i;
   }

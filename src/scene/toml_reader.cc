@@ -19,7 +19,8 @@ std::string Describe(const toml::node& node) {
   return out.str();
 }
 
-TomlReader::TomlReader(const toml::table& table, std::string path) : table_(table), path_(std::move(path)) {}
+TomlReader::TomlReader(const toml::table& table, std::string path)
+    : table_(table), path_(std::move(path)) {}
 
 bool TomlReader::Has(const std::string& key) const { return table_.contains(key); }
 
@@ -59,7 +60,9 @@ Vec3 AsVector(const toml::node& node, const std::string& name) {
 
 }  // namespace
 
-double TomlReader::Double(const std::string& key) const { return AsDouble(Required(key), Name(key)); }
+double TomlReader::Double(const std::string& key) const {
+  return AsDouble(Required(key), Name(key));
+}
 
 double TomlReader::Double(const std::string& key, double fallback) const {
   return Has(key) ? Double(key) : (read_.insert(key), fallback);
@@ -106,7 +109,8 @@ Points TomlReader::PointList(const std::string& key) const {
   ThrowUnless(a != nullptr, Name(key), " = ", Describe(node), ": expected a list of [x, y, z]");
   Points p(static_cast<Eigen::Index>(a->size()), 3);
   for (size_t i = 0; i < a->size(); ++i) {
-    p.row(static_cast<Eigen::Index>(i)) = AsVector(*a->get(i), Name(key) + "[" + std::to_string(i) + "]").transpose();
+    p.row(static_cast<Eigen::Index>(i)) =
+        AsVector(*a->get(i), Name(key) + "[" + std::to_string(i) + "]").transpose();
   }
   return p;
 }
@@ -145,8 +149,9 @@ void TomlReader::Finish() const {
       }
     }
     const toml::source_position where = node.source().begin;
-    Fail(Name(k), " = ", Describe(node), where.line > 0 ? Cat(" (line ", where.line, ")") : std::string(),
-         ": unknown key", nearest.empty() ? std::string() : Cat("; did you mean \"", nearest, "\"?"));
+    Fail(Name(k), " = ", Describe(node),
+         where.line > 0 ? Cat(" (line ", where.line, ")") : std::string(), ": unknown key",
+         nearest.empty() ? std::string() : Cat("; did you mean \"", nearest, "\"?"));
   }
 }
 

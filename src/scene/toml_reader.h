@@ -39,7 +39,8 @@ class TomlReader {
   /// The same, with `fallback` when the key is absent: a default kept in the params themselves,
   /// not in the list's order. @pre fallback is one of the choices.
   template <typename E>
-  E Choice(const std::string& key, std::initializer_list<std::pair<const char*, E>> choices, E fallback) const {
+  E Choice(const std::string& key, std::initializer_list<std::pair<const char*, E>> choices,
+           E fallback) const {
     const char* fallback_name = choices.begin()->first;
     for (const auto& [name, e] : choices) {
       if (e == fallback) {

@@ -27,7 +27,7 @@ class ScriptPlayer {
  private:
   ToolScript script_;
   std::map<std::string, std::vector<ToolKeyframe>> frames_;  // aims resolved so far
-  std::map<std::string, std::vector<bool>> pending_;        // rows still to aim
+  std::map<std::string, std::vector<bool>> pending_;         // rows still to aim
 };
 
 }  // namespace viscera::script

@@ -6,7 +6,8 @@
 
 namespace viscera::script {
 
-ScriptedTools::ScriptedTools(const mechanics::Model& model, ToolScript script, const std::string& source)
+ScriptedTools::ScriptedTools(const mechanics::Model& model, ToolScript script,
+                             const std::string& source)
     : model_(model), player_(std::move(script)), targets_(model.params().tools.size()) {
   for (const std::string& name : player_.script().tools()) {
     bool known = false;
@@ -15,10 +16,12 @@ ScriptedTools::ScriptedTools(const mechanics::Model& model, ToolScript script, c
   }
 }
 
-std::span<const mechanics::ToolTarget> ScriptedTools::At(double t, const mechanics::Interactions* interactions) {
+std::span<const mechanics::ToolTarget> ScriptedTools::At(
+    double t, const mechanics::Interactions* interactions) {
   tube_.centre_line.clear();
   if (player_.script().aims_at_tube() && interactions) {
-    for (const collision::Sphere& s : interactions->chain().spheres()) tube_.centre_line.push_back(s.centre);
+    for (const collision::Sphere& s : interactions->chain().spheres())
+      tube_.centre_line.push_back(s.centre);
     tube_.radius = interactions->chain().radius();
   }
   for (size_t i = 0; i < targets_.size(); ++i) {

@@ -15,7 +15,8 @@ namespace viscera::script {
 class ScriptedTools {
  public:
   /// @throws InputError if the script names a tool the model does not have.
-  ScriptedTools(const mechanics::Model& model, ToolScript script, const std::string& source = "<script>");
+  ScriptedTools(const mechanics::Model& model, ToolScript script,
+                const std::string& source = "<script>");
 
   /// Targets of the model's tools at time t, in scene order (tools the script does not name are
   /// idle). Rows aimed at the tube aim at the sphere chain's centres as `interactions` holds

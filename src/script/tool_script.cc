@@ -36,7 +36,8 @@ ToolScript ToolScript::Load(const std::string& path) {
 }
 
 ToolScript ToolScript::Parse(const std::string& text, const std::string& source) {
-  static const char* kColumns[] = {"t", "tool", "x", "y", "z", "qw", "qx", "qy", "qz", "jaw", "aim"};
+  static const char* kColumns[] = {"t",  "tool", "x",  "y",   "z",  "qw",
+                                   "qx", "qy",   "qz", "jaw", "aim"};
   ToolScript script;
   std::istringstream in(text);
   std::string line;
@@ -54,20 +55,21 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
                   ": header must be t,tool,x,y,z,qw,qx,qy,qz,jaw[,aim]");
       columns = cells.size();
       for (size_t i = 0; i < columns; ++i) {
-        ThrowUnless(cells[i] == kColumns[i], source, ":", line_no, ": column ", i + 1, " is \"", cells[i],
-                    "\", expected \"", kColumns[i], "\"");
+        ThrowUnless(cells[i] == kColumns[i], source, ":", line_no, ": column ", i + 1, " is \"",
+                    cells[i], "\", expected \"", kColumns[i], "\"");
       }
       header = true;
       continue;
     }
-    ThrowUnless(cells.size() == columns, source, ":", line_no, ": expected ", columns, " columns, got ", cells.size());
+    ThrowUnless(cells.size() == columns, source, ":", line_no, ": expected ", columns,
+                " columns, got ", cells.size());
     double v[10] = {};
     for (int i = 0; i < 10; ++i) {
       if (i == 1) continue;
       char* end = nullptr;
       v[i] = std::strtod(cells[i].c_str(), &end);
-      ThrowUnless(!cells[i].empty() && end && *end == '\0' && std::isfinite(v[i]), source, ":", line_no,
-                  ": ", kColumns[i], " = \"", cells[i], "\": expected a finite number");
+      ThrowUnless(!cells[i].empty() && end && *end == '\0' && std::isfinite(v[i]), source, ":",
+                  line_no, ": ", kColumns[i], " = \"", cells[i], "\": expected a finite number");
     }
     const std::string& tool = cells[1];
     ThrowUnless(!tool.empty(), source, ":", line_no, ": empty tool name");
@@ -75,21 +77,24 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
     k.t = v[0];
     k.tip = Vec3(v[2], v[3], v[4]);
     k.orientation = Eigen::Quaterniond(v[5], v[6], v[7], v[8]);
-    ThrowUnless(k.orientation.norm() > 1e-9, source, ":", line_no, ": orientation must be a non-zero quaternion");
+    ThrowUnless(k.orientation.norm() > 1e-9, source, ":", line_no,
+                ": orientation must be a non-zero quaternion");
     k.orientation.normalize();
     k.jaw = v[9];
-    ThrowUnless(k.jaw >= 0.0 && k.jaw <= 1.0, source, ":", line_no, ": jaw = ", k.jaw, ": expected 0..1");
+    ThrowUnless(k.jaw >= 0.0 && k.jaw <= 1.0, source, ":", line_no, ": jaw = ", k.jaw,
+                ": expected 0..1");
     if (columns == 11) {
       const std::string& aim = cells[10];
       k.at_tube = aim.rfind("tube", 0) == 0;
       if (aim.rfind("tube@", 0) == 0) {
         char* end = nullptr;
         k.along = std::strtod(aim.c_str() + 5, &end);
-        ThrowUnless(aim.size() > 5 && end && *end == '\0' && k.along >= 0.0 && k.along <= 1.0, source, ":", line_no,
-                    ": aim = \"", aim, "\": expected tube@S with 0 <= S <= 1");
+        ThrowUnless(aim.size() > 5 && end && *end == '\0' && k.along >= 0.0 && k.along <= 1.0,
+                    source, ":", line_no, ": aim = \"", aim,
+                    "\": expected tube@S with 0 <= S <= 1");
       } else {
-        ThrowUnless(aim.empty() || aim == "point" || aim == "tube", source, ":", line_no, ": aim = \"", aim,
-                    "\": expected \"point\", \"tube\" or \"tube@S\"");
+        ThrowUnless(aim.empty() || aim == "point" || aim == "tube", source, ":", line_no,
+                    ": aim = \"", aim, "\": expected \"point\", \"tube\" or \"tube@S\"");
       }
       script.aims_at_tube_ = script.aims_at_tube_ || k.at_tube;
     }
@@ -133,20 +138,23 @@ Vec3 AlongTube(const Tube& tube, double s, const Vec3& p) {
   double left = std::clamp(s, 0.0, 1.0) * total;
   for (size_t i = 0; i + 1 < line.size(); ++i) {
     const double len = (line[i + 1] - line[i]).norm();
-    if (left <= len && len > 0.0) return OntoSurface(tube, line[i] + (left / len) * (line[i + 1] - line[i]), p);
+    if (left <= len && len > 0.0)
+      return OntoSurface(tube, line[i] + (left / len) * (line[i + 1] - line[i]), p);
     left -= len;
   }
   return OntoSurface(tube, line.back(), p);
 }
 
 Vec3 AimOnTube(const Tube& tube, const ToolKeyframe& frame) {
-  return std::isnan(frame.along) ? NearestOnTube(tube, frame.tip) : AlongTube(tube, frame.along, frame.tip);
+  return std::isnan(frame.along) ? NearestOnTube(tube, frame.tip)
+                                 : AlongTube(tube, frame.along, frame.tip);
 }
 
 ToolKeyframe Interpolate(const std::vector<ToolKeyframe>& f, double t) {
   if (t <= f.front().t) return f.front();
   if (t >= f.back().t) return f.back();
-  const auto next = std::upper_bound(f.begin(), f.end(), t, [](double x, const ToolKeyframe& k) { return x < k.t; });
+  const auto next = std::upper_bound(f.begin(), f.end(), t,
+                                     [](double x, const ToolKeyframe& k) { return x < k.t; });
   const ToolKeyframe& b = *next;
   const ToolKeyframe& a = *(next - 1);
   const double span = b.t - a.t;

@@ -63,7 +63,9 @@ class ToolScript {
   /// unresolved: see ScriptPlayer). @pre Has(tool).
   ToolKeyframe At(const std::string& tool, double t) const { return Interpolate(frames(tool), t); }
   /// A tool's rows, in time order. @pre Has(tool).
-  const std::vector<ToolKeyframe>& frames(const std::string& tool) const { return frames_.at(tool); }
+  const std::vector<ToolKeyframe>& frames(const std::string& tool) const {
+    return frames_.at(tool);
+  }
   /// Whether some row aims at the tube (the caller then needs its centre line).
   bool aims_at_tube() const { return aims_at_tube_; }
   /// Time of the last keyframe over all tools (s).

@@ -23,8 +23,10 @@ inline bool AllFinite(const viscera_proto::force_feedback_t& f) {
 
 inline bool AllFinite(const viscera_proto::skeleton_state_t& k) {
   bool ok = std::isfinite(k.sim_time) && std::isfinite(k.sphere_radius);
-  for (const auto& p : k.points) ok = ok && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-  for (const auto& p : k.spheres) ok = ok && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+  for (const auto& p : k.points)
+    ok = ok && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+  for (const auto& p : k.spheres)
+    ok = ok && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
   return ok;
 }
 

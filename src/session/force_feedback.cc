@@ -6,8 +6,9 @@
 
 namespace viscera::session {
 
-void FillForceFeedback(const mechanics::State& state, size_t tool, const mechanics::ToolTarget& target,
-                       int64_t pose_seq, viscera_proto::force_feedback_t* msg) {
+void FillForceFeedback(const mechanics::State& state, size_t tool,
+                       const mechanics::ToolTarget& target, int64_t pose_seq,
+                       viscera_proto::force_feedback_t* msg) {
   const mechanics::ToolState& t = state.tools[tool];
   msg->tool = static_cast<int32_t>(tool);
   msg->step = state.steps;
@@ -27,7 +28,9 @@ void FillForceFeedback(const mechanics::State& state, size_t tool, const mechani
 namespace {
 
 // Bitwise, so that -0.0 vs 0.0 and NaN payloads count as differences too.
-bool SameBits(double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); }
+bool SameBits(double a, double b) {
+  return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b);
+}
 
 }  // namespace
 
@@ -37,8 +40,10 @@ std::string ForceFeedbackDifference(const viscera_proto::force_feedback_t& a,
   if (a.step != b.step) return Cat("step ", a.step, " vs ", b.step);
   if (!SameBits(a.sim_time, b.sim_time)) return Cat("sim_time ", a.sim_time, " vs ", b.sim_time);
   for (int i = 0; i < 3; ++i) {
-    if (!SameBits(a.force[i], b.force[i])) return Cat("force[", i, "] ", a.force[i], " vs ", b.force[i]);
-    if (!SameBits(a.torque[i], b.torque[i])) return Cat("torque[", i, "] ", a.torque[i], " vs ", b.torque[i]);
+    if (!SameBits(a.force[i], b.force[i]))
+      return Cat("force[", i, "] ", a.force[i], " vs ", b.force[i]);
+    if (!SameBits(a.torque[i], b.torque[i]))
+      return Cat("torque[", i, "] ", a.torque[i], " vs ", b.torque[i]);
     if (!SameBits(a.tip[i], b.tip[i])) return Cat("tip[", i, "] ", a.tip[i], " vs ", b.tip[i]);
     for (int j = 0; j < 3; ++j) {
       if (!SameBits(a.stiffness[i][j], b.stiffness[i][j])) {

@@ -15,8 +15,9 @@ namespace viscera::session {
 /// stiffness, clamped, grasping) for tool `tool` of `state`, plus `active` from its target
 /// and `pose_seq`. Leaves header and pose_utime (the client's own clock) to the caller.
 /// @pre tool < state.tools.size()
-void FillForceFeedback(const mechanics::State& state, size_t tool, const mechanics::ToolTarget& target,
-                       int64_t pose_seq, viscera_proto::force_feedback_t* msg);
+void FillForceFeedback(const mechanics::State& state, size_t tool,
+                       const mechanics::ToolTarget& target, int64_t pose_seq,
+                       viscera_proto::force_feedback_t* msg);
 
 /// "" when the fields FillForceFeedback writes are bit for bit the same in `a` and `b`,
 /// else the first that differs, with both values.

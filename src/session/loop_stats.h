@@ -14,8 +14,8 @@ struct LoopSummary {
   double achieved_rate_hz = 0.0;  ///< steps over wall time since the previous summary (Hz)
   float step_cost_p50_us = 0.0f;  ///< CPU time per step (µs)
   float step_cost_p99_us = 0.0f;
-  float jitter_p99_us = 0.0f;     ///< wake-up lateness (µs)
-  float wall_max_us = 0.0f;       ///< longest scheduled start -> step done (µs)
+  float jitter_p99_us = 0.0f;  ///< wake-up lateness (µs)
+  float wall_max_us = 0.0f;    ///< longest scheduled start -> step done (µs)
 };
 
 class LoopStats {

@@ -63,8 +63,10 @@ void Outbox::Send(const Item& item) {
       [this](const auto& msg) {
         using Msg = std::decay_t<decltype(msg)>;
         const std::string* channel = &channels_.force;
-        if constexpr (std::is_same_v<Msg, viscera_proto::skeleton_state_t>) channel = &channels_.skeleton;
-        if constexpr (std::is_same_v<Msg, viscera_proto::session_status_t>) channel = &channels_.status;
+        if constexpr (std::is_same_v<Msg, viscera_proto::skeleton_state_t>)
+          channel = &channels_.skeleton;
+        if constexpr (std::is_same_v<Msg, viscera_proto::session_status_t>)
+          channel = &channels_.status;
         if constexpr (std::is_same_v<Msg, viscera_proto::step_record_t>) {
           channel = &channels_.step;
         } else {

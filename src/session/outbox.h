@@ -78,7 +78,8 @@ class Outbox {
       return;
     }
     if (PushBounded(&queue_, msg, kMaxQueued)) ++dropped_;
-    if (static_cast<int64_t>(queue_.size()) > max_depth_) max_depth_ = static_cast<int64_t>(queue_.size());
+    if (static_cast<int64_t>(queue_.size()) > max_depth_)
+      max_depth_ = static_cast<int64_t>(queue_.size());
   }
   void Run(int realtime_priority);
   void Send(const Item& item);

@@ -19,8 +19,7 @@ void Recorder::WriteRaw(const std::string& channel, const void* data, int size, 
   WriteLocked(channel, data, size, utime);
 }
 
-void Recorder::WriteLocked(const std::string& channel, const void* data, int size,
-                           int64_t utime) {
+void Recorder::WriteLocked(const std::string& channel, const void* data, int size, int64_t utime) {
   lcm::LogEvent event;
   event.eventnum = 0;  // LCM numbers events itself
   event.timestamp = utime;

@@ -31,8 +31,8 @@ Msg DecodeOrThrow(const lcm::LogEvent& e, const std::string& path) {
   // every array count first: LCM's decode would size its arrays before checking them
   ThrowUnless(bus::ArrayCountsFit<Msg>(static_cast<const uint8_t*>(e.data), e.datalen) &&
                   msg.decode(e.data, 0, e.datalen) == e.datalen,
-              path, ": malformed ",
-              Msg::getTypeName(), " on ", e.channel, " (event ", e.eventnum, ")");
+              path, ": malformed ", Msg::getTypeName(), " on ", e.channel, " (event ", e.eventnum,
+              ")");
   return msg;
 }
 
@@ -64,7 +64,8 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
         for (int i = 0; i < s.q.rows(); ++i) {
           for (int a = 0; a < 3; ++a) {
             const double d = std::abs(k.points[static_cast<size_t>(i)][a] - s.q(i, a));
-            result.max_deviation = std::max(result.max_deviation, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
+            result.max_deviation = std::max(
+                result.max_deviation, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
           }
         }
         ++result.skeletons_compared;
@@ -114,7 +115,8 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
       ++result.forces_compared;
       if (!difference.empty()) {
         if (result.force_mismatches++ == 0) {
-          result.first_force_mismatch = Cat("event ", e->eventnum, ", recorded vs replayed: ", difference);
+          result.first_force_mismatch =
+              Cat("event ", e->eventnum, ", recorded vs replayed: ", difference);
         }
       }
     } else if (e->channel == step_channel) {
@@ -125,8 +127,8 @@ ReplayResult ReplayRecord(const std::string& path, const ReplayObserver& on_step
         stepper->Reset();
         ++result.resets;
       } else {
-        ThrowUnless(r.kind == viscera_proto::step_record_t::kStep && TargetsOf(r, &targets),
-                    path, ": malformed step record (event ", e->eventnum, ")");
+        ThrowUnless(r.kind == viscera_proto::step_record_t::kStep && TargetsOf(r, &targets), path,
+                    ": malformed step record (event ", e->eventnum, ")");
         pose_seqs.resize(r.tools.size());
         for (size_t i = 0; i < r.tools.size(); ++i) pose_seqs[i] = r.tools[i].pose_seq;
         stepper->Advance(targets);

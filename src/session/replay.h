@@ -14,16 +14,16 @@ namespace viscera::session {
 
 struct ReplayResult {
   int64_t session_id = 0;
-  std::string scene;           ///< scene label
-  double rate_hz = 0.0;        ///< mechanics rate (Hz)
-  int64_t steps = 0;           ///< steps replayed
-  int64_t resets = 0;          ///< reset commands replayed
-  int64_t recoveries = 0;      ///< blow-ups recovered during replay
+  std::string scene;               ///< scene label
+  double rate_hz = 0.0;            ///< mechanics rate (Hz)
+  int64_t steps = 0;               ///< steps replayed
+  int64_t resets = 0;              ///< reset commands replayed
+  int64_t recoveries = 0;          ///< blow-ups recovered during replay
   int64_t skeletons_compared = 0;  ///< recorded skeleton states checked
   /// Largest distance between a replayed and a recorded control point (m), over every
   /// recorded skeleton state; 0 for an exact replay.
   double max_deviation = 0.0;
-  int64_t forces_compared = 0;   ///< recorded force_feedback_t messages checked
+  int64_t forces_compared = 0;  ///< recorded force_feedback_t messages checked
   /// Recorded force messages whose mechanics fields (force_feedback.h) differ in any bit
   /// from the replay's; 0 for an exact replay.
   int64_t force_mismatches = 0;
@@ -33,7 +33,8 @@ struct ReplayResult {
 
 /// Called after every replayed step (and reset) with the model and the state, e.g. to write
 /// a trace. It must not keep references past the call.
-using ReplayObserver = std::function<void(const mechanics::Model& model, const mechanics::State& state)>;
+using ReplayObserver =
+    std::function<void(const mechanics::Model& model, const mechanics::State& state)>;
 
 /// Replays the record at `path`. Only the first session in the file is replayed; its scene
 /// is read within `limits` (none by default: records are local files; a record from

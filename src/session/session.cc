@@ -9,10 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <utility>
 #include <exception>
 #include <fstream>
+#include <limits>
+#include <utility>
 
 #include <viscera_proto/force_feedback_t.hpp>
 #include <viscera_proto/skeleton_state_t.hpp>
@@ -46,7 +46,9 @@ int64_t PeriodNs(double rate_hz) { return static_cast<int64_t>(std::llround(1e9 
 /// Everything the mechanics thread owns: built on the thread, never touched by others.
 struct Session::LoopState {
   explicit LoopState(const mechanics::Model& model, int num_tools)
-      : stepper(model), targets(static_cast<size_t>(num_tools)), was_active(num_tools, false),
+      : stepper(model),
+        targets(static_cast<size_t>(num_tools)),
+        was_active(num_tools, false),
         metrics(model.params()) {}
 
   Stepper stepper;
@@ -81,13 +83,14 @@ Session::Session(SessionConfig config, std::shared_ptr<const mechanics::Model> m
       inbox_(static_cast<int>(model_->params().tools.size())),
       last_touch_ns_(MonotonicNanos()),
       targets_(model_->params().task) {
-  VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 &&
-                 config_.snapshot_rate_hz > 0.0 && bus_ != nullptr);
+  VISCERA_DEMAND(config_.id > 0 && config_.status_rate_hz > 0.0 && config_.snapshot_rate_hz > 0.0 &&
+                 bus_ != nullptr);
   status_.header = bus::MakeHeader(config_.id, 0);
   status_.server_id = config_.server_id;
   status_.scene = config_.scene;
   status_.num_tools = num_tools();
-  for (const mechanics::ToolParams& t : model_->params().tools) status_.tool_names.push_back(t.name);
+  for (const mechanics::ToolParams& t : model_->params().tools)
+    status_.tool_names.push_back(t.name);
   status_.state = session_status_t::kRunning;
   status_.rate_hz = model_->params().rate_hz;
   // the assessment's arrays are sized by num_tools and num_targets from the first status on
@@ -124,9 +127,7 @@ void Session::ReportExposure(int index, double exposure, double sim_time) {
   targets_.Add(index, exposure, sim_time);
 }
 
-assessment::Report Session::Assessment() const {
-  return assessment::ReportFromStatus(Status());
-}
+assessment::Report Session::Assessment() const { return assessment::ReportFromStatus(Status()); }
 
 std::string Session::AssessmentPath() const {
   if (recorder_ == nullptr) return "";
@@ -151,7 +152,8 @@ void Session::WriteAssessment() {
       return;
     }
   }
-  if (std::rename(partial.c_str(), path.c_str()) != 0) SetError(Cat("assessment not written to ", path));
+  if (std::rename(partial.c_str(), path.c_str()) != 0)
+    SetError(Cat("assessment not written to ", path));
 }
 
 void Session::FillAssessment(session_status_t* status) {
@@ -415,7 +417,8 @@ void Session::PublishSkeleton() {
   for (int i = 0; i < s.q.rows(); ++i) {
     for (int a = 0; a < 3; ++a) k.points[static_cast<size_t>(i)][a] = s.q(i, a);
   }
-  // collision spheres: equal spheres spread uniformly by arc length (docs/contacts.md, "Sphere chain")
+  // collision spheres: equal spheres spread uniformly by arc length (docs/contacts.md, "Sphere
+  // chain")
   const double radius = model.params().radius;
   L.arc_table.Build(model.curve(), s.q);
   const double length = L.arc_table.total_length();

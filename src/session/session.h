@@ -59,16 +59,16 @@ struct CameraPose {
 
 /// What a session's render thread reports of its frame stream; merged into every status.
 struct FrameStreamReport {
-  std::string error;               ///< the render thread's last problem ("" if none)
-  int64_t error_serial = 0;        ///< +1 per new error: Status() takes each one once
+  std::string error;         ///< the render thread's last problem ("" if none)
+  int64_t error_serial = 0;  ///< +1 per new error: Status() takes each one once
   std::string skin;
-  int width = 0, height = 0;       ///< pixels
-  double rate_hz = 0.0;            ///< configured (Hz)
-  double achieved_rate_hz = 0.0;   ///< over about the last second (Hz)
-  int64_t frames = 0;              ///< sent
-  int64_t dropped = 0;             ///< skipped: the renderer was busy
+  int width = 0, height = 0;                        ///< pixels
+  double rate_hz = 0.0;                             ///< configured (Hz)
+  double achieved_rate_hz = 0.0;                    ///< over about the last second (Hz)
+  int64_t frames = 0;                               ///< sent
+  int64_t dropped = 0;                              ///< skipped: the renderer was busy
   float skin_ms = 0, render_ms = 0, encode_ms = 0;  ///< medians over about the last second
-  int32_t frame_bytes = 0;         ///< JPEG size of the last frame rendered
+  int32_t frame_bytes = 0;                          ///< JPEG size of the last frame rendered
 };
 
 class Session {
@@ -170,18 +170,18 @@ class Session {
 
   // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
   // a thread that low, preempted while holding a lock, could hold it for a long time.
-  mutable std::mutex status_mutex_;  // guards status_, last_error_, frames_seen_
+  mutable std::mutex status_mutex_;           // guards status_, last_error_, frames_seen_
   viscera_proto::session_status_t status_{};  // zeroed: lcm-gen types leave counters uninitialized
-  mutable std::string last_error_;  // Status() folds the render thread's new problems in
-  mutable FrameStreamReport frames_seen_;  // the last report Status() could read
-  mutable std::mutex camera_mutex_;        // I/O and render threads only
+  mutable std::string last_error_;            // Status() folds the render thread's new problems in
+  mutable FrameStreamReport frames_seen_;     // the last report Status() could read
+  mutable std::mutex camera_mutex_;           // I/O and render threads only
   CameraPose camera_;
-  mutable std::mutex frames_mutex_;        // render thread; others only try_lock it
+  mutable std::mutex frames_mutex_;  // render thread; others only try_lock it
   FrameStreamReport frames_;
   SnapshotExchange snapshots_;
-  mutable std::mutex exposure_mutex_;      // the exposure watcher; the mechanics thread try_locks
-  assessment::TargetTracker targets_;      // guarded by exposure_mutex_
-  assessment::Report targets_seen_;        // mechanics thread: the last targets it could read
+  mutable std::mutex exposure_mutex_;  // the exposure watcher; the mechanics thread try_locks
+  assessment::TargetTracker targets_;  // guarded by exposure_mutex_
+  assessment::Report targets_seen_;    // mechanics thread: the last targets it could read
 
   // Mechanics thread only (the loop and what it calls).
   struct LoopState;

@@ -17,21 +17,24 @@ namespace {
 // The text of NAME in `dir`, opened without following a link (a link to a file outside, or to
 // /dev/zero, was loaded) and without blocking (a FIFO hung the build and the shutdown), read
 // only when it is a regular file and at most one byte past the scene size limit.
-std::string ReadSceneFile(const std::string& dir, const std::string& name, const std::string& scene_name) {
+std::string ReadSceneFile(const std::string& dir, const std::string& name,
+                          const std::string& scene_name) {
   const int dir_fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   ThrowUnless(dir_fd >= 0, "the server's scene directory '", dir, "' cannot be opened");
   const int fd = openat(dir_fd, name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   const int error = errno;
   close(dir_fd);
   if (fd < 0) {
-    ThrowUnless(error != ELOOP, "scene '", scene_name, "': ", name,
-                " is a symbolic link in the scene directory (refused: scenes are regular files there)");
+    ThrowUnless(
+        error != ELOOP, "scene '", scene_name, "': ", name,
+        " is a symbolic link in the scene directory (refused: scenes are regular files there)");
     Fail("unknown scene '", scene_name, "' (no ", name, " in the scene directory)");
   }
   struct stat st {};
   if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     close(fd);
-    Fail("scene '", scene_name, "': ", name, " is not a regular file (devices, FIFOs, sockets and directories are refused)");
+    Fail("scene '", scene_name, "': ", name,
+         " is not a regular file (devices, FIFOs, sockets and directories are refused)");
   }
   std::string text(scene::kSceneTomlBounds.max_bytes + 1, '\0');
   size_t got = 0;
@@ -66,8 +69,9 @@ SessionScene LoadSessionScene(const std::string& scene_dir, const std::string& s
   ThrowUnless(scene_name.empty() != scene_toml.empty(),
               "give either a scene name or an inline scene, not ",
               scene_name.empty() ? "neither" : "both");
-  ThrowUnless(rate_hz == 0.0 || (std::isfinite(rate_hz) && rate_hz >= 1.0 && rate_hz <= max_rate_hz),
-              "rate ", rate_hz, " Hz: must be 0 (the scene's) or within [1, ", max_rate_hz, "]");
+  ThrowUnless(
+      rate_hz == 0.0 || (std::isfinite(rate_hz) && rate_hz >= 1.0 && rate_hz <= max_rate_hz),
+      "rate ", rate_hz, " Hz: must be 0 (the scene's) or within [1, ", max_rate_hz, "]");
   SessionScene out;
   if (!scene_name.empty()) {
     ThrowUnless(ValidSceneName(scene_name), "scene name '", scene_name,

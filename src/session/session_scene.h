@@ -14,7 +14,7 @@ struct SessionScene {
   std::string label;  ///< scene name, or "<inline>"
   /// Absolute path of the scene file, or "<inline>": relative mesh paths resolve against it.
   std::string source;
-  std::string toml;   ///< the scene text as loaded (kept in the session record)
+  std::string toml;  ///< the scene text as loaded (kept in the session record)
   std::vector<std::string> warnings;
   std::shared_ptr<const mechanics::Model> model;
 };

@@ -15,9 +15,9 @@ namespace viscera::session {
 
 struct Snapshot {
   int64_t step = 0;
-  double t = 0.0;                          ///< simulated time (s)
-  int64_t wall_utime = 0;                  ///< wall clock when taken (us since the Unix epoch)
-  Points q;                                ///< control points (m), #N by 3
+  double t = 0.0;                           ///< simulated time (s)
+  int64_t wall_utime = 0;                   ///< wall clock when taken (us since the Unix epoch)
+  Points q;                                 ///< control points (m), #N by 3
   std::vector<mechanics::ToolState> tools;  ///< tool tips, jaws, forces
   mechanics::ContactStats contacts;
 };
@@ -51,7 +51,7 @@ class SnapshotExchange {
   };
 
   mutable std::mutex mutex_;
-  Buffer* latest_ = nullptr;  // written by the mechanics thread under mutex_
+  Buffer* latest_ = nullptr;                   // written by the mechanics thread under mutex_
   std::vector<std::unique_ptr<Buffer>> pool_;  // mechanics thread only; grows past 3 only
                                                // when readers hold more than one each
 };

@@ -35,8 +35,8 @@ bool TargetsOf(const viscera_proto::step_record_t& record,
     mechanics::ToolTarget& t = (*targets)[i];
     t.tip = Vec3(r.tip[0], r.tip[1], r.tip[2]);
     // the exact quaternion the session used: no renormalisation here
-    t.orientation = Eigen::Quaterniond(r.orientation[0], r.orientation[1], r.orientation[2],
-                                       r.orientation[3]);
+    t.orientation =
+        Eigen::Quaterniond(r.orientation[0], r.orientation[1], r.orientation[2], r.orientation[3]);
     t.jaw = r.jaw;
     t.active = r.active;
     if (!t.tip.allFinite() || !t.orientation.coeffs().allFinite() || !std::isfinite(t.jaw)) {

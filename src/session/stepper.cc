@@ -14,7 +14,9 @@ bool Stepper::Sane(const mechanics::State& s) const {
   if (!s.q.allFinite() || !s.qd.allFinite()) return false;
   // what a step sends: a non-finite tool force is a blow-up too (extreme tool parameters)
   for (const mechanics::ToolState& t : s.tools) {
-    if (!t.force.allFinite() || !t.torque.allFinite() || !t.tip.allFinite() || !t.stiffness.allFinite()) return false;
+    if (!t.force.allFinite() || !t.torque.allFinite() || !t.tip.allFinite() ||
+        !t.stiffness.allFinite())
+      return false;
   }
   if (s.q.rowwise().norm().maxCoeff() > kMaxDistance) return false;
   return s.qd.rowwise().norm().maxCoeff() <= kMaxSpeed;
@@ -29,7 +31,9 @@ struct RunCounters {
   int64_t steps, nonfinite_resets, unconverged_solves;
 };
 
-RunCounters CountersOf(const mechanics::State& s) { return {s.t, s.steps, s.nonfinite_resets, s.unconverged_solves}; }
+RunCounters CountersOf(const mechanics::State& s) {
+  return {s.t, s.steps, s.nonfinite_resets, s.unconverged_solves};
+}
 
 void Carry(const RunCounters& c, mechanics::State* s) {
   s->t = c.t;

@@ -1,9 +1,9 @@
 #pragma once
 /// Stepper: the deterministic core of a session, shared by the live mechanics loop and by
 /// replay. It steps the model with the given tool targets and guards against blow-ups:
-/// a state (tube or tool forces) that is not finite or runs away (points beyond kMaxDistance or faster than
-/// kMaxSpeed) is replaced by the last good state, which is saved every kGoodEvery steps.
-/// The state's counters (steps, nonfinite_resets, unconverged_solves) carry on through a
+/// a state (tube or tool forces) that is not finite or runs away (points beyond kMaxDistance or
+/// faster than kMaxSpeed) is replaced by the last good state, which is saved every kGoodEvery
+/// steps. The state's counters (steps, nonfinite_resets, unconverged_solves) carry on through a
 /// restore and a Reset: they count the whole run, never go back.
 /// Same model, same sequence of Advance / Reset calls -> the same states, bit for bit.
 #include <cstdint>

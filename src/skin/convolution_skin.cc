@@ -12,7 +12,7 @@ namespace {
 constexpr double kColdStartFactor = 0.05;  // cold seeds start this close to the skeleton
 constexpr double kMinRadiusFactor = 0.02;  // seeds stay within [0.02 R, 4 R] of their origin
 constexpr double kMaxRadiusFactor = 4.0;
-constexpr double kFoldMargin = 0.1;        // see TubeRays::PreventFolds
+constexpr double kFoldMargin = 0.1;  // see TubeRays::PreventFolds
 
 }  // namespace
 
@@ -26,8 +26,8 @@ ConvolutionSkin::ConvolutionSkin(double radius, const ConvolutionOptions& option
   ThrowUnless(options.neighbourhood_factor > 0.0 && options.neighbourhood_factor < 2.0,
               "local convolution needs 0 < D < 2R (France et al. 2005, sec. 4.3.1); got D = ",
               options.neighbourhood_factor, " R");
-  ThrowUnless(options.skeleton_segments_per_span >= 1, "skeleton_segments_per_span must be >= 1, got ",
-              options.skeleton_segments_per_span);
+  ThrowUnless(options.skeleton_segments_per_span >= 1,
+              "skeleton_segments_per_span must be >= 1, got ", options.skeleton_segments_per_span);
   ThrowUnless(options.tolerance > 0.0 && options.max_iterations >= 1,
               "convolution needs tolerance > 0 and max_iterations >= 1; got ", options.tolerance,
               ", ", options.max_iterations);
@@ -46,7 +46,8 @@ void ConvolutionSkin::BuildSkeleton(const Points& q) {
   skeleton_arc_.resize(count);
   for (int i = 0; i < count; ++i) {
     skeleton_[i] = curve_->Position(q, static_cast<double>(i) / (count - 1));
-    skeleton_arc_[i] = i == 0 ? 0.0 : skeleton_arc_[i - 1] + (skeleton_[i] - skeleton_[i - 1]).norm();
+    skeleton_arc_[i] =
+        i == 0 ? 0.0 : skeleton_arc_[i - 1] + (skeleton_[i] - skeleton_[i - 1]).norm();
   }
 }
 
@@ -56,7 +57,8 @@ void ConvolutionSkin::Prepare(const Points& q) {
   const double max_edge = options_.max_edge_factor > 0.0
                               ? options_.max_edge_factor * radius_
                               : 2.0 * std::numbers::pi * radius_ / options_.sides;
-  AdaptiveRingParams(*curve_, q, radius_, max_edge, options_.max_angle, options_.max_depth, &params_);
+  AdaptiveRingParams(*curve_, q, radius_, max_edge, options_.max_angle, options_.max_depth,
+                     &params_);
   rays_.Build(frames_, params_);
   BuildSkeleton(q);
 }
@@ -79,7 +81,8 @@ void ConvolutionSkin::PrepareWindows(const std::vector<char>* active) {
     // segments [k0, k1) overlapping (lo, hi); the first and last are clipped
     Window& w = windows_[i];
     w.k0 = static_cast<int>(std::upper_bound(skeleton_arc_.begin(), skeleton_arc_.end(), lo) -
-                            skeleton_arc_.begin()) - 1;
+                            skeleton_arc_.begin()) -
+           1;
     w.k0 = std::clamp(w.k0, 0, last - 1);
     w.k1 = static_cast<int>(std::lower_bound(skeleton_arc_.begin(), skeleton_arc_.end(), hi) -
                             skeleton_arc_.begin());
@@ -104,7 +107,8 @@ void ConvolutionSkin::PrepareWindows(const std::vector<char>* active) {
   for (int k = 0; k < last; ++k) {
     const double len = skeleton_arc_[k + 1] - skeleton_arc_[k];
     segments_[k].start = skeleton_[k];
-    segments_[k].direction = len > 0.0 ? Vec3((skeleton_[k + 1] - skeleton_[k]) / len) : Vec3(Vec3::UnitX());
+    segments_[k].direction =
+        len > 0.0 ? Vec3((skeleton_[k + 1] - skeleton_[k]) / len) : Vec3(Vec3::UnitX());
     segments_[k].length = len;
   }
 }
@@ -118,8 +122,9 @@ double ConvolutionSkin::Field(int ring, const Vec3& p) const {
   return f + SegmentField(w.last, p, min_d2);
 }
 
-void ConvolutionSkin::FieldBatch(int ring, const Vec3& origin, int n, const double* dx, const double* dy,
-                                 const double* dz, const double* r, double* f) const {
+void ConvolutionSkin::FieldBatch(int ring, const Vec3& origin, int n, const double* dx,
+                                 const double* dy, const double* dz, const double* r,
+                                 double* f) const {
   // Structure of arrays, segments outside and seeds inside: the inner loop has no branches
   // and vectorizes.
   double px[kBlock], py[kBlock], pz[kBlock];

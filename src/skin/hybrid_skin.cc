@@ -21,8 +21,8 @@ HybridSkin::HybridSkin(double radius, const ParametricOptions& parametric,
       hybrid_(hybrid),
       prevent_folds_(convolution.prevent_folds),
       convolution_(radius, convolution) {
-  ThrowUnless(0.0 < r_min_ && r_min_ <= r_max_, "hybrid skin needs 0 < Rmin <= Rmax, got Rmin = ",
-              r_min_, ", Rmax = ", r_max_);
+  ThrowUnless(0.0 < r_min_ && r_min_ <= r_max_,
+              "hybrid skin needs 0 < Rmin <= Rmax, got Rmin = ", r_min_, ", Rmax = ", r_max_);
   ThrowUnless(hybrid.transition >= 0.0, "hybrid transition must be >= 0, got ", hybrid.transition);
   SetFocus(hybrid.focus, hybrid.focus_radius);
 }

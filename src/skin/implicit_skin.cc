@@ -19,8 +19,13 @@ uint64_t CellKey(const Vec3& p, double inv_cell) {
 
 }  // namespace
 
-PointSkeletonField::PointSkeletonField(double support, bool blending_graph, double blend_gap, double block)
-    : support_(support), support2_(support * support), blend_gap_(blend_gap), block_(block), blending_graph_(blending_graph) {}
+PointSkeletonField::PointSkeletonField(double support, bool blending_graph, double blend_gap,
+                                       double block)
+    : support_(support),
+      support2_(support * support),
+      blend_gap_(blend_gap),
+      block_(block),
+      blending_graph_(blending_graph) {}
 
 void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, double weight) {
   points_ = &points;
@@ -28,7 +33,8 @@ void PointSkeletonField::Reset(const std::vector<Vec3>& points, double spacing, 
   max_index_gap_ = std::max(1, static_cast<int>(std::floor(blend_gap_ / spacing)));
   const double inv = 1.0 / GridCell();
   sorted_.resize(points.size());
-  for (size_t i = 0; i < points.size(); ++i) sorted_[i] = {CellKey(points[i], inv), static_cast<int>(i)};
+  for (size_t i = 0; i < points.size(); ++i)
+    sorted_[i] = {CellKey(points[i], inv), static_cast<int>(i)};
   std::sort(sorted_.begin(), sorted_.end());
   cells_.Clear();
   for (size_t b = 0; b < sorted_.size();) {
@@ -51,15 +57,19 @@ std::pair<int, int> PointSkeletonField::Candidates(const Vec3& p) const {
   const double block = block_;
   const uint64_t key = CellKey(p, 1.0 / block);
   if (const std::pair<int, int>* hit = blocks_.Find(key)) return *hit;
-  const Vec3 centre((std::floor(p.x() / block) + 0.5) * block, (std::floor(p.y() / block) + 0.5) * block,
+  const Vec3 centre((std::floor(p.x() / block) + 0.5) * block,
+                    (std::floor(p.y() / block) + 0.5) * block,
                     (std::floor(p.z() / block) + 0.5) * block);
   const double reach = support_ + 0.5 * std::sqrt(3.0) * block;
   const double grid = GridCell();
   const double inv = 1.0 / grid;
   const int begin = static_cast<int>(pool_.size());
-  const int i0 = static_cast<int>(std::floor((centre.x() - reach) * inv)), i1 = static_cast<int>(std::floor((centre.x() + reach) * inv));
-  const int j0 = static_cast<int>(std::floor((centre.y() - reach) * inv)), j1 = static_cast<int>(std::floor((centre.y() + reach) * inv));
-  const int k0 = static_cast<int>(std::floor((centre.z() - reach) * inv)), k1 = static_cast<int>(std::floor((centre.z() + reach) * inv));
+  const int i0 = static_cast<int>(std::floor((centre.x() - reach) * inv)),
+            i1 = static_cast<int>(std::floor((centre.x() + reach) * inv));
+  const int j0 = static_cast<int>(std::floor((centre.y() - reach) * inv)),
+            j1 = static_cast<int>(std::floor((centre.y() + reach) * inv));
+  const int k0 = static_cast<int>(std::floor((centre.z() - reach) * inv)),
+            k1 = static_cast<int>(std::floor((centre.z() + reach) * inv));
   for (int k = k0; k <= k1; ++k) {
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
@@ -127,8 +137,8 @@ ImplicitSkin::ImplicitSkin(double radius, const ImplicitOptions& options)
       iso_(0.0),
       // candidate blocks of one support: measured no slower than half-support blocks even
       // with cells of 0.25 R, and fewer candidate lists to build with cells of 0.5 R
-      field_(options.support_factor * radius, options.blending_graph, options.blend_arc_factor * radius,
-             options.support_factor * radius) {
+      field_(options.support_factor * radius, options.blending_graph,
+             options.blend_arc_factor * radius, options.support_factor * radius) {
   ThrowUnless(radius > 0.0, "skin radius must be > 0, got ", radius);
   ThrowUnless(options.spacing_factor > 0.0 && options.spacing_factor <= 1.0,
               "implicit spacing_factor must be in (0, 1], got ", options.spacing_factor);
@@ -175,7 +185,8 @@ void ImplicitSkin::Build(const Points& q, Mesh* out) {
     Eigen::Index axis;
     t.cwiseAbs().minCoeff(&axis);
     const Vec3 n = t.cross(Vec3::Unit(axis)).normalized();
-    for (double r = 0.5 * radius_; r <= 1.5 * radius_; r += 0.5 * cell) seeds_.push_back(primitives_[i] + r * n);
+    for (double r = 0.5 * radius_; r <= 1.5 * radius_; r += 0.5 * cell)
+      seeds_.push_back(primitives_[i] + r * n);
   }
   // a generous budget: ~ 4x the cells of the tube's own surface
   const double surface_cells = 2.0 * 3.14159 * radius_ * (length + 2.0 * radius_) / (cell * cell);

@@ -13,7 +13,9 @@ Vec3 CornerOffset(int c) { return Vec3(c & 1, (c >> 1) & 1, (c >> 2) & 1); }
 
 // The two axes other than `axis`, in increasing order.
 std::array<int, 2> OtherAxes(int axis) {
-  return axis == 0 ? std::array<int, 2>{1, 2} : axis == 1 ? std::array<int, 2>{0, 2} : std::array<int, 2>{0, 1};
+  return axis == 0   ? std::array<int, 2>{1, 2}
+         : axis == 1 ? std::array<int, 2>{0, 2}
+                     : std::array<int, 2>{0, 1};
 }
 
 int EdgeBetween(int c0, int c1) {
@@ -36,7 +38,8 @@ uint64_t Key(int i, int j, int k) {
 // True if the two cube edges lie on a common face (their corners agree on some bit that is
 // not the direction of either).
 bool ShareFace(int e0, int e1) {
-  const std::array<int, 2> a = MarchingCubesTable::EdgeCorners(e0), b = MarchingCubesTable::EdgeCorners(e1);
+  const std::array<int, 2> a = MarchingCubesTable::EdgeCorners(e0),
+                           b = MarchingCubesTable::EdgeCorners(e1);
   for (int axis = 0; axis < 3; ++axis) {
     const int bit = 1 << axis;
     const bool fixed_a = (a[0] & bit) == (a[1] & bit), fixed_b = (b[0] & bit) == (b[1] & bit);
@@ -84,7 +87,8 @@ MarchingCubesTable::MarchingCubesTable() {
         Vec3 in_sum = Vec3::Zero(), out_sum = Vec3::Zero();
         int in_count = 0;
         for (int k = 0; k < 4; ++k) {
-          if (inside(q[k]) != inside(q[(k + 1) % 4])) crossing[count++] = EdgeBetween(q[k], q[(k + 1) % 4]);
+          if (inside(q[k]) != inside(q[(k + 1) % 4]))
+            crossing[count++] = EdgeBetween(q[k], q[(k + 1) % 4]);
           if (inside(q[k])) {
             in_sum += CornerOffset(q[k]);
             ++in_count;
@@ -98,7 +102,8 @@ MarchingCubesTable::MarchingCubesTable() {
           // ambiguous face: cut off each inside corner separately
           for (int k = 0; k < 4; ++k) {
             if (!inside(q[k])) continue;
-            const int e0 = EdgeBetween(q[(k + 3) % 4], q[k]), e1 = EdgeBetween(q[k], q[(k + 1) % 4]);
+            const int e0 = EdgeBetween(q[(k + 3) % 4], q[k]),
+                      e1 = EdgeBetween(q[k], q[(k + 1) % 4]);
             link(e0, e1, n_face, CornerOffset(q[k]) - 0.5 * (mid(e0) + mid(e1)));
           }
         }
@@ -174,7 +179,8 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
   hit_budget_ = false;
   // grid point (i, j, k) lives in brick (i, j, k) >> kBrickShift (arithmetic shift = floor)
   auto local = [](int i, int j, int k) {
-    return (i & kBrickMask) | ((j & kBrickMask) << kBrickShift) | ((k & kBrickMask) << (2 * kBrickShift));
+    return (i & kBrickMask) | ((j & kBrickMask) << kBrickShift) |
+           ((k & kBrickMask) << (2 * kBrickShift));
   };
   auto brick = [this](int i, int j, int k) {
     return BrickAt(i >> kBrickShift, j >> kBrickShift, k >> kBrickShift);
@@ -188,7 +194,8 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
   };
   const double inv = 1.0 / cell;
   for (const Vec3& s : seeds) {
-    const int i = static_cast<int>(std::floor(s.x() * inv)), j = static_cast<int>(std::floor(s.y() * inv)),
+    const int i = static_cast<int>(std::floor(s.x() * inv)),
+              j = static_cast<int>(std::floor(s.y() * inv)),
               k = static_cast<int>(std::floor(s.z() * inv));
     if (visit(i, j, k)) queue_.push_back({i, j, k});
   }
@@ -210,7 +217,8 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
       const int base = local(c[0], c[1], c[2]);
       for (int n = 0; n < 8; ++n) {
         corner_brick[n] = b;
-        corner_slot[n] = base + (n & 1) + (((n >> 1) & 1) << kBrickShift) + (((n >> 2) & 1) << (2 * kBrickShift));
+        corner_slot[n] = base + (n & 1) + (((n >> 1) & 1) << kBrickShift) +
+                         (((n >> 2) & 1) << (2 * kBrickShift));
       }
     } else {
       for (int n = 0; n < 8; ++n) {
@@ -246,7 +254,8 @@ void NarrowBandPolygonizer::Run(const ScalarField& field, double iso, double cel
         const int axis = edge / 4;
         int& vertex = corner_brick[ec[0]]->vertex[corner_slot[ec[0]]][axis];
         if (vertex < 0) {
-          const int i = c[0] + (ec[0] & 1), j = c[1] + ((ec[0] >> 1) & 1), k = c[2] + ((ec[0] >> 2) & 1);
+          const int i = c[0] + (ec[0] & 1), j = c[1] + ((ec[0] >> 1) & 1),
+                    k = c[2] + ((ec[0] >> 2) & 1);
           const double f0 = v[ec[0]], f1 = v[ec[1]];
           const double s = std::clamp((iso - f0) / (f1 - f0), 0.0, 1.0);
           Vec3 p(i * cell, j * cell, k * cell);

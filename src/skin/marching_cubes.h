@@ -63,10 +63,10 @@ class NarrowBandPolygonizer {
   static constexpr int kBrickMask = (1 << kBrickShift) - 1;
   static constexpr int kBrickPoints = 1 << (3 * kBrickShift);
   struct Brick {
-    double value[kBrickPoints];      // field at the grid point, NaN until evaluated
-    int vertex[kBrickPoints][3];     // vertex on the edge from the point along +x, +y, +z, or -1
-                                     // (valid once value is)
-    uint8_t visited[kBrickPoints];   // the cell whose lowest corner is the point was queued
+    double value[kBrickPoints];     // field at the grid point, NaN until evaluated
+    int vertex[kBrickPoints][3];    // vertex on the edge from the point along +x, +y, +z, or -1
+                                    // (valid once value is)
+    uint8_t visited[kBrickPoints];  // the cell whose lowest corner is the point was queued
   };
   Brick* BrickAt(int bi, int bj, int bk);
 

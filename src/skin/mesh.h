@@ -12,9 +12,9 @@ namespace viscera::skin {
 /// normals). Buffers are std::vectors so that clear() + push_back keeps their capacity:
 /// a skin rebuilding the same-sized mesh every frame allocates nothing.
 struct Mesh {
-  std::vector<Vec3> positions;              ///< #V, metres
-  std::vector<Vec3> normals;                ///< #V unit vectors (or zero for isolated vertices)
-  std::vector<Eigen::Vector3i> triangles;   ///< #F vertex indices
+  std::vector<Vec3> positions;             ///< #V, metres
+  std::vector<Vec3> normals;               ///< #V unit vectors (or zero for isolated vertices)
+  std::vector<Eigen::Vector3i> triangles;  ///< #F vertex indices
   /// Per vertex, where it sits on the tissue: (s, angle), the curve parameter in [0, 1] and the
   /// angle (rad) around the centre line from the ring frame's normal. Filled by the ring-based
   /// skins (#V), empty for the others; the renderer anchors its procedural textures to it, so
@@ -46,11 +46,11 @@ Mesh ReadObj(const std::string& path);
 
 /// Topology of a triangle mesh seen as a surface.
 struct TopologyReport {
-  int boundary_edges = 0;       ///< undirected edges used by exactly one triangle
-  int nonmanifold_edges = 0;    ///< undirected edges used by three or more triangles
-  int misoriented_edges = 0;    ///< edges shared by two triangles traversing it the same way
-  int degenerate_triangles = 0; ///< triangles repeating a vertex index
-  int components = 0;           ///< connected components (through shared edges)
+  int boundary_edges = 0;        ///< undirected edges used by exactly one triangle
+  int nonmanifold_edges = 0;     ///< undirected edges used by three or more triangles
+  int misoriented_edges = 0;     ///< edges shared by two triangles traversing it the same way
+  int degenerate_triangles = 0;  ///< triangles repeating a vertex index
+  int components = 0;            ///< connected components (through shared edges)
   /// Closed, 2-manifold, consistently oriented: every edge used exactly twice, once in each
   /// direction.
   bool closed_oriented_manifold() const {

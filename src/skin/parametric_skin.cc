@@ -20,8 +20,8 @@ ParametricSkin::ParametricSkin(double radius, const ParametricOptions& options)
       frames_(options.frame_rule, options.frame_samples_per_segment),
       rays_(options.sides, options.cap_rings) {
   ThrowUnless(radius > 0.0, "skin radius must be > 0, got ", radius);
-  ThrowUnless(0.0 < r_min_ && r_min_ <= r_max_, "parametric skin needs 0 < Rmin <= Rmax, got Rmin = ",
-              r_min_, ", Rmax = ", r_max_);
+  ThrowUnless(0.0 < r_min_ && r_min_ <= r_max_,
+              "parametric skin needs 0 < Rmin <= Rmax, got Rmin = ", r_min_, ", Rmax = ", r_max_);
   ThrowUnless(options.rings_per_segment >= 1, "rings_per_segment must be >= 1, got ",
               options.rings_per_segment);
 }

@@ -26,9 +26,9 @@ struct KernelSegment {
 /// `min_d2` so that points on the segment's line give a large finite value.
 inline double SegmentField(const KernelSegment& seg, const Vec3& p, double min_d2) {
   const Vec3 w = p - seg.start;
-  const double t = w.dot(seg.direction);            // coordinate of H from the start
+  const double t = w.dot(seg.direction);  // coordinate of H from the start
   const double d2 = std::max(w.squaredNorm() - t * t, min_d2);
-  const double x1 = seg.length - t, x0 = -t;        // end points seen from H
+  const double x1 = seg.length - t, x0 = -t;  // end points seen from H
   const double sin1 = x1 / std::sqrt(d2 + x1 * x1);
   const double sin0 = x0 / std::sqrt(d2 + x0 * x0);
   return (sin1 - sin0) / d2;

@@ -17,7 +17,8 @@ void ValidateOptions(const SkinOptions& options) {
 
 void CheckSnapshot(const Points& q, int bound_rows) {
   ThrowUnless(bound_rows > 0, "skin used before Bind");
-  ThrowUnless(q.rows() == bound_rows, "skin bound to ", bound_rows, " control points, got ", q.rows());
+  ThrowUnless(q.rows() == bound_rows, "skin bound to ", bound_rows, " control points, got ",
+              q.rows());
   ThrowUnless(q.allFinite(), "skeleton snapshot has non-finite coordinates");
 }
 
@@ -30,7 +31,8 @@ bool IsSkinName(const std::string& name) {
 
 std::unique_ptr<Skin> MakeSkin(const std::string& name, const SkinOptions& options) {
   ValidateOptions(options);
-  if (name == "parametric") return std::make_unique<ParametricSkin>(options.radius, options.parametric);
+  if (name == "parametric")
+    return std::make_unique<ParametricSkin>(options.radius, options.parametric);
   if (name == "convolution") {
     return std::make_unique<ConvolutionSkin>(options.radius, options.convolution);
   }

@@ -28,17 +28,17 @@ struct ParametricOptions {
 /// Convolution surface with the Cani-Hornus segment kernel and local convolution
 /// (France et al. 2005, sec. 4.3; Hornus, Angelidis, Cani 2003; Angelidis et al. 2002).
 struct ConvolutionOptions {
-  int sides = 32;                    ///< seeds per ring
+  int sides = 32;  ///< seeds per ring
   int cap_rings = 6;
-  double neighbourhood_factor = 1.8; ///< D = factor * radius, must be < 2 (D < 2R)
-  bool local = true;                 ///< false: whole skeleton (blends non-consecutive parts)
-  int skeleton_segments_per_span = 4;///< polyline segments per spline segment
-  double max_edge_factor = 0.0;      ///< adaptive rings: max outer edge / radius (0: 2 pi / sides)
-  double max_angle = 0.35;           ///< adaptive rings: max tangent turn per ring step (rad)
-  int max_depth = 7;                 ///< adaptive rings: bisection levels per spline segment
-  double tolerance = 1e-4;           ///< stop when the radial step < tolerance * radius
-  int max_iterations = 12;           ///< field evaluations per seed, at most
-  bool warm_start = true;            ///< seeds start from their previous radius
+  double neighbourhood_factor = 1.8;   ///< D = factor * radius, must be < 2 (D < 2R)
+  bool local = true;                   ///< false: whole skeleton (blends non-consecutive parts)
+  int skeleton_segments_per_span = 4;  ///< polyline segments per spline segment
+  double max_edge_factor = 0.0;  ///< adaptive rings: max outer edge / radius (0: 2 pi / sides)
+  double max_angle = 0.35;       ///< adaptive rings: max tangent turn per ring step (rad)
+  int max_depth = 7;             ///< adaptive rings: bisection levels per spline segment
+  double tolerance = 1e-4;       ///< stop when the radial step < tolerance * radius
+  int max_iterations = 12;       ///< field evaluations per seed, at most
+  bool warm_start = true;        ///< seeds start from their previous radius
   /// Shorten rays on the inner side of bends tighter than the surface's radius so that rings
   /// do not fold over: the surface creases there instead of turning inside out.
   bool prevent_folds = true;
@@ -48,23 +48,23 @@ struct ConvolutionOptions {
 
 /// Point-skeleton implicit surface, marching cubes in a narrow band (sec. 4.2).
 struct ImplicitOptions {
-  double spacing_factor = 0.4;       ///< primitive spacing along the curve / radius
-  double support_factor = 2.0;       ///< compact support radius of a primitive / radius
-  double cell_factor = 0.25;         ///< marching-cubes cell size / radius
-  bool blending_graph = true;        ///< false: every primitive blends with every other
-  double blend_arc_factor = 3.0;     ///< primitives closer than this * radius along the curve blend
+  double spacing_factor = 0.4;    ///< primitive spacing along the curve / radius
+  double support_factor = 2.0;    ///< compact support radius of a primitive / radius
+  double cell_factor = 0.25;      ///< marching-cubes cell size / radius
+  bool blending_graph = true;     ///< false: every primitive blends with every other
+  double blend_arc_factor = 3.0;  ///< primitives closer than this * radius along the curve blend
 };
 
 /// Convolution surface inside a focus sphere, parametric outside, radii blended over a
 /// transition band (smoothstep in the distance of the ring centre to the focus).
 struct HybridOptions {
   Vec3 focus = Vec3::Zero();
-  double focus_radius = 0.1;         ///< m
-  double transition = 0.05;          ///< width of the blend band, m
+  double focus_radius = 0.1;  ///< m
+  double transition = 0.05;   ///< width of the blend band, m
 };
 
 struct SkinOptions {
-  double radius = 0.0125;            ///< tube radius R (m), the scene's `radius`
+  double radius = 0.0125;  ///< tube radius R (m), the scene's `radius`
   ParametricOptions parametric;
   ConvolutionOptions convolution;
   ImplicitOptions implicit;

@@ -44,7 +44,8 @@ void TubeRays::Build(const FrameField& frames, const std::vector<double>& ring_p
     const Vec3 d1 = frames.curve()->Tangent(frames.control_points(), ring_params[i]);
     const Vec3 d2 = frames.curve()->SecondDerivative(frames.control_points(), ring_params[i]);
     const double speed2 = d1.squaredNorm();
-    ring_curvatures_[i] = speed2 > 0.0 ? Vec3((d2 - d2.dot(f.tangent) * f.tangent) / speed2) : Vec3(Vec3::Zero());
+    ring_curvatures_[i] =
+        speed2 > 0.0 ? Vec3((d2 - d2.dot(f.tangent) * f.tangent) / speed2) : Vec3(Vec3::Zero());
     for (int j = 0; j < m; ++j) {
       const int v = TubeVertex(i, j);
       origins_[v] = f.position;
@@ -138,7 +139,8 @@ void TubeRays::Emit(const std::vector<double>& radii, Mesh* out) const {
   const int first = FirstTubeVertex();
   for (int v = 0; v < count; ++v) {
     const int side = v == 0 || v == count - 1 ? 0 : (v - 1) % sides_;
-    const double s = IsCap(v) ? (v < first ? 0.0 : 1.0) : ring_params_[static_cast<size_t>((v - first) / sides_)];
+    const double s = IsCap(v) ? (v < first ? 0.0 : 1.0)
+                              : ring_params_[static_cast<size_t>((v - first) / sides_)];
     out->surface[static_cast<size_t>(v)] = {s, 2.0 * std::numbers::pi * side / sides_};
   }
 }
@@ -180,8 +182,8 @@ void AdaptiveRingParams(const spline::CatmullRom& curve, const Points& q, double
       const double chord = (iv.p1 - iv.p0).norm();
       const double angle = std::acos(std::clamp(iv.t0.dot(iv.t1), -1.0, 1.0));
       // Outer-side edge of the ring strip: arc length plus turning angle times radius.
-      const bool split = iv.depth < max_depth &&
-                         (chord + angle * radius > max_edge || angle > max_angle);
+      const bool split =
+          iv.depth < max_depth && (chord + angle * radius > max_edge || angle > max_angle);
       if (!split) {
         params->push_back(iv.s0);
         continue;

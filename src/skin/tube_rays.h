@@ -53,7 +53,9 @@ class TubeRays {
   /// Curvature vectors of the ring centres (#K, 1/m, pointing to the centre of curvature).
   const std::vector<Vec3>& ring_curvatures() const { return ring_curvatures_; }
   /// Per vertex: true for the cap vertices (poles included).
-  bool IsCap(int vertex) const { return vertex < FirstTubeVertex() || vertex >= FirstTubeVertex() + num_rings() * sides_; }
+  bool IsCap(int vertex) const {
+    return vertex < FirstTubeVertex() || vertex >= FirstTubeVertex() + num_rings() * sides_;
+  }
   int FirstTubeVertex() const { return 1 + (cap_rings_ - 1) * sides_; }
   /// Vertex index of tube ring i, side j.
   int TubeVertex(int ring, int side) const { return FirstTubeVertex() + ring * sides_ + side; }

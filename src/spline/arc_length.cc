@@ -22,7 +22,8 @@ void ArcLengthTable::Build(const CatmullRom& curve, const Points& q) {
       double piece = 0.0;
       for (int g = 0; g < 3; ++g) {
         const double u = (sub + Rule::kNodes[g]) / k;
-        const Eigen::RowVector3d d = poly.row(1) + 2.0 * u * poly.row(2) + 3.0 * u * u * poly.row(3);
+        const Eigen::RowVector3d d =
+            poly.row(1) + 2.0 * u * poly.row(2) + 3.0 * u * u * poly.row(3);
         piece += Rule::kWeights[g] * d.norm();
       }
       cumulative_[i + 1] = cumulative_[i] + piece / k;
@@ -53,7 +54,8 @@ double ArcLengthTable::ParameterAt(double arc, size_t* interval) const {
   // entries from the last one; elsewhere, a binary search.
   size_t i = std::min(*interval, last - 1);
   if (cumulative_[i] <= arc) {
-    for (int walked = 0; walked < 8 && cumulative_[i + 1] <= arc; ++walked) ++i;  // arc < cumulative_[last]
+    for (int walked = 0; walked < 8 && cumulative_[i + 1] <= arc; ++walked)
+      ++i;  // arc < cumulative_[last]
   }
   if (!(cumulative_[i] <= arc && arc < cumulative_[i + 1])) {
     i = std::upper_bound(cumulative_.begin(), cumulative_.end(), arc) - cumulative_.begin() - 1;

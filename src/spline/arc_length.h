@@ -13,7 +13,8 @@ class ArcLengthTable {
  public:
   /// @param samples_per_segment sub-intervals per segment (each integrated with 3-point
   ///        Gauss-Legendre), >= 1.
-  explicit ArcLengthTable(int samples_per_segment = 8) : samples_per_segment_(samples_per_segment) {}
+  explicit ArcLengthTable(int samples_per_segment = 8)
+      : samples_per_segment_(samples_per_segment) {}
 
   /// Rebuilds the table for pose q. Reuses its buffers: no allocation once sized.
   void Build(const CatmullRom& curve, const Points& q);

@@ -18,10 +18,10 @@ namespace viscera::spline {
 /// The 4 basis weights of a segment's window at one local parameter u, and their first and
 /// second derivatives with respect to u.
 struct SegmentBasis {
-  int first = 0;               ///< index of the window's first control point
-  std::array<double, 4> w{};   ///< b_{first+a}(u)
-  std::array<double, 4> dw{};  ///< d b / du
-  std::array<double, 4> ddw{}; ///< d^2 b / du^2
+  int first = 0;                ///< index of the window's first control point
+  std::array<double, 4> w{};    ///< b_{first+a}(u)
+  std::array<double, 4> dw{};   ///< d b / du
+  std::array<double, 4> ddw{};  ///< d^2 b / du^2
 };
 
 class CatmullRom {

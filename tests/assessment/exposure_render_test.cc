@@ -40,8 +40,8 @@ class ClearingTask : public ::testing::Test {
     const Points& q0 = model_->params().initial_q;
     // the view viscerad shows a session with when its client set no camera: the scene's scope
     scope_ = render::SceneLaparoscope(model_->params(), q0, kWidth, kHeight);
-    view_ = {scope_.eye.cast<double>(), scope_.target.cast<double>(), scope_.up.cast<double>(), scope_.fov_y_degrees,
-             static_cast<double>(kWidth) / kHeight};
+    view_ = {scope_.eye.cast<double>(), scope_.target.cast<double>(), scope_.up.cast<double>(),
+             scope_.fov_y_degrees, static_cast<double>(kWidth) / kHeight};
   }
 
   // Runs the gesture, calling `each(state, exposure)` after every step (and at the start).
@@ -62,7 +62,8 @@ class ClearingTask : public ::testing::Test {
     script::ScriptedTools tools(*model_, script_, "clearing.csv");
     const int steps = static_cast<int>(std::lround(script_.duration() * model_->params().rate_hz));
     for (int k = 0; k < steps; ++k) {
-      const std::span<const mechanics::ToolTarget> targets = tools.At(state.t + model_->step_size(), workspace.interactions());
+      const std::span<const mechanics::ToolTarget> targets =
+          tools.At(state.t + model_->step_size(), workspace.interactions());
       mechanics::Step(*model_, {{}, targets}, &state, &workspace);
       each(state, exposure());
     }
@@ -108,8 +109,11 @@ class ClearingTask : public ::testing::Test {
     }
     ASSERT_LT(first_seen, series.size());
     // the loops were still until the grasp (clearing.csv closes the jaws at 1.0-1.5 s)
-    EXPECT_GE(times[first_seen], 1.5) << "uncovered before the gesture moved it: the pile was not at rest";
-    EXPECT_GT(std::count_if(series.begin(), series.end(), [](double e) { return e > 0.0 && e < 1.0; }), 20);
+    EXPECT_GE(times[first_seen], 1.5)
+        << "uncovered before the gesture moved it: the pile was not at rest";
+    EXPECT_GT(
+        std::count_if(series.begin(), series.end(), [](double e) { return e > 0.0 && e < 1.0; }),
+        20);
     EXPECT_GE(*std::max_element(series.begin(), series.end()), exposed);
   }
 
@@ -120,7 +124,9 @@ class ClearingTask : public ::testing::Test {
   View view_;
 };
 
-TEST_F(ClearingTask, HiddenAtTheStartExposedMonotonicallyByTheGesture) { ExpectHiddenThenExposedMonotonically(); }
+TEST_F(ClearingTask, HiddenAtTheStartExposedMonotonicallyByTheGesture) {
+  ExpectHiddenThenExposedMonotonically();
+}
 
 TEST_F(ClearingTask, HiddenAtTheStartExposedMonotonicallyAt250HzAnd1kHz) {
   for (const double rate : {250.0, 1000.0}) {
@@ -160,9 +166,11 @@ TEST_F(ClearingTask, ExposureAgreesWithTheRenderedFrame) {
       }
     }
     for (size_t i = 0; i < samples.size(); ++i) {
-      const render::Projection p = render::Project(camera, kWidth, kHeight, samples[i].cast<float>());
+      const render::Projection p =
+          render::Project(camera, kWidth, kHeight, samples[i].cast<float>());
       const int col = static_cast<int>(p.pixel.x()), row = static_cast<int>(p.pixel.y());
-      if (p.depth <= 0.0f || col < 1 || row < 1 || col + 1 >= kWidth || row + 1 >= kHeight) continue;
+      if (p.depth <= 0.0f || col < 1 || row < 1 || col + 1 >= kWidth || row + 1 >= kHeight)
+        continue;
       // the patch is ~15 pixels across: a sample within a pixel of an edge in the picture (the
       // disc's rim, a loop's silhouette) is rasterized either way; compare the others
       int green = 0;
@@ -182,8 +190,8 @@ TEST_F(ClearingTask, ExposureAgreesWithTheRenderedFrame) {
   EXPECT_EQ(green_when_hidden, 0) << "no green pixel while the lesion is hidden";
   ASSERT_GT(seen_total, 0);
   ASSERT_GT(hidden_total, 0);
-  std::printf("samples compared %d (seen %d, hidden %d), agreeing %d; on a pixel edge %d\n", compared, seen_total,
-              hidden_total, agreed, ambiguous);
+  std::printf("samples compared %d (seen %d, hidden %d), agreeing %d; on a pixel edge %d\n",
+              compared, seen_total, hidden_total, agreed, ambiguous);
   EXPECT_LT(ambiguous, compared) << "most samples are clear in the picture";
   // the skin is a polygonal tube around the spline, the exposure's capsules join its sphere
   // centres: they differ by a fraction of a millimetre

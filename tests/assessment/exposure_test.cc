@@ -70,7 +70,8 @@ TEST(Exposure, PolygonSamplesLieInsideIt) {
 TEST(Exposure, CoveredByALoopIsZeroLiftedAwayIsOne) {
   const ExposureEvaluator e({Disc()}, kTube);
   EXPECT_EQ(e.Evaluate(0, Above(), TubeAt(0.0)).fraction, 0.0);
-  EXPECT_EQ(e.Evaluate(0, Above(), TubeAt(0.0, 0.10)).fraction, 0.0) << "lifted straight up it still hides it";
+  EXPECT_EQ(e.Evaluate(0, Above(), TubeAt(0.0, 0.10)).fraction, 0.0)
+      << "lifted straight up it still hides it";
   EXPECT_EQ(e.Evaluate(0, Above(), TubeAt(0.08, 0.10)).fraction, 1.0) << "lifted and moved aside";
   EXPECT_EQ(e.Evaluate(0, Above(), {}).fraction, 1.0);
 }
@@ -131,11 +132,13 @@ TEST(Exposure, SegmentDistanceMatchesBruteForce) {
   auto rnd = [] { return static_cast<double>(std::rand()) / RAND_MAX - 0.5; };
   for (int trial = 0; trial < 200; ++trial) {
     const Vec3 p0(rnd(), rnd(), rnd()), p1(rnd(), rnd(), rnd()), q0(rnd(), rnd(), rnd());
-    const Vec3 q1 = trial % 10 == 0 ? Vec3(q0 + 0.3 * (p1 - p0)) : Vec3(rnd(), rnd(), rnd());  // some parallel
+    const Vec3 q1 =
+        trial % 10 == 0 ? Vec3(q0 + 0.3 * (p1 - p0)) : Vec3(rnd(), rnd(), rnd());  // some parallel
     double best = 1e300;
     for (int i = 0; i <= 400; ++i) {
       for (int j = 0; j <= 400; ++j) {
-        best = std::min(best, (p0 + (p1 - p0) * (i / 400.0) - q0 - (q1 - q0) * (j / 400.0)).squaredNorm());
+        best = std::min(
+            best, (p0 + (p1 - p0) * (i / 400.0) - q0 - (q1 - q0) * (j / 400.0)).squaredNorm());
       }
     }
     EXPECT_LE(SegmentSegmentDistanceSquared(p0, p1, q0, q1), best + 1e-12);
@@ -171,7 +174,8 @@ TEST(Exposure, MonotoneWhileALoopIsPulledOff) {
     const int steps = static_cast<int>(std::lround(seconds * model.params().rate_hz));
     for (int k = 1; k <= steps; ++k) {
       target.tip = from + (to - from) * (static_cast<double>(k) / steps);
-      mechanics::Step(model, {{}, std::span<const mechanics::ToolTarget>(&target, 1)}, &state, &workspace);
+      mechanics::Step(model, {{}, std::span<const mechanics::ToolTarget>(&target, 1)}, &state,
+                      &workspace);
       measure();
     }
   };
@@ -179,9 +183,9 @@ TEST(Exposure, MonotoneWhileALoopIsPulledOff) {
   target.tip = middle + Vec3(0.0, 0.0, 0.05);
   measure();
   move(middle, 1.0, 0.3);
-  move(middle, 0.0, 0.3);                            // grasp
-  move(middle + Vec3(0.0, 0.0, 0.15), 0.0, 1.0);     // lift
-  move(middle + Vec3(0.0, 0.15, 0.15), 0.0, 1.0);    // aside
+  move(middle, 0.0, 0.3);                          // grasp
+  move(middle + Vec3(0.0, 0.0, 0.15), 0.0, 1.0);   // lift
+  move(middle + Vec3(0.0, 0.15, 0.15), 0.0, 1.0);  // aside
   move(middle + Vec3(0.0, 0.15, 0.15), 0.0, 0.5);
   ASSERT_EQ(state.nonfinite_resets, 0);
   ASSERT_TRUE(state.tools[0].grasping) << "the loop was carried, not dropped";
@@ -193,7 +197,8 @@ TEST(Exposure, MonotoneWhileALoopIsPulledOff) {
     highest = std::max(highest, x);
   }
   EXPECT_LE(worst_drop, 1.0 / 64 + 1e-12);
-  EXPECT_GT(std::count_if(series.begin(), series.end(), [](double x) { return x > 0.0 && x < 1.0; }), 10)
+  EXPECT_GT(
+      std::count_if(series.begin(), series.end(), [](double x) { return x > 0.0 && x < 1.0; }), 10)
       << "it uncovers gradually: the test sees the way between";
 }
 

@@ -65,7 +65,8 @@ TEST(SessionMetrics, PathLengthOfAnInscribedPolygonIsItsPerimeter) {
       steps.push_back(Tip(Vec3(radius * std::cos(a), radius * std::sin(a), 0.3)));
     }
     const Report r = Measure(OneTool(), steps, 0.01);
-    EXPECT_NEAR(r.tools[0].path_length, 2.0 * n * radius * std::sin(std::numbers::pi / n), 1e-12) << n;
+    EXPECT_NEAR(r.tools[0].path_length, 2.0 * n * radius * std::sin(std::numbers::pi / n), 1e-12)
+        << n;
     EXPECT_NEAR(r.tools[0].active_time, 0.01 * (n + 1), 1e-12);
   }
 }
@@ -98,7 +99,8 @@ TEST(SessionMetrics, TractionEventsAreExcursionsAboveTheForceHeldForTheHoldTime)
   const double dt = 0.01;
   std::vector<State> steps;
   auto phase = [&](double force, double seconds) {
-    for (int k = 0; k < static_cast<int>(std::lround(seconds / dt)); ++k) steps.push_back(Tip(Vec3::Zero(), force));
+    for (int k = 0; k < static_cast<int>(std::lround(seconds / dt)); ++k)
+      steps.push_back(Tip(Vec3::Zero(), force));
   };
   phase(4.0, 0.70);  // event 1
   phase(1.0, 0.20);
@@ -120,16 +122,17 @@ TEST(SessionMetrics, GraspsAndRegraspsWithinTheWindow) {
   const double dt = 0.01;
   std::vector<State> steps;
   auto phase = [&](bool grasping, double seconds) {
-    for (int k = 0; k < static_cast<int>(std::lround(seconds / dt)); ++k) steps.push_back(Tip(Vec3::Zero(), 1.0, grasping));
+    for (int k = 0; k < static_cast<int>(std::lround(seconds / dt)); ++k)
+      steps.push_back(Tip(Vec3::Zero(), 1.0, grasping));
   };
   phase(false, 0.5);
-  phase(true, 1.0);   // grasp 1
+  phase(true, 1.0);  // grasp 1
   phase(false, 0.5);
-  phase(true, 1.0);   // grasp 2, a regrasp (0.5 s after the release)
+  phase(true, 1.0);  // grasp 2, a regrasp (0.5 s after the release)
   phase(false, 2.0);
-  phase(true, 0.3);   // grasp 3 (2 s after: a new grasp)
+  phase(true, 0.3);  // grasp 3 (2 s after: a new grasp)
   phase(false, 1.0);
-  phase(true, 0.3);   // grasp 4, a regrasp (exactly the window)
+  phase(true, 0.3);  // grasp 4, a regrasp (exactly the window)
   const Report r = Measure(p, steps, dt);
   EXPECT_EQ(r.tools[0].grasps, 4);
   EXPECT_EQ(r.tools[0].regrasps, 2);
@@ -182,28 +185,31 @@ TEST(SessionMetrics, ScriptedPullsThroughTheMechanics) {
     const int ramp_steps = static_cast<int>(std::lround(ramp * model.params().rate_hz));
     const int steps = ramp_steps + static_cast<int>(std::lround(hold * model.params().rate_hz));
     for (int k = 1; k <= steps; ++k) {
-      target.tip = k < ramp_steps ? Vec3(from + (to - from) * (static_cast<double>(k) / ramp_steps)) : to;
-      mechanics::Step(model, {{}, std::span<const mechanics::ToolTarget>(&target, 1)}, &state, &workspace);
+      target.tip =
+          k < ramp_steps ? Vec3(from + (to - from) * (static_cast<double>(k) / ramp_steps)) : to;
+      mechanics::Step(model, {{}, std::span<const mechanics::ToolTarget>(&target, 1)}, &state,
+                      &workspace);
       metrics.AddStep(state, model.step_size());
     }
     if (pulling_hard) {
       // at rest, action and reaction through the tip: the tissue feels the hand's pull
       max_pull = std::max(max_pull, state.tools[0].force.norm());
-      rest_error = std::max(rest_error, std::abs(state.tools[0].tissue_force.norm() - state.tools[0].force.norm()));
+      rest_error = std::max(
+          rest_error, std::abs(state.tools[0].tissue_force.norm() - state.tools[0].force.norm()));
     }
   };
   const Vec3 hard = grasp + Vec3(0.0, 0.0, 0.20), soft = grasp + Vec3(0.0, 0.0, 0.02);
-  move(grasp, 1.0, 0.3, 0.3);          // the open jaws come down on the tube
-  move(grasp, 0.0, 0.0, 0.3);          // grasp 1
-  move(hard, 0.0, 1.0, 2.0, true);     // traction event 1
+  move(grasp, 1.0, 0.3, 0.3);       // the open jaws come down on the tube
+  move(grasp, 0.0, 0.0, 0.3);       // grasp 1
+  move(hard, 0.0, 1.0, 2.0, true);  // traction event 1
   move(grasp, 0.0, 1.0, 0.5);
-  move(soft, 0.0, 0.3, 1.0);           // far below the threshold
+  move(soft, 0.0, 0.3, 1.0);  // far below the threshold
   move(grasp, 0.0, 0.3, 0.3);
-  move(hard, 0.0, 0.6, 0.0);           // up and straight back down: above it too briefly
+  move(hard, 0.0, 0.6, 0.0);  // up and straight back down: above it too briefly
   move(grasp, 0.0, 0.6, 0.5);
-  move(grasp, 1.0, 0.0, 0.4);          // release ...
-  move(grasp, 0.0, 0.0, 0.3);          // ... and grasp again within 1 s: grasp 2, a regrasp
-  move(hard, 0.0, 1.0, 2.0, true);     // traction event 2
+  move(grasp, 1.0, 0.0, 0.4);       // release ...
+  move(grasp, 0.0, 0.0, 0.3);       // ... and grasp again within 1 s: grasp 2, a regrasp
+  move(hard, 0.0, 1.0, 2.0, true);  // traction event 2
   move(grasp, 0.0, 1.0, 0.5);
   move(grasp, 1.0, 0.0, 0.5);
   EXPECT_EQ(state.nonfinite_resets, 0);
@@ -226,7 +232,8 @@ TEST(SessionMetrics, ScriptedPullsThroughTheMechanics) {
   // (pull / stiffness, 11 mm), on the way up and back: its path lies between the two.
   const double hand_path = 0.05 + 6 * 0.20 + 2 * 0.02;
   const double short_of_top = max_pull / model.params().tools[0].coupling_stiffness;
-  std::printf("path: tip %.4f m, hand %.4f m, stretch at the top %.4f m\n", t.path_length, hand_path, short_of_top);
+  std::printf("path: tip %.4f m, hand %.4f m, stretch at the top %.4f m\n", t.path_length,
+              hand_path, short_of_top);
   EXPECT_LT(t.path_length, hand_path);
   EXPECT_GT(t.path_length, hand_path - 3 * 2 * short_of_top);
 }
@@ -239,11 +246,13 @@ TEST(SessionMetrics, FreeToolPathFollowsTheHand) {
   mechanics::Workspace workspace(model);
   SessionMetrics metrics(model.params());
   const double side = 0.04, z = 0.15, seconds_per_side = 1.0;
-  const std::vector<Vec3> corners{{0.28, -0.02, z}, {0.32, -0.02, z}, {0.32, 0.02, z}, {0.28, 0.02, z}, {0.28, -0.02, z}};
+  const std::vector<Vec3> corners{
+      {0.28, -0.02, z}, {0.32, -0.02, z}, {0.32, 0.02, z}, {0.28, 0.02, z}, {0.28, -0.02, z}};
   mechanics::ToolTarget target;
   target.tip = corners[0];
   auto step = [&] {
-    mechanics::Step(model, {{}, std::span<const mechanics::ToolTarget>(&target, 1)}, &state, &workspace);
+    mechanics::Step(model, {{}, std::span<const mechanics::ToolTarget>(&target, 1)}, &state,
+                    &workspace);
   };
   for (int k = 0; k < 100; ++k) step();  // settle at the first corner, not measured
   const int per_side = static_cast<int>(seconds_per_side * model.params().rate_hz);

@@ -14,7 +14,8 @@ Report Sample() {
   r.sim_time = 12.345678901234;
   r.finished = true;
   r.thresholds = {3.0, 0.5, 1.0, 0.9};
-  r.tools.push_back({"left", 0.30123456789, 4.5, 0.58, 0.99, 1.0912345, 3.4, 2, 1.25, 3, 1, 4, 0.07});
+  r.tools.push_back(
+      {"left", 0.30123456789, 4.5, 0.58, 0.99, 1.0912345, 3.4, 2, 1.25, 3, 1, 4, 0.07});
   r.tools.push_back({"right", 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0, 0.0, 0, 0, 0, 0.0});
   r.targets.push_back({"lesion", 1.0, 1.0, 2.0});
   r.targets.push_back({"hidden", 0.125, 0.25, -1.0});  // not exposed: null in JSON
@@ -50,16 +51,18 @@ TEST(Report, StatusRoundTripsThroughTheWire) {
   FillStatus(r, &s);
   // through LCM's encoding, as a status travels
   std::vector<uint8_t> bytes(static_cast<size_t>(s.getEncodedSize()));
-  ASSERT_EQ(s.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(s.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   viscera_proto::session_status_t decoded;
-  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   EXPECT_EQ(ReportFromStatus(decoded), r);
 }
 
 TEST(Report, TextNamesEveryToolAndTarget) {
   const std::string text = FormatReport(Sample());
-  for (const char* word : {"left", "right", "lesion", "hidden", "exposed at t = 2.00 s", "not exposed yet",
-                           "traction events 2", "grasps 3 (regrasps 1)"}) {
+  for (const char* word : {"left", "right", "lesion", "hidden", "exposed at t = 2.00 s",
+                           "not exposed yet", "traction events 2", "grasps 3 (regrasps 1)"}) {
     EXPECT_NE(text.find(word), std::string::npos) << word << " in\n" << text;
   }
 }

@@ -73,8 +73,8 @@ TEST(LcmBus, HeartbeatRoundTripOverMemq) {
 TEST(LcmBus, DrainHandlesEveryQueuedMessage) {
   LcmBus bus(kMemq);
   std::vector<int64_t> seqs;
-  bus.Subscribe<heartbeat_t>(kHeartbeatChannel,
-                             [&](const heartbeat_t& msg, int64_t) { seqs.push_back(msg.header.seq); });
+  bus.Subscribe<heartbeat_t>(
+      kHeartbeatChannel, [&](const heartbeat_t& msg, int64_t) { seqs.push_back(msg.header.seq); });
   for (int64_t i = 0; i < 5; ++i) ASSERT_TRUE(bus.Publish(kHeartbeatChannel, SampleHeartbeat(i)));
   // handleTimeout handles one message per call; Drain must loop until none is left.
   EXPECT_EQ(bus.Drain(), 5);
@@ -112,7 +112,8 @@ TEST(LcmBus, MalformedDatagramsAreCountedAndLaterMessagesArrive) {
   std::vector<uint8_t> encoded(static_cast<size_t>(good.getEncodedSize()));
   ASSERT_EQ(good.encode(encoded.data(), 0, static_cast<int>(encoded.size())),
             static_cast<int>(encoded.size()));
-  ASSERT_TRUE(bus.PublishRaw(kHeartbeatChannel, encoded.data(), static_cast<int>(encoded.size()) - 3));
+  ASSERT_TRUE(
+      bus.PublishRaw(kHeartbeatChannel, encoded.data(), static_cast<int>(encoded.size()) - 3));
   encoded.push_back(0);
   ASSERT_TRUE(bus.PublishRaw(kHeartbeatChannel, encoded.data(), static_cast<int>(encoded.size())));
 
@@ -166,8 +167,8 @@ TEST(LcmBus, PublishFromAnotherThreadWhileTheOwnerPumps) {
   LcmBus bus(kMemq);
   constexpr int kCount = 200;
   std::vector<int64_t> seqs;
-  bus.Subscribe<heartbeat_t>(kHeartbeatChannel,
-                             [&](const heartbeat_t& msg, int64_t) { seqs.push_back(msg.header.seq); });
+  bus.Subscribe<heartbeat_t>(
+      kHeartbeatChannel, [&](const heartbeat_t& msg, int64_t) { seqs.push_back(msg.header.seq); });
   std::thread publisher([&] {
     for (int64_t i = 0; i < kCount; ++i) bus.Publish(kHeartbeatChannel, SampleHeartbeat(i));
   });

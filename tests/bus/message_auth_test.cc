@@ -73,7 +73,8 @@ TEST(MessageAuth, EveryFlippedByteAnotherKeyOrNoMacFails) {
     EXPECT_FALSE(auth.Verify(tampered.data(), static_cast<int>(tampered.size()), &scratch))
         << "flipped byte " << i;
   }
-  EXPECT_FALSE(MessageAuth(KeyOf(8)).Verify(bytes.data(), static_cast<int>(bytes.size()), &scratch));
+  EXPECT_FALSE(
+      MessageAuth(KeyOf(8)).Verify(bytes.data(), static_cast<int>(bytes.size()), &scratch));
   EXPECT_FALSE(auth.Verify(plain.data(), static_cast<int>(plain.size()), &scratch));
   // truncated and garbage datagrams are simply not authentic
   EXPECT_FALSE(auth.Verify(bytes.data(), 20, &scratch));
@@ -91,9 +92,11 @@ TEST(MessageAuth, KeyFilesRoundTripAndShortFilesAreRefused) {
   std::vector<uint8_t> bytes = Encoded(Beat());
   ASSERT_TRUE(MessageAuth::FromKeyFile(path).Sign(&bytes));
   std::vector<uint8_t> scratch;
-  EXPECT_TRUE(MessageAuth::FromKeyFile(path).Verify(bytes.data(), static_cast<int>(bytes.size()), &scratch));
+  EXPECT_TRUE(MessageAuth::FromKeyFile(path).Verify(bytes.data(), static_cast<int>(bytes.size()),
+                                                    &scratch));
   MessageAuth::WriteKeyFile(path);  // a new key: the old MAC no longer verifies
-  EXPECT_FALSE(MessageAuth::FromKeyFile(path).Verify(bytes.data(), static_cast<int>(bytes.size()), &scratch));
+  EXPECT_FALSE(MessageAuth::FromKeyFile(path).Verify(bytes.data(), static_cast<int>(bytes.size()),
+                                                     &scratch));
   std::ofstream(path, std::ios::trunc) << "short";
   EXPECT_THROW(MessageAuth::FromKeyFile(path), InputError);
   std::remove(path.c_str());
@@ -109,10 +112,10 @@ TEST(MessageAuth, BusWithAKeyDropsUnsignedDatagramsAndCountsThem) {
     EXPECT_EQ(channel, kHeartbeatChannel);
     drops.push_back(reason);
   });
-  bus.Subscribe<viscera_proto::heartbeat_t>(kHeartbeatChannel,
-                                            [&](const viscera_proto::heartbeat_t&, int64_t) { ++handled; });
+  bus.Subscribe<viscera_proto::heartbeat_t>(
+      kHeartbeatChannel, [&](const viscera_proto::heartbeat_t&, int64_t) { ++handled; });
   ASSERT_TRUE(bus.Publish(kHeartbeatChannel, Beat()));  // signed by the bus
-  const std::vector<uint8_t> forged = Encoded(Beat());   // same content, no MAC
+  const std::vector<uint8_t> forged = Encoded(Beat());  // same content, no MAC
   ASSERT_TRUE(bus.PublishRaw(kHeartbeatChannel, forged.data(), static_cast<int>(forged.size())));
   bus.Pump(100);
   bus.Drain();
@@ -137,11 +140,13 @@ TEST(HeaderCountsFit, RefusesCountsBeyondTheDatagramBeforeDecoding) {
   viscera_proto::heartbeat_t hb{};
   hb.header = MakeHeader(0, 0);
   std::vector<uint8_t> bytes(static_cast<size_t>(hb.getEncodedSize()));
-  ASSERT_EQ(hb.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(hb.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   EXPECT_TRUE(HeaderCountsFit(bytes.data(), static_cast<int>(bytes.size())));
   const int token_len_at = MacLenOffset(bytes.data(), static_cast<int>(bytes.size())) - 4;
   std::vector<uint8_t> huge_token = bytes;
-  for (int i = 0; i < 4; ++i) huge_token[static_cast<size_t>(token_len_at + i)] = i == 0 ? 0x7f : 0xff;
+  for (int i = 0; i < 4; ++i)
+    huge_token[static_cast<size_t>(token_len_at + i)] = i == 0 ? 0x7f : 0xff;
   EXPECT_FALSE(HeaderCountsFit(huge_token.data(), static_cast<int>(huge_token.size())));
   std::vector<uint8_t> huge_mac = bytes;
   const int mac_len_at = MacLenOffset(bytes.data(), static_cast<int>(bytes.size()));
@@ -151,7 +156,8 @@ TEST(HeaderCountsFit, RefusesCountsBeyondTheDatagramBeforeDecoding) {
   // through the bus: dropped as malformed, never handed on
   LcmBus bus("memq://");
   int handled = 0, malformed = 0;
-  bus.Subscribe<viscera_proto::heartbeat_t>(kHeartbeatChannel, [&](const viscera_proto::heartbeat_t&, int64_t) { ++handled; });
+  bus.Subscribe<viscera_proto::heartbeat_t>(
+      kHeartbeatChannel, [&](const viscera_proto::heartbeat_t&, int64_t) { ++handled; });
   bus.SetDropHandler([&](const std::string&, DropReason reason, const uint8_t*, int) {
     malformed += reason == DropReason::kMalformed ? 1 : 0;
   });

@@ -30,14 +30,15 @@ int64_t PeakRssMb() {
 template <typename Msg>
 std::vector<uint8_t> Encode(const Msg& msg) {
   std::vector<uint8_t> bytes(static_cast<size_t>(msg.getEncodedSize()));
-  EXPECT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  EXPECT_EQ(msg.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   return bytes;
 }
 
 std::vector<uint8_t> BigEndian(int32_t v) {
   const auto u = static_cast<uint32_t>(v);
-  return {static_cast<uint8_t>(u >> 24), static_cast<uint8_t>(u >> 16), static_cast<uint8_t>(u >> 8),
-          static_cast<uint8_t>(u)};
+  return {static_cast<uint8_t>(u >> 24), static_cast<uint8_t>(u >> 16),
+          static_cast<uint8_t>(u >> 8), static_cast<uint8_t>(u)};
 }
 
 // `bytes` with the one occurrence of `from` (the encoding of a count the test chose to be
@@ -46,10 +47,12 @@ std::vector<uint8_t> Patched(std::vector<uint8_t> bytes, const std::vector<uint8
                              const std::vector<uint8_t>& to) {
   std::vector<size_t> at;
   for (size_t i = 0; i + from.size() <= bytes.size(); ++i) {
-    if (std::equal(from.begin(), from.end(), bytes.begin() + static_cast<std::ptrdiff_t>(i))) at.push_back(i);
+    if (std::equal(from.begin(), from.end(), bytes.begin() + static_cast<std::ptrdiff_t>(i)))
+      at.push_back(i);
   }
   EXPECT_EQ(at.size(), 1u) << "the count to patch is not unique in the encoding: " << int{from[3]};
-  if (at.size() == 1) std::copy(to.begin(), to.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at[0]));
+  if (at.size() == 1)
+    std::copy(to.begin(), to.end(), bytes.begin() + static_cast<std::ptrdiff_t>(at[0]));
   return bytes;
 }
 
@@ -63,16 +66,20 @@ template <typename Msg>
 void ExpectRefusesHostileCounts(const Msg& msg, int32_t count) {
   const auto bytes = Encode(msg);
   EXPECT_TRUE(Fits<Msg>(bytes)) << Msg::getTypeName();
-  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(0x7fffffff)))) << Msg::getTypeName();
+  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(0x7fffffff))))
+      << Msg::getTypeName();
   EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(-1)))) << Msg::getTypeName();
-  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(count + 1)))) << Msg::getTypeName();
+  EXPECT_FALSE(Fits<Msg>(Patched(bytes, BigEndian(count), BigEndian(count + 1))))
+      << Msg::getTypeName();
   // every truncation of an honest message is refused too (the walk never reads past the end)
   for (size_t cut = 0; cut < bytes.size(); ++cut) {
-    const std::vector<uint8_t> part(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cut));
+    const std::vector<uint8_t> part(bytes.begin(),
+                                    bytes.begin() + static_cast<std::ptrdiff_t>(cut));
     if (Fits<Msg>(part)) {
       // only a cut inside the trailing fixed fields may pass the count walk; decode refuses it
       Msg decoded;
-      EXPECT_LT(decoded.decode(part.data(), 0, static_cast<int>(part.size())), 0) << Msg::getTypeName() << " cut " << cut;
+      EXPECT_LT(decoded.decode(part.data(), 0, static_cast<int>(part.size())), 0)
+          << Msg::getTypeName() << " cut " << cut;
     }
   }
 }
@@ -83,12 +90,13 @@ viscera_proto::session_status_t Status(int tools) {
   s.num_tools = tools;
   s.tool_names.assign(static_cast<size_t>(tools), "t");
   const size_t n = static_cast<size_t>(tools);
-  for (std::vector<double>* v : {&s.tool_path_length, &s.tool_active_time, &s.tool_force_p50, &s.tool_force_p95,
-                                 &s.tool_force_max, &s.tool_contact_time, &s.tool_traction_time,
-                                 &s.tool_organ_contact_time}) {
+  for (std::vector<double>* v : {&s.tool_path_length, &s.tool_active_time, &s.tool_force_p50,
+                                 &s.tool_force_p95, &s.tool_force_max, &s.tool_contact_time,
+                                 &s.tool_traction_time, &s.tool_organ_contact_time}) {
     v->assign(n, 0.5);
   }
-  for (std::vector<int32_t>* v : {&s.tool_traction_events, &s.tool_grasps, &s.tool_regrasps, &s.tool_organ_contacts}) {
+  for (std::vector<int32_t>* v :
+       {&s.tool_traction_events, &s.tool_grasps, &s.tool_regrasps, &s.tool_organ_contacts}) {
     v->assign(n, 12345);
   }
   return s;
@@ -114,7 +122,8 @@ TEST(ArrayCountsFit, RefusesEveryArrayCountBeyondTheDatagram) {
 
   viscera_proto::session_reply_t reply{};
   reply.header = MakeHeader(0, 0);
-  reply.num_sessions = 7;  // not 5 or 6: protocol version 5 and utime's top bytes 00 06 follow zeros
+  reply.num_sessions =
+      7;  // not 5 or 6: protocol version 5 and utime's top bytes 00 06 follow zeros
   reply.sessions.assign(7, Status(0));
   ExpectRefusesHostileCounts(reply, 7);
   reply.sessions[3] = Status(23);  // a status's tool names inside a reply
@@ -146,7 +155,8 @@ TEST(ArrayCountsFit, AReplysStatusesKeepTheirLastCounters) {
   ASSERT_TRUE(Fits<viscera_proto::session_reply_t>(bytes));
   EXPECT_TRUE(CountsFitForFingerprint(bytes.data(), static_cast<int>(bytes.size())));
   viscera_proto::session_reply_t decoded;
-  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   ASSERT_EQ(decoded.sessions.size(), 3u);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(decoded.sessions[i].num_tools, i + 1);
@@ -167,8 +177,10 @@ TEST(ArrayCountsFit, RefusesAStringWithoutItsTerminator) {
   hb.server_id = "x";
   const auto bytes = Encode(hb);
   EXPECT_TRUE(Fits<viscera_proto::heartbeat_t>(bytes));
-  EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0, 0, 0, 0, 'x', 0})));
-  EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0xff, 0xff, 0xff, 0xfe, 'x', 0})));
+  EXPECT_FALSE(
+      Fits<viscera_proto::heartbeat_t>(Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0, 0, 0, 0, 'x', 0})));
+  EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(
+      Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0xff, 0xff, 0xff, 0xfe, 'x', 0})));
 }
 
 // Through a client's bus: a 60-odd-byte frame datagram claiming 2 GB of JPEG is dropped as
@@ -184,8 +196,8 @@ TEST(ArrayCountsFit, AHostileFrameIsDroppedWithoutALargeAllocation) {
 
   LcmBus bus("memq://");
   int handled = 0;
-  bus.Subscribe<viscera_proto::jpeg_frame_t>("VISCERA_FRAME_1",
-                                             [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++handled; });
+  bus.Subscribe<viscera_proto::jpeg_frame_t>(
+      "VISCERA_FRAME_1", [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++handled; });
   const int64_t peak_before = PeakRssMb();
   bus.PublishRaw("VISCERA_FRAME_1", hostile.data(), static_cast<int>(hostile.size()));
   bus.Drain();

@@ -30,7 +30,8 @@ viscera_proto::jpeg_frame_t Frame(int64_t seq, int64_t dropped, int64_t session 
 TEST(FrameReceiver, CountsLostDroppedAndRejectedFramesExactly) {
   bus::LcmBus bus("memq://");
   std::vector<int64_t> handed_on;
-  FrameReceiver receiver(&bus, kId, [&](const viscera_proto::jpeg_frame_t& f) { handed_on.push_back(f.header.seq); });
+  FrameReceiver receiver(
+      &bus, kId, [&](const viscera_proto::jpeg_frame_t& f) { handed_on.push_back(f.header.seq); });
   const std::string channel = bus::SessionChannel(bus::kFramePrefix, kId);
   // the server's renderer dropped 2 frames between seq 0 and seq 6; 2, 4, 5 never arrive
   // in order (2 comes late, after 3), and another session's frame is on this channel
@@ -49,7 +50,8 @@ TEST(FrameReceiver, CountsLostDroppedAndRejectedFramesExactly) {
   EXPECT_EQ(s.server_dropped, 2);
   EXPECT_EQ(receiver.rejected(), 2);
   EXPECT_EQ(s.bytes, 16);
-  EXPECT_NE(receiver.last_rejection().find("session 8"), std::string::npos) << receiver.last_rejection();
+  EXPECT_NE(receiver.last_rejection().find("session 8"), std::string::npos)
+      << receiver.last_rejection();
   // every frame the server rendered or skipped since the first one is accounted for
   EXPECT_EQ(s.received + s.lost + s.server_dropped, 6 + 1 + 2);
   EXPECT_GE(s.age_p50_ms, 1.0);
@@ -64,17 +66,20 @@ TEST(FrameReceiver, RefusesOtherVersionsEmptyFramesAndReplays) {
   other_version.header.version = viscera_proto::header_t::kProtocolVersion + 1;
   bus.Publish(channel, other_version);
   bus.Drain();
-  EXPECT_NE(receiver.last_rejection().find("protocol version"), std::string::npos) << receiver.last_rejection();
+  EXPECT_NE(receiver.last_rejection().find("protocol version"), std::string::npos)
+      << receiver.last_rejection();
   auto empty = Frame(1, 0);
   empty.data.clear();
   empty.size = 0;
   bus.Publish(channel, empty);
   bus.Drain();
-  EXPECT_NE(receiver.last_rejection().find("0 bytes"), std::string::npos) << receiver.last_rejection();
+  EXPECT_NE(receiver.last_rejection().find("0 bytes"), std::string::npos)
+      << receiver.last_rejection();
   bus.Publish(channel, Frame(5, 0));
   bus.Publish(channel, Frame(5, 0));  // the same frame again
   bus.Drain();
-  EXPECT_NE(receiver.last_rejection().find("frame 5 after frame 5"), std::string::npos) << receiver.last_rejection();
+  EXPECT_NE(receiver.last_rejection().find("frame 5 after frame 5"), std::string::npos)
+      << receiver.last_rejection();
   EXPECT_EQ(handed_on, 1);
   EXPECT_EQ(receiver.received(), 1);
   EXPECT_EQ(receiver.rejected(), 3);

@@ -7,7 +7,8 @@ namespace {
 
 TEST(Gesture, TheBuiltInClearingGestureIsScenesClearingCsv) {
   const script::ToolScript built_in = ClearingGesture();
-  const script::ToolScript file = LoadScript(std::string(VISCERA_SOURCE_DIR) + "/scenes/clearing.csv");
+  const script::ToolScript file =
+      LoadScript(std::string(VISCERA_SOURCE_DIR) + "/scenes/clearing.csv");
   ASSERT_EQ(built_in.tools(), file.tools());
   EXPECT_EQ(built_in.duration(), file.duration());
   EXPECT_GT(built_in.duration(), 1.0);

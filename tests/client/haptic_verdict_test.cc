@@ -23,8 +23,9 @@ TEST(HapticVerdict, ALoopThatHeldSaysSo) {
   EXPECT_TRUE(v.held);
   EXPECT_TRUE(v.why.empty());
   EXPECT_TRUE(v.tries.empty());
-  EXPECT_EQ(v.line, "held 1000 Hz: 999.6 Hz, 3 deadline misses in 10000 periods (0 %, limit 1 %), "
-                    "scheduling SCHED_FIFO 80");
+  EXPECT_EQ(v.line,
+            "held 1000 Hz: 999.6 Hz, 3 deadline misses in 10000 periods (0 %, limit 1 %), "
+            "scheduling SCHED_FIFO 80");
   EXPECT_EQ(HapticVerdictToJson(v)["held"], true);
 }
 

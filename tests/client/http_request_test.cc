@@ -29,17 +29,22 @@ TEST(HttpRequest, ParsesTheRequestLineAndFields) {
 
 TEST(HttpRequest, SaysWhyAHeadIsMalformed) {
   HttpRequest request;
-  EXPECT_EQ(ParseHttpRequest("GET /\r\n\r\n", &request), "request line is not METHOD TARGET VERSION");
+  EXPECT_EQ(ParseHttpRequest("GET /\r\n\r\n", &request),
+            "request line is not METHOD TARGET VERSION");
   EXPECT_EQ(ParseHttpRequest("GET  / HTTP/1.1\r\n\r\n", &request),
             "request line is not METHOD TARGET VERSION");
   EXPECT_EQ(ParseHttpRequest("G(T / HTTP/1.1\r\n\r\n", &request), "bad method");
   EXPECT_EQ(ParseHttpRequest("GET http://x/ HTTP/1.1\r\n\r\n", &request),
             "target is not an absolute path");
-  EXPECT_EQ(ParseHttpRequest("GET /\x01 HTTP/1.1\r\n\r\n", &request), "control character in target");
+  EXPECT_EQ(ParseHttpRequest("GET /\x01 HTTP/1.1\r\n\r\n", &request),
+            "control character in target");
   EXPECT_EQ(ParseHttpRequest("GET / HTTP/2\r\n\r\n", &request), "not HTTP/1.0 or HTTP/1.1");
-  EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\nHost x\r\n\r\n", &request), "malformed header field");
-  EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\nHost : x\r\n\r\n", &request), "malformed header field");
-  EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\n folded\r\n\r\n", &request), "malformed header field");
+  EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\nHost x\r\n\r\n", &request),
+            "malformed header field");
+  EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\nHost : x\r\n\r\n", &request),
+            "malformed header field");
+  EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\n folded\r\n\r\n", &request),
+            "malformed header field");
   EXPECT_EQ(ParseHttpRequest("GET / HTTP/1.1\r\nHost: x\r\n", &request),
             "no blank line after the header fields");
 }

@@ -43,8 +43,10 @@ TEST(JpegHeader, ReadsTheSizeOfARealJpeg) {
 TEST(JpegHeader, AHugeClaimIsRefusedBeforeDecoding) {
   const std::vector<uint8_t> huge = Claiming(Encoded(16, 16), 30000, 30000);
   EXPECT_LT(huge.size(), 2000u);
-  EXPECT_EQ(JpegProblem(huge.data(), huge.size(), 30000, 30000), "30000x30000 pixels: above the limit of 4096 on a side");
-  EXPECT_EQ(JpegProblem(huge.data(), huge.size(), 16, 16), "the JPEG is 30000x30000, the frame says 16x16");
+  EXPECT_EQ(JpegProblem(huge.data(), huge.size(), 30000, 30000),
+            "30000x30000 pixels: above the limit of 4096 on a side");
+  EXPECT_EQ(JpegProblem(huge.data(), huge.size(), 16, 16),
+            "the JPEG is 30000x30000, the frame says 16x16");
 }
 
 TEST(JpegHeader, AnythingElseIsNotAJpeg) {
@@ -54,7 +56,8 @@ TEST(JpegHeader, AnythingElseIsNotAJpeg) {
   EXPECT_FALSE(JpegSize(jpeg.data(), 20, &w, &h));  // cut before the frame header
   const std::vector<uint8_t> text = {'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd'};
   EXPECT_FALSE(JpegSize(text.data(), text.size(), &w, &h));
-  std::vector<uint8_t> lying = {0xFF, 0xD8, 0xFF, 0xE0, 0xFF, 0xFF};  // a segment longer than the data
+  std::vector<uint8_t> lying = {0xFF, 0xD8, 0xFF,
+                                0xE0, 0xFF, 0xFF};  // a segment longer than the data
   EXPECT_FALSE(JpegSize(lying.data(), lying.size(), &w, &h));
   EXPECT_EQ(JpegProblem(text.data(), text.size(), 32, 24), "not a JPEG (no frame header)");
 }

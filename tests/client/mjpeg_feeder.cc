@@ -3,9 +3,9 @@
 // (tests/e2e/viewer_chromium_test.sh).
 // Usage: mjpeg_feeder [--seconds S]   (default 30; SIGTERM or SIGINT end it sooner)
 // Prints "port N" on stdout once serving, and the server's stats on stderr at the end.
-#include <csignal>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <string>
 #include <thread>

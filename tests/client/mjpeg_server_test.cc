@@ -15,13 +15,13 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <opencv2/core.hpp>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core/buffers_to_string.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/websocket/stream.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/check.h"
@@ -251,7 +251,8 @@ TEST(MjpegServer, RejectsBadHostsAndBusyPortsSayingWhy) {
     ADD_FAILURE() << "bound a port in use";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cannot bind 127.0.0.1:" + std::to_string(first.port())),
-              std::string::npos) << e.what();
+              std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("in use"), std::string::npos) << e.what();
   }
   MjpegServer by_name("localhost", 0, "by name");
@@ -381,7 +382,8 @@ TEST(MjpegServer, AClientLeavingMidStreamLeavesTheOthersServed) {
   server.PostFrame(SolidJpeg(kRed));
 
   std::string part;
-  for (int i = 0; i < 30 && part != AsString(SolidJpeg(kRed)); ++i) part = ReadPart(&staying, boundary);
+  for (int i = 0; i < 30 && part != AsString(SolidJpeg(kRed)); ++i)
+    part = ReadPart(&staying, boundary);
   EXPECT_EQ(part, AsString(SolidJpeg(kRed)));
   EXPECT_TRUE(WaitUntil([&] { return server.stats().active_streams == 1; }));
   EXPECT_EQ(StatusOf(Get(server.port(), "/frame.jpg")), 200);
@@ -464,7 +466,8 @@ TEST(MjpegServer, StreamsBeyondTheCapAreAnswered503) {
   const char* peers[] = {"127.0.0.2", "127.0.0.3", "127.0.0.4", "127.0.0.5"};  // 4 each
   static_assert(MjpegServer::kMaxStreams == 4 * MjpegServer::kMaxStreamsPerPeer);
   for (int i = 0; i < MjpegServer::kMaxStreams; ++i) {
-    streams.push_back(std::make_unique<Client>(server.port(), peers[i / MjpegServer::kMaxStreamsPerPeer]));
+    streams.push_back(
+        std::make_unique<Client>(server.port(), peers[i / MjpegServer::kMaxStreamsPerPeer]));
     EXPECT_EQ(StatusOf(OpenStream(streams.back().get())), 200);
   }
   EXPECT_EQ(StatusOf(Get(server.port(), "/stream.mjpg")), 503);
@@ -505,7 +508,6 @@ TEST(MjpegServer, DestructorReturnsPromptlyWithOpenConnections) {
   EXPECT_TRUE(silent.ReadToEnd().has_value());  // closed, not left open
 }
 
-
 // Slowloris and a greedy peer: one address that holds connections open with half-sent requests
 // and takes every stream it can gets its share, no more, and every request of another address
 // is answered. (Checked: with kMaxConnectionsPerPeer and kMaxStreamsPerPeer raised to the
@@ -524,13 +526,15 @@ TEST(MjpegServer, OnePeerCannotCrowdOutTheOthers) {
     greedy.push_back(std::make_unique<Client>(port, "127.0.0.2"));
     greedy.back()->Send("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ");  // and never the rest
   }
-  ASSERT_TRUE(WaitUntil([&] { return server.stats().refused_per_peer >= MjpegServer::kMaxConnections; }));
+  ASSERT_TRUE(
+      WaitUntil([&] { return server.stats().refused_per_peer >= MjpegServer::kMaxConnections; }));
   for (auto& client : greedy) held += client->connected();
   EXPECT_EQ(streams, MjpegServer::kMaxStreamsPerPeer);
   EXPECT_EQ(held, static_cast<int>(greedy.size()));  // all connected; the surplus closed at once
 
   int answered = 0;
-  for (int i = 0; i < 80; ++i) answered += StatusOf(Fetch(port, Request("GET", "/stats.json"))) == 200;
+  for (int i = 0; i < 80; ++i)
+    answered += StatusOf(Fetch(port, Request("GET", "/stats.json"))) == 200;
   EXPECT_EQ(answered, 80);
   Client viewer(port);
   EXPECT_EQ(StatusOf(OpenStream(&viewer)), 200);
@@ -566,8 +570,9 @@ struct SkeletonClient {
     const timeval timeout{10, 0};
     setsockopt(ws.next_layer().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
     if (!origin.empty()) {
-      ws.set_option(websocket::stream_base::decorator(
-          [origin](websocket::request_type& request) { request.set(boost::beast::http::field::origin, origin); }));
+      ws.set_option(websocket::stream_base::decorator([origin](websocket::request_type& request) {
+        request.set(boost::beast::http::field::origin, origin);
+      }));
     }
   }
   std::string Read() {

@@ -5,9 +5,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <random>
 #include <vector>
-#include <fstream>
 
 #include "common/check.h"
 
@@ -141,13 +141,17 @@ TEST(Obstacle, APreparedObstacleGivesThePlainQuerysBitsForEveryKind) {
         Vec3 n_plain, n_prepared;
         const double plain = SignedDistance(o, p, &n_plain);
         const double d = prepared.SignedDistance(p, &n_prepared);
-        ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(plain)) << static_cast<int>(o.kind) << " " << i;
-        for (int k = 0; k < 3; ++k) ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_plain(k)));
+        ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(plain))
+            << static_cast<int>(o.kind) << " " << i;
+        for (int k = 0; k < 3; ++k)
+          ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_plain(k)));
         if (o.kind == ObstacleKind::kEllipsoid || o.kind == ObstacleKind::kBox) {
           Vec3 n_before;
-          const double before = o.kind == ObstacleKind::kBox ? BoxAsBefore(o, p, &n_before) : EllipsoidAsBefore(o, p, &n_before);
+          const double before = o.kind == ObstacleKind::kBox ? BoxAsBefore(o, p, &n_before)
+                                                             : EllipsoidAsBefore(o, p, &n_before);
           ASSERT_EQ(std::bit_cast<uint64_t>(d), std::bit_cast<uint64_t>(before)) << i;
-          for (int k = 0; k < 3; ++k) ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_before(k)));
+          for (int k = 0; k < 3; ++k)
+            ASSERT_EQ(std::bit_cast<uint64_t>(n_prepared(k)), std::bit_cast<uint64_t>(n_before(k)));
         }
         ++compared;
       }
@@ -160,7 +164,8 @@ TEST(Obstacle, APreparedObstacleGivesThePlainQuerysBitsForEveryKind) {
   moved.centre += Vec3(0.05, 0, 0);
   EXPECT_EQ(prepared.obstacle().centre, all[4].centre);
   Vec3 n;
-  EXPECT_NE(prepared.SignedDistance(Vec3(0.19, 0, 0.13), &n), SignedDistance(moved, Vec3(0.19, 0, 0.13), &n));
+  EXPECT_NE(prepared.SignedDistance(Vec3(0.19, 0, 0.13), &n),
+            SignedDistance(moved, Vec3(0.19, 0, 0.13), &n));
 }
 
 TEST(Obstacle, InsideFlipsTheSideOfFreeSpace) {
@@ -189,14 +194,15 @@ TEST(Obstacle, MeshSdfOfAnOctahedronMatchesItsExactDistance) {
     EXPECT_NEAR(D(mesh, p, &n), exact, 0.02) << s;
     EXPECT_GT(n.dot(Vec3::Ones().normalized()), 0.95);
   }
-  EXPECT_LT(D(mesh, Vec3::Zero()), -0.5);      // deep inside: -1/sqrt(3)
+  EXPECT_LT(D(mesh, Vec3::Zero()), -0.5);          // deep inside: -1/sqrt(3)
   EXPECT_NEAR(D(mesh, Vec3(3, 0, 0)), 2.0, 0.05);  // outside the grid box: distance grows on
   EXPECT_THROW(MeshSdf::FromObj("/nonexistent.obj", 1.0, Vec3::Zero()), InputError);
 }
 
 TEST(Obstacle, AMeshWithNoExtentOrANonFiniteVertexIsRefusedSayingWhy) {
   // Found by fuzz_obj_loader: every vertex at one point gave a grid cell of 0 and a NaN size.
-  const auto refused = [](const std::string& name, const std::string& text, double scale, const std::string& why) {
+  const auto refused = [](const std::string& name, const std::string& text, double scale,
+                          const std::string& why) {
     const std::string path = testing::TempDir() + name;
     std::ofstream(path) << text;
     try {
@@ -206,8 +212,10 @@ TEST(Obstacle, AMeshWithNoExtentOrANonFiniteVertexIsRefusedSayingWhy) {
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
     }
   };
-  refused("point.obj", "v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n", 1.0, "every vertex is at the same point");
-  refused("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0.0, "every vertex is at the same point");
+  refused("point.obj", "v 1 2 3\nv 1 2 3\nv 1 2 3\nf 1 2 3\n", 1.0,
+          "every vertex is at the same point");
+  refused("flat.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 0.0,
+          "every vertex is at the same point");
   refused("huge.obj", "v 1e308 0 0\nv -1e308 0 0\nv 0 1 0\nf 1 2 3\n", 10.0, "not finite");
 }
 

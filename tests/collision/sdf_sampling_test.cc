@@ -22,10 +22,10 @@ namespace viscera::collision {
 namespace {
 
 struct Comparison {
-  int differ = 0;         // samples whose bits differ
-  int sign_only = 0;      // of those, the same magnitude with the other sign
-  int farther = 0;        // of those, a larger magnitude than the brute force's
-  std::string first;      // the first difference, for the failure message
+  int differ = 0;     // samples whose bits differ
+  int sign_only = 0;  // of those, the same magnitude with the other sign
+  int farther = 0;    // of those, a larger magnitude than the brute force's
+  std::string first;  // the first difference, for the failure message
 };
 
 Comparison Compare(const std::vector<double>& brute, const std::vector<double>& fast) {
@@ -33,7 +33,8 @@ Comparison Compare(const std::vector<double>& brute, const std::vector<double>& 
   EXPECT_EQ(brute.size(), fast.size());
   for (size_t n = 0; n < std::min(brute.size(), fast.size()); ++n) {
     if (std::bit_cast<uint64_t>(brute[n]) == std::bit_cast<uint64_t>(fast[n])) continue;
-    if (c.differ++ == 0) c.first = Cat("sample ", n, ": brute force ", brute[n], ", hierarchy ", fast[n]);
+    if (c.differ++ == 0)
+      c.first = Cat("sample ", n, ": brute force ", brute[n], ", hierarchy ", fast[n]);
     if (std::abs(brute[n]) == std::abs(fast[n])) ++c.sign_only;
     if (std::abs(fast[n]) > std::abs(brute[n])) ++c.farther;
   }
@@ -68,8 +69,9 @@ TEST(SdfSampling, TheHierarchyGivesTheBruteForceSamplesBitForBit) {
   for (const Case& c : Cases()) {
     const SdfGrid grid = GridAround(c.mesh.vertices, c.resolution);
     SamplingStats stats;
-    const Comparison diff = Compare(SampleBruteForce(c.mesh.vertices, c.mesh.triangles, grid),
-                                    SampleWithHierarchy(c.mesh.vertices, c.mesh.triangles, grid, {}, &stats));
+    const Comparison diff =
+        Compare(SampleBruteForce(c.mesh.vertices, c.mesh.triangles, grid),
+                SampleWithHierarchy(c.mesh.vertices, c.mesh.triangles, grid, {}, &stats));
     EXPECT_EQ(diff.differ, 0) << c.name << ": " << diff.first;
     // on the cube's faces, the sheet and the degenerate cube, some sign needs the exact sum
     if (c.name != "slab" && c.name != "torus") {
@@ -82,7 +84,8 @@ TEST(SdfSampling, TheCubesFacesHoldZerosOfBothSigns) {
   // The hard case is really there: grid points exactly on the surface, whose -0.0 or +0.0
   // comes from the rounding of a winding number of exactly 1/2.
   const test::Mesh cube = test::Box(Vec3(0, 0, 0), Vec3(1, 1, 1));
-  const std::vector<double> brute = SampleBruteForce(cube.vertices, cube.triangles, GridAround(cube.vertices, 8));
+  const std::vector<double> brute =
+      SampleBruteForce(cube.vertices, cube.triangles, GridAround(cube.vertices, 8));
   int positive = 0, negative = 0;
   for (const double v : brute) {
     if (v == 0.0) (std::signbit(v) ? negative : positive)++;
@@ -103,7 +106,8 @@ std::shared_ptr<const MeshSdf> CavityLiver() {
 TEST(SdfSampling, TheLiverOfTheCavityIsBuiltBitForBit) {
   const std::shared_ptr<const MeshSdf> cavity_liver = CavityLiver();
   const MeshSdf& liver = *cavity_liver;
-  const Comparison diff = Compare(SampleBruteForce(liver.vertices(), liver.faces(), liver.grid()), liver.samples());
+  const Comparison diff =
+      Compare(SampleBruteForce(liver.vertices(), liver.faces(), liver.grid()), liver.samples());
   EXPECT_EQ(diff.differ, 0) << diff.first;
   EXPECT_EQ(liver.samples().size(), liver.grid().size());
 }
@@ -114,7 +118,8 @@ TEST(SdfSampling, AWrongDistanceBoundChangesTheField) {
   const std::shared_ptr<const MeshSdf> cavity_liver = CavityLiver();
   const MeshSdf& liver = *cavity_liver;
   const std::vector<double> brute = SampleBruteForce(liver.vertices(), liver.faces(), liver.grid());
-  const Comparison diff = Compare(brute, SampleWithHierarchy(liver.vertices(), liver.faces(), liver.grid(), {1.5, 1.0}));
+  const Comparison diff = Compare(
+      brute, SampleWithHierarchy(liver.vertices(), liver.faces(), liver.grid(), {1.5, 1.0}));
   EXPECT_GT(diff.differ, 0);
   EXPECT_EQ(diff.farther, diff.differ);
 }
@@ -127,8 +132,9 @@ TEST(SdfSampling, AWrongRemainderBoundChangesTheField) {
   // threshold: the torus absorbed even a bound 10^6 too small.)
   const test::Mesh sheet = test::WavySheet();
   const SdfGrid grid = GridAround(sheet.vertices, 24);
-  const Comparison diff = Compare(SampleBruteForce(sheet.vertices, sheet.triangles, grid),
-                                  SampleWithHierarchy(sheet.vertices, sheet.triangles, grid, {1.0, 1e-4}));
+  const Comparison diff =
+      Compare(SampleBruteForce(sheet.vertices, sheet.triangles, grid),
+              SampleWithHierarchy(sheet.vertices, sheet.triangles, grid, {1.0, 1e-4}));
   EXPECT_GT(diff.differ, 0);
   EXPECT_EQ(diff.sign_only, diff.differ);
 }

@@ -38,7 +38,8 @@ TEST(SpatialGrid, MatchesBruteForceOnPackedLatticeAcrossCellBoundaries) {
   std::vector<Vec3> points;
   for (int i = 0; i < 10; ++i) {
     for (int j = 0; j < 10; ++j) {
-      for (int k = 0; k < 6; ++k) points.emplace_back(0.0249 * i + 0.013, 0.0249 * j - 0.007, 0.0249 * k + 0.0001);
+      for (int k = 0; k < 6; ++k)
+        points.emplace_back(0.0249 * i + 0.013, 0.0249 * j - 0.007, 0.0249 * k + 0.0001);
     }
   }
   const auto expected = SpatialGrid::BruteForcePairs(points, 0.025);

@@ -47,7 +47,8 @@ Points CurvedStretchedTube(int n, double segment) {
 
 // Each sphere's arc position on the placed chain, against the reference: the chain's spacing
 // is uniform along the true arc length to a small fraction of the spacing.
-double WorstPlacementError(const SphereChain& chain, const spline::CatmullRom& curve, const Points& q) {
+double WorstPlacementError(const SphereChain& chain, const spline::CatmullRom& curve,
+                           const Points& q) {
   const double total = ReferenceArcLength(curve, q, 1.0);
   const int n = chain.size();
   double worst = 0.0;
@@ -84,7 +85,8 @@ TEST(SphereChain, SpheresMoveContinuouslyWithTheCurve) {
   const spline::CatmullRom curve(n);
   const Points from = CurvedStretchedTube(n, 0.016);
   Points to = from;
-  for (int i = 0; i < n; ++i) to.row(i) += Eigen::RowVector3d(0.1 * from(i, 0), 0.02 * from(i, 2), 0.0);
+  for (int i = 0; i < n; ++i)
+    to.row(i) += Eigen::RowVector3d(0.1 * from(i, 0), 0.02 * from(i, 2), 0.0);
   SphereChain chain(curve, ReferenceArcLength(curve, from, 1.0), kRadius);
   chain.Place(from);
   std::vector<Vec3> last;

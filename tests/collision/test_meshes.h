@@ -17,7 +17,8 @@ inline Mesh Box(const Vec3& lo, const Vec3& hi) {
   Mesh m;
   m.vertices.resize(8, 3);
   for (int i = 0; i < 8; ++i) {
-    m.vertices.row(i) << (i & 1 ? hi.x() : lo.x()), (i & 2 ? hi.y() : lo.y()), (i & 4 ? hi.z() : lo.z());
+    m.vertices.row(i) << (i & 1 ? hi.x() : lo.x()), (i & 2 ? hi.y() : lo.y()),
+        (i & 4 ? hi.z() : lo.z());
   }
   m.triangles.resize(12, 3);
   m.triangles << 0, 2, 3, 0, 3, 1,  // z = lo
@@ -55,7 +56,8 @@ Mesh Grid(int n, int m, bool wrap_i, bool wrap_j, At at) {
 inline Mesh Torus() {
   return Grid(32, 16, true, true, [](int i, int j) {
     const double u = 2 * M_PI * i / 32, v = 2 * M_PI * j / 16;
-    return Vec3((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u), 0.35 * std::sin(v));
+    return Vec3((1 + 0.35 * std::cos(v)) * std::cos(u), (1 + 0.35 * std::cos(v)) * std::sin(u),
+                0.35 * std::sin(v));
   });
 }
 

@@ -18,7 +18,8 @@ double BruteNearest(const test::Mesh& m, const Vec3& p) {
   double best = std::numeric_limits<double>::infinity();
   for (int t = 0; t < m.triangles.rows(); ++t) {
     best = std::min(best, SquaredDistanceToTriangle(p, m.vertices.row(m.triangles(t, 0)),
-                                                    m.vertices.row(m.triangles(t, 1)), m.vertices.row(m.triangles(t, 2))));
+                                                    m.vertices.row(m.triangles(t, 1)),
+                                                    m.vertices.row(m.triangles(t, 2))));
   }
   return best;
 }
@@ -67,7 +68,8 @@ TEST(TriangleBvh, TheNearestSquaredDistanceIsTheBruteForceMinimumBitForBit) {
     const TriangleBvh bvh(soup.vertices, soup.triangles);
     EXPECT_GT(bvh.nodes(), 50);
     for (const Vec3& p : QueryPoints(rng, 2000)) {
-      EXPECT_EQ(std::bit_cast<uint64_t>(bvh.NearestSquaredDistance(p)), std::bit_cast<uint64_t>(BruteNearest(soup, p)))
+      EXPECT_EQ(std::bit_cast<uint64_t>(bvh.NearestSquaredDistance(p)),
+                std::bit_cast<uint64_t>(BruteNearest(soup, p)))
           << p.transpose();
     }
   }

@@ -87,8 +87,9 @@ TEST(VerletList, KeepsEveryPairWithinTheMarginThroughPartialAndWholeSearches) {
       ASSERT_TRUE(kept.insert(KeyOf(c)).second) << "duplicate candidate at step " << k;
     }
     for (const ContactCandidate& c : expected) {
-      ASSERT_TRUE(kept.count(KeyOf(c))) << "step " << k << ": pair (" << static_cast<int>(c.kind) << ", " << c.a
-                                        << ", " << c.b << ") within the margin is missing";
+      ASSERT_TRUE(kept.count(KeyOf(c)))
+          << "step " << k << ": pair (" << static_cast<int>(c.kind) << ", " << c.a << ", " << c.b
+          << ") within the margin is missing";
     }
     checked += static_cast<int64_t>(expected.size());
   }
@@ -137,7 +138,8 @@ TEST(VerletList, APairLookedAtInAPartialSearchIsFoundWhenTheBodyLeftAloneTurnsRo
     std::set<Key> kept;
     for (const ContactCandidate& cand : list.candidates()) kept.insert(KeyOf(cand));
     for (const ContactCandidate& cand : expected) {
-      ASSERT_TRUE(kept.count(KeyOf(cand))) << "move " << k << ": B and C within the margin, not listed";
+      ASSERT_TRUE(kept.count(KeyOf(cand)))
+          << "move " << k << ": B and C within the margin, not listed";
     }
     if (!expected.empty()) return;  // they met, and the list had them
   }

@@ -87,7 +87,7 @@ TEST(Pacer, CountsLateWakeupsMissesAndResyncsExactly) {
   EXPECT_EQ(deadlines[1], 2 * kMs);
   EXPECT_EQ(deadlines[3], 4 * kMs);
   EXPECT_EQ(deadlines[4], 5 * kMs);
-  EXPECT_GT(deadlines[5], 9 * kMs);    // restarted from the end of the stalled period
+  EXPECT_GT(deadlines[5], 9 * kMs);  // restarted from the end of the stalled period
   EXPECT_EQ(deadlines[6], deadlines[5] + kMs);
 }
 

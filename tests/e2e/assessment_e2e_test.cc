@@ -41,18 +41,23 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
   ASSERT_EQ(drive.rc, 0) << drive.out;
   // pause: no more steps, so the report read now is the one written when the session ends
   ASSERT_EQ(Viscera(dir, "pause " + sid).rc, 0);
-  ASSERT_TRUE(Eventually([&] {
-    const auto s = TryStatus(dir, id);
-    return !s.is_null() && s["state"] == "paused";
-  }, 30.0, [] { Sleep(0.05); }));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const auto s = TryStatus(dir, id);
+        return !s.is_null() && s["state"] == "paused";
+      },
+      30.0, [] { Sleep(0.05); }));
   // the exposure watcher evaluates every 0.1 s: wait until it has seen the last pose
   json live;
-  ASSERT_TRUE(Eventually([&] {
-    const CliResult r = Viscera(dir, "report " + sid + " --json");
-    if (r.rc != 0) return false;
-    live = r.json();
-    return live["targets"][0]["max_exposed"].get<double>() >= 0.9;
-  }, 30.0, [] { Sleep(0.1); })) << live.dump(2);
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const CliResult r = Viscera(dir, "report " + sid + " --json");
+        if (r.rc != 0) return false;
+        live = r.json();
+        return live["targets"][0]["max_exposed"].get<double>() >= 0.9;
+      },
+      30.0, [] { Sleep(0.1); }))
+      << live.dump(2);
   const assessment::Report over_lcm = assessment::ReportFromJson(live);
   EXPECT_FALSE(over_lcm.finished);
   ASSERT_EQ(Viscera(dir, "destroy " + sid).rc, 0);
@@ -60,7 +65,8 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
   // the JSON next to the record, written when the session ended
   const std::string record = dir + "/session-" + sid + ".lcmlog";
   const std::string written = dir + "/session-" + sid + ".assessment.json";
-  ASSERT_TRUE(Eventually([&] { return std::filesystem::exists(written); }, 30.0, [] { Sleep(0.05); }));
+  ASSERT_TRUE(
+      Eventually([&] { return std::filesystem::exists(written); }, 30.0, [] { Sleep(0.05); }));
   const assessment::Report final_report = ReadReport(written);
   EXPECT_TRUE(final_report.finished);
   EXPECT_EQ(final_report.session, id);
@@ -69,7 +75,8 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
 
   // the offline computation on the record: the replay is exact, so are the per-step figures
   const std::string offline_path = dir + "/offline.json";
-  RunCommand(std::string(VISCERA_SIM) + " --replay " + record + " --report " + offline_path + " > /dev/null");
+  RunCommand(std::string(VISCERA_SIM) + " --replay " + record + " --report " + offline_path +
+             " > /dev/null");
   const assessment::Report offline = ReadReport(offline_path);
   ASSERT_EQ(offline.tools.size(), final_report.tools.size());
   EXPECT_EQ(offline.tools, final_report.tools);
@@ -84,7 +91,8 @@ TEST(AssessmentE2E, ReportOverLcmMatchesTheOfflineComputation) {
   EXPECT_EQ(final_report.tools[0].grasps, 0);
   ASSERT_EQ(offline.targets.size(), 1u);
   ASSERT_EQ(final_report.targets.size(), 1u);
-  const double offline_t = offline.targets[0].time_to_expose, live_t = final_report.targets[0].time_to_expose;
+  const double offline_t = offline.targets[0].time_to_expose,
+               live_t = final_report.targets[0].time_to_expose;
   ASSERT_GE(offline_t, 0.0);
   ASSERT_GE(live_t, 0.0);
   // exposure is sampled every 0.1 s on both sides, on the server from a separate thread (at
@@ -98,12 +106,15 @@ TEST(AssessmentE2E, AServerThatStopsWritesTheReport) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-assess-stop", {"--log-dir", dir}, dir);
   const int64_t id = Create(dir, "cavity")["session"].get<int64_t>();
-  ASSERT_TRUE(Eventually([&] {
-    const auto s = TryStatus(dir, id);
-    return !s.is_null() && s["sim_time"].get<double>() > 0.5;
-  }, 30.0, [] { Sleep(0.05); }));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const auto s = TryStatus(dir, id);
+        return !s.is_null() && s["sim_time"].get<double>() > 0.5;
+      },
+      30.0, [] { Sleep(0.05); }));
   EXPECT_EQ(daemon.Stop(SIGTERM), 0);
-  const assessment::Report r = ReadReport(dir + "/session-" + std::to_string(id) + ".assessment.json");
+  const assessment::Report r =
+      ReadReport(dir + "/session-" + std::to_string(id) + ".assessment.json");
   EXPECT_TRUE(r.finished);
   EXPECT_GT(r.sim_time, 0.5);
   ASSERT_EQ(r.tools.size(), 2u);

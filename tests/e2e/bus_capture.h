@@ -42,7 +42,8 @@ class Capture {
 template <typename Msg>
 inline std::optional<Msg> Decode(const std::vector<uint8_t>& d) {
   Msg m;
-  if (m.decode(d.data(), 0, static_cast<int>(d.size())) != static_cast<int>(d.size())) return std::nullopt;
+  if (m.decode(d.data(), 0, static_cast<int>(d.size())) != static_cast<int>(d.size()))
+    return std::nullopt;
   return m;
 }
 

@@ -37,8 +37,8 @@ inline std::string ReadFile(const std::string& path) {
 /// A private scratch directory per test (records, keys, session store).
 inline std::string ScratchDir() {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const std::string dir = ::testing::TempDir() + "/viscera_e2e_" + info->name() + "_" +
-                          std::to_string(getpid());
+  const std::string dir =
+      ::testing::TempDir() + "/viscera_e2e_" + info->name() + "_" + std::to_string(getpid());
   std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
   return dir;
 }
@@ -67,7 +67,8 @@ class Daemon {
     argv.push_back(nullptr);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, stderr_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 2, stderr_path_.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
     EXPECT_EQ(posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ), 0);
     posix_spawn_file_actions_destroy(&actions);
   }
@@ -84,7 +85,8 @@ class Daemon {
   }
   /// Waits up to `timeout_s` for the process to exit. @return its exit status, or -1 if it runs on.
   int WaitExit(double timeout_s) {
-    const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    const auto give_up =
+        std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
     while (std::chrono::steady_clock::now() < give_up) {
       int status = 0;
       if (waitpid(pid_, &status, WNOHANG) == pid_) {
@@ -96,7 +98,9 @@ class Daemon {
     return -1;
   }
   pid_t pid() const { return pid_; }
-  bool Alive() const { return pid_ > 0 && kill(pid_, 0) == 0 && waitpid(pid_, nullptr, WNOHANG) == 0; }
+  bool Alive() const {
+    return pid_ > 0 && kill(pid_, 0) == 0 && waitpid(pid_, nullptr, WNOHANG) == 0;
+  }
   std::string Stderr() const { return ReadFile(stderr_path_); }
 
  private:

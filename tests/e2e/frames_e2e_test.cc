@@ -26,12 +26,16 @@ json Status(const std::string& dir, const std::string& id) {
 }
 
 // Polls until `done` holds for the session's status (30 s at most, then the test fails).
-json StatusWhen(const std::string& dir, const std::string& id, const std::function<bool(const json&)>& done) {
+json StatusWhen(const std::string& dir, const std::string& id,
+                const std::function<bool(const json&)>& done) {
   json s;
-  EXPECT_TRUE(Eventually([&] {
-    s = Status(dir, id);
-    return !s.is_null() && done(s);
-  }, 30.0, [] { Sleep(0.05); })) << "last status: " << s.dump();
+  EXPECT_TRUE(Eventually(
+      [&] {
+        s = Status(dir, id);
+        return !s.is_null() && done(s);
+      },
+      30.0, [] { Sleep(0.05); }))
+      << "last status: " << s.dump();
   return s;
 }
 
@@ -53,30 +57,37 @@ TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
   ASSERT_GT(id, 0);
   const std::string sid = std::to_string(id);
   // nobody watches yet: the render thread draws nothing (the frame lease; viscera frames renews it)
-  const json unwatched = StatusWhen(dir, sid, [](const json& s) { return s["steps"].get<int64_t>() > 100; });
+  const json unwatched =
+      StatusWhen(dir, sid, [](const json& s) { return s["steps"].get<int64_t>() > 100; });
   EXPECT_EQ(unwatched["frames"]["sent"].get<int64_t>(), 0) << unwatched.dump();
 
   // a count, not a duration: however slowly a loaded machine renders (the renderer runs
   // SCHED_IDLE and yields to everything), the test waits for these frames
-  const CliResult frames = Viscera(dir, "frames " + sid + " --out " + dir + "/frames --count 12 --timeout 60 --json");
+  const CliResult frames =
+      Viscera(dir, "frames " + sid + " --out " + dir + "/frames --count 12 --timeout 60 --json");
   ASSERT_EQ(frames.rc, 0) << frames.out;
   const json f = frames.json();
   const json after = Status(dir, sid);
   // liveness, and exact bookkeeping: what the client received or counted lost, the server sent
   EXPECT_EQ(f["frames"].get<int64_t>(), 12) << f.dump();
-  EXPECT_LE(f["frames"].get<int64_t>() + f["lost"].get<int64_t>(), after["frames"]["sent"].get<int64_t>()) << f.dump();
-  EXPECT_LE(f["server_dropped"].get<int64_t>(), after["frames"]["dropped"].get<int64_t>()) << f.dump();
+  EXPECT_LE(f["frames"].get<int64_t>() + f["lost"].get<int64_t>(),
+            after["frames"]["sent"].get<int64_t>())
+      << f.dump();
+  EXPECT_LE(f["server_dropped"].get<int64_t>(), after["frames"]["dropped"].get<int64_t>())
+      << f.dump();
   EXPECT_GE(f["lost"].get<int64_t>(), 0);
   EXPECT_GT(f["rate_hz"].get<double>(), 0.0) << f.dump();
   EXPECT_GT(f["age_p50_ms"].get<double>(), 0.0) << f.dump();
 
   const int64_t n = f["frames"];
   int64_t files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(dir + "/frames")) files += entry.is_regular_file();
+  for (const auto& entry : std::filesystem::directory_iterator(dir + "/frames"))
+    files += entry.is_regular_file();
   EXPECT_EQ(files, n);
   const cv::Mat first = Decode(dir + "/frames/frame_000000.jpg");
   char last_name[64];
-  std::snprintf(last_name, sizeof(last_name), "/frames/frame_%06lld.jpg", static_cast<long long>(n - 1));
+  std::snprintf(last_name, sizeof(last_name), "/frames/frame_%06lld.jpg",
+                static_cast<long long>(n - 1));
   const cv::Mat last = Decode(dir + last_name);
   ASSERT_EQ(first.cols, 640);
   ASSERT_EQ(first.rows, 480);
@@ -100,34 +111,44 @@ TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
 TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-video", {}, dir);
-  const std::string id = std::to_string(Create(dir, "hanging --width 320 --height 240")["session"].get<int64_t>());
+  const std::string id =
+      std::to_string(Create(dir, "hanging --width 320 --height 240")["session"].get<int64_t>());
   ASSERT_EQ(Viscera(dir, "pause " + id).rc, 0);  // a still tube: only the camera changes
   StatusWhen(dir, id, [](const json& s) { return s["state"] == "paused"; });
   // two frames in a row alike: the picture of the paused tube is settled
   cv::Mat a;
   int fetched = 0;
-  ASSERT_TRUE(Eventually([&] {
-    const std::string out = dir + "/a" + std::to_string(fetched++);
-    if (Viscera(dir, "frames " + id + " --out " + out + " --count 1 --timeout 60").rc != 0) return false;
-    const cv::Mat next = Decode(out + "/frame_000000.jpg");
-    const bool settled = !a.empty() && next.size() == a.size() && MeanAbsDifference(a, next) < 1.0;
-    a = next;
-    return settled;
-  }, 30.0));
+  ASSERT_TRUE(Eventually(
+      [&] {
+        const std::string out = dir + "/a" + std::to_string(fetched++);
+        if (Viscera(dir, "frames " + id + " --out " + out + " --count 1 --timeout 60").rc != 0)
+          return false;
+        const cv::Mat next = Decode(out + "/frame_000000.jpg");
+        const bool settled =
+            !a.empty() && next.size() == a.size() && MeanAbsDifference(a, next) < 1.0;
+        a = next;
+        return settled;
+      },
+      30.0));
   ASSERT_EQ(a.cols, 320);
   ASSERT_EQ(Viscera(dir, "camera " + id + " --eye 0.6 0.6 0.2 --target 0 0 0").rc, 0);
   // the new view shows up in a later frame
   double moved = 0.0;
-  EXPECT_TRUE(Eventually([&] {
-    const std::string out = dir + "/b" + std::to_string(fetched++);
-    if (Viscera(dir, "frames " + id + " --out " + out + " --count 1 --timeout 60").rc != 0) return false;
-    const cv::Mat b = Decode(out + "/frame_000000.jpg");
-    moved = b.size() == a.size() ? MeanAbsDifference(a, b) : 0.0;
-    return moved > 5.0;
-  }, 30.0)) << "the camera did not move the picture (difference " << moved << ")";
+  EXPECT_TRUE(Eventually(
+      [&] {
+        const std::string out = dir + "/b" + std::to_string(fetched++);
+        if (Viscera(dir, "frames " + id + " --out " + out + " --count 1 --timeout 60").rc != 0)
+          return false;
+        const cv::Mat b = Decode(out + "/frame_000000.jpg");
+        moved = b.size() == a.size() ? MeanAbsDifference(a, b) : 0.0;
+        return moved > 5.0;
+      },
+      30.0))
+      << "the camera did not move the picture (difference " << moved << ")";
 
   ASSERT_EQ(Viscera(dir, "resume " + id).rc, 0);
-  const CliResult record = Viscera(dir, "record " + id + " --out " + dir + "/clip.mp4 --count 25 --timeout 60 --json");
+  const CliResult record =
+      Viscera(dir, "record " + id + " --out " + dir + "/clip.mp4 --count 25 --timeout 60 --json");
   ASSERT_EQ(record.rc, 0) << record.out;
   cv::VideoCapture video(dir + "/clip.mp4");
   ASSERT_TRUE(video.isOpened());
@@ -141,7 +162,8 @@ TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
   const json r = record.json();
   EXPECT_EQ(r["frames"], 25);
   EXPECT_GE(decoded, 25);
-  EXPECT_LE(decoded, 25 + r["lost"].get<int64_t>() + r["server_dropped"].get<int64_t>()) << r.dump();
+  EXPECT_LE(decoded, 25 + r["lost"].get<int64_t>() + r["server_dropped"].get<int64_t>())
+      << r.dump();
   EXPECT_EQ(daemon.Stop(), 0);
 }
 
@@ -149,12 +171,14 @@ TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
 TEST(FramesE2E, ASessionWithoutFramesSaysSo) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-noframes", {}, dir);
-  const std::string id = std::to_string(Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>());
+  const std::string id =
+      std::to_string(Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>());
   const CliResult none = Viscera(dir, "frames " + id + " --out " + dir + "/none --count 1");
   EXPECT_EQ(none.rc, 2);
   const CliResult status = Viscera(dir, "status " + id + " --json");
   EXPECT_EQ(status.json()["frames"]["sent"], 0);
-  EXPECT_EQ(Viscera(dir, "create hanging --skin marble --timeout 30").rc, 4);  // refused with the reason
+  EXPECT_EQ(Viscera(dir, "create hanging --skin marble --timeout 30").rc,
+            4);  // refused with the reason
   EXPECT_EQ(daemon.Stop(), 0);
 }
 

@@ -34,7 +34,7 @@ struct Sample {
   double t;
   double period_us;
   Vec3 x, f, fl, fs;  // position, force sent, force before the passivity controller, server's
-  double age_ms;  // +inf before the first answer
+  double age_ms;      // +inf before the first answer
   double gain;
   double energy;
   int64_t nonfinite;
@@ -44,14 +44,17 @@ std::vector<Sample> ReadLog(const std::string& path) {
   std::vector<Sample> out;
   std::ifstream in(path);
   std::string line;
-  auto vec = [](const json& j) { return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>()); };
+  auto vec = [](const json& j) {
+    return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+  };
   while (std::getline(in, line)) {
     const json j = json::parse(line);
-    out.push_back({j["t"].get<double>(), j["period_us"].get<double>(), vec(j["position"]), vec(j["force"]),
-                   vec(j["limited_force"]), vec(j["server_force"]),
+    out.push_back({j["t"].get<double>(), j["period_us"].get<double>(), vec(j["position"]),
+                   vec(j["force"]), vec(j["limited_force"]), vec(j["server_force"]),
                    j["model_age_ms"].is_null() ? std::numeric_limits<double>::infinity()
                                                : j["model_age_ms"].get<double>(),
-                   j["gain"].get<double>(), j["energy_j"].get<double>(), j["nonfinite"].get<int64_t>()});
+                   j["gain"].get<double>(), j["energy_j"].get<double>(),
+                   j["nonfinite"].get<int64_t>()});
   }
   return out;
 }
@@ -105,11 +108,12 @@ double StalledInjection(const std::vector<Sample>& log, double nominal_us) {
 // the local model lets through in that period (local_model.h): the hand's motion through the
 // stiffness cap, plus the news of the answers heard within the longest cross-fade (25 ms) spread
 // over at least `crossfade_periods` (the cross-fade is linear in time: a period of p ms carries
-// p / crossfade_periods of it, counted from the period before). An answer's news, bounded from the log: its force against what was
-// rendered before it, plus the hand's motion since the pose it answers through the stiffness cap.
+// p / crossfade_periods of it, counted from the period before). An answer's news, bounded from the
+// log: its force against what was rendered before it, plus the hand's motion since the pose it
+// answers through the stiffness cap.
 // <= 1: smooth by the model's own rule, however the server's answers step.
-double LargestStepShareOfTheModelsAllowance(const std::vector<Sample>& log, double max_stiffness_n_m,
-                                            int crossfade_periods) {
+double LargestStepShareOfTheModelsAllowance(const std::vector<Sample>& log,
+                                            double max_stiffness_n_m, int crossfade_periods) {
   std::vector<double> news(log.size(), 0.0);
   for (size_t k = 1; k < log.size(); ++k) {
     const bool heard = log[k].fs != log[k - 1].fs || log[k].age_ms < log[k - 1].age_ms;
@@ -118,7 +122,8 @@ double LargestStepShareOfTheModelsAllowance(const std::vector<Sample>& log, doub
     const auto answered = std::lower_bound(log.begin(), log.end(), posed_at,
                                            [](const Sample& p, double t) { return p.t < t; });
     const Vec3& x_answered = answered == log.end() ? log[k].x : answered->x;
-    news[k] = (log[k].fs - log[k - 1].fl).norm() + max_stiffness_n_m * (log[k].x - x_answered).norm();
+    news[k] =
+        (log[k].fs - log[k - 1].fl).norm() + max_stiffness_n_m * (log[k].x - x_answered).norm();
   }
   double worst = 0.0;
   for (size_t i = 1; i < log.size(); ++i) {
@@ -127,7 +132,8 @@ double LargestStepShareOfTheModelsAllowance(const std::vector<Sample>& log, doub
     // (an answer is timed by its arrival, which can fall in the period before, after its poll)
     const double periods = (log[i].period_us + log[i - 1].period_us) / 1000.0;
     const double allowed = heard * std::min(1.0, periods / crossfade_periods) +
-                           max_stiffness_n_m * (log[i].x - log[i - 1].x).norm() + 1e-8;  // (9 digits)
+                           max_stiffness_n_m * (log[i].x - log[i - 1].x).norm() +
+                           1e-8;  // (9 digits)
     worst = std::max(worst, (log[i].fl - log[i - 1].fl).norm() / allowed);
   }
   return worst;
@@ -153,10 +159,12 @@ struct HapticRun {
   std::vector<Sample> log;
 };
 
-HapticRun Haptic(const std::string& dir, int64_t id, const std::string& args, const std::string& log_name) {
+HapticRun Haptic(const std::string& dir, int64_t id, const std::string& args,
+                 const std::string& log_name) {
   HapticRun r;
   const std::string log = dir + "/" + log_name;
-  r.cli = Viscera(dir, "haptic " + std::to_string(id) + " --tool grasper --device sim --json --log " + log + " " + args);
+  r.cli = Viscera(dir, "haptic " + std::to_string(id) +
+                           " --tool grasper --device sim --json --log " + log + " " + args);
   EXPECT_EQ(r.cli.rc, 0) << r.cli.out;
   if (r.cli.rc == 0) {
     const json out = r.cli.json();
@@ -164,11 +172,13 @@ HapticRun Haptic(const std::string& dir, int64_t id, const std::string& args, co
     // the verdict follows from the figures, whichever way a busy machine makes it go (both
     // outcomes' wording: tests/client/haptic_verdict_test.cc)
     const json& verdict = out["verdict"];
-    const bool held = r.summary["achieved_rate_hz"].get<double>() >= 0.99 * r.summary["rate_hz"].get<double>() &&
-                      r.summary["deadline_misses"].get<double>() <= 0.01 * r.summary["periods"].get<double>() &&
-                      r.summary["periods"].get<int64_t>() > 0;
+    const bool held =
+        r.summary["achieved_rate_hz"].get<double>() >= 0.99 * r.summary["rate_hz"].get<double>() &&
+        r.summary["deadline_misses"].get<double>() <= 0.01 * r.summary["periods"].get<double>() &&
+        r.summary["periods"].get<int64_t>() > 0;
     EXPECT_EQ(verdict["held"], held) << verdict.dump();
-    EXPECT_EQ(verdict["line"].get<std::string>().rfind(held ? "held " : "did NOT hold ", 0), 0u) << verdict.dump();
+    EXPECT_EQ(verdict["line"].get<std::string>().rfind(held ? "held " : "did NOT hold ", 0), 0u)
+        << verdict.dump();
   }
   r.log = ReadLog(log);
   return r;
@@ -183,10 +193,12 @@ class DeviceClock {
   /// Listens to session `id`'s poses: construct it before the device loop starts.
   explicit DeviceClock(int64_t id) : bus_(kUrl) {
     bus_.Subscribe<viscera_proto::tool_pose_t>(
-        bus::SessionChannel(bus::kPosePrefix, id), [this](const viscera_proto::tool_pose_t& p, int64_t) {
+        bus::SessionChannel(bus::kPosePrefix, id),
+        [this](const viscera_proto::tool_pose_t& p, int64_t) {
           // (a lost first pose starts the clock a few periods late: the events come that late)
           if (first_utime_ < 0) first_utime_ = p.header.utime;
-          script_s_ = std::max(script_s_, static_cast<double>(p.header.utime - first_utime_) * 1e-6);
+          script_s_ =
+              std::max(script_s_, static_cast<double>(p.header.utime - first_utime_) * 1e-6);
         });
   }
   /// Waits until the device loop has reached `t_s` of its script. @return false after `timeout_s`.
@@ -216,10 +228,12 @@ TEST(HapticE2E, PressingIntoTheTubeGivesASmoothRisingOpposingForceWithinTheLimit
   // and above what the first 4 mm of the press ask (the coupling's 300 N/m: the tube's
   // stiffening law gives way by under 1 mm; with 1.5 N the unclamped press was 3.8 mm deep)
   const double limit = 2.0;
-  const HapticRun run = Haptic(dir, id, "--script " + PressScript(dir) + " --max-force 2.0", "press.jsonl");
+  const HapticRun run =
+      Haptic(dir, id, "--script " + PressScript(dir) + " --max-force 2.0", "press.jsonl");
   ASSERT_GT(run.log.size(), 1000u);
-  // the log reaches the hand's deepest target (2.5 s). Not the script's end (3.5 s): the loop ends at
-  // its first period past 3.5 s, and a machine stalled over the last 0.1 s left none logged there.
+  // the log reaches the hand's deepest target (2.5 s). Not the script's end (3.5 s): the loop ends
+  // at its first period past 3.5 s, and a machine stalled over the last 0.1 s left none logged
+  // there.
   ASSERT_GT(run.log.back().t, 2.5);
   const json& s = run.summary;
   EXPECT_GT(s["answers_accepted"].get<int64_t>(), 1000) << s.dump();
@@ -268,18 +282,20 @@ TEST(HapticE2E, PressingIntoTheTubeGivesASmoothRisingOpposingForceWithinTheLimit
   // smooth: the model's force (after the limits) never changes faster than its own rule lets it.
   // Not a fixed bound: after a server starved for 58 ms, its next answer jumped 0.36 N and the
   // model stepped 0.053 N per period over its cross-fade (a fixed 0.05 N failed; quiet runs step
-  // under 0.015 N). Measured: at most 0.80 of the allowance in 20 runs under load. The passivity controller comes after the model and may step the force to stop
-  // the port from creating energy: under load, answers 20 ms old pushed the hand in the air until
-  // its damping cut 0.86 N at once. That is its job (ThroughDelayJitterAndLoss... tests it); here
-  // it must only take energy out.
-  const double share = LargestStepShareOfTheModelsAllowance(run.log, s["max_stiffness_n_m"].get<double>(), 4);
+  // under 0.015 N). Measured: at most 0.80 of the allowance in 20 runs under load. The passivity
+  // controller comes after the model and may step the force to stop the port from creating energy:
+  // under load, answers 20 ms old pushed the hand in the air until its damping cut 0.86 N at once.
+  // That is its job (ThroughDelayJitterAndLoss... tests it); here it must only take energy out.
+  const double share =
+      LargestStepShareOfTheModelsAllowance(run.log, s["max_stiffness_n_m"].get<double>(), 4);
   RecordProperty("largest_step_share_of_allowance", std::to_string(share));
   EXPECT_LE(share, 1.0);
   ExpectDampingOnlyDissipates(run.log, limit);
 
   // the replay device plays the recorded hand again: same path (open loop), same peak force
-  const CliResult replay = Viscera(dir, "haptic " + std::to_string(id) + " --tool grasper --device replay --replay " +
-                                            dir + "/press.jsonl --max-force 2.0 --json --log " + dir + "/replay.jsonl");
+  const CliResult replay =
+      Viscera(dir, "haptic " + std::to_string(id) + " --tool grasper --device replay --replay " +
+                       dir + "/press.jsonl --max-force 2.0 --json --log " + dir + "/replay.jsonl");
   ASSERT_EQ(replay.rc, 0) << replay.out;
   const std::vector<Sample> again = ReadLog(dir + "/replay.jsonl");
   ASSERT_GT(again.size(), 1000u);
@@ -311,16 +327,22 @@ TEST(HapticE2E, BetweenAnswersOfA100HzSessionTheForceIsSmootherThanAZeroOrderHol
   size_t begin = 0;
   while (begin < run.log.size() && run.log[begin].fs.norm() < 0.05) ++begin;
   ASSERT_LT(begin + 500, run.log.size()) << "no contact";
-  // (the model's force: the passivity controller's damping after it may step, e.g. 0.79 N under load)
-  const double rendered = LargestStep(run.log, begin, run.log.size(), [](const Sample& p) { return p.fl; });
-  const double held = LargestStep(run.log, begin, run.log.size(), [](const Sample& p) { return p.fs; });
+  // (the model's force: the passivity controller's damping after it may step, e.g. 0.79 N under
+  // load)
+  const double rendered =
+      LargestStep(run.log, begin, run.log.size(), [](const Sample& p) { return p.fl; });
+  const double held =
+      LargestStep(run.log, begin, run.log.size(), [](const Sample& p) { return p.fs; });
   RecordProperty("largest_step_rendered_n", std::to_string(rendered));
   RecordProperty("largest_step_held_n", std::to_string(held));
   EXPECT_GT(held, 0.02) << "the answers must step for the comparison to mean anything";
-  EXPECT_LE(5.0 * rendered, held) << "rendered " << rendered << " N, zero-order hold " << held << " N";
+  EXPECT_LE(5.0 * rendered, held) << "rendered " << rendered << " N, zero-order hold " << held
+                                  << " N";
 }
 
-std::string StiffPushScene() { return std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes/stiff_push.toml"; }
+std::string StiffPushScene() {
+  return std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes/stiff_push.toml";
+}
 
 // Tapping a stiff tube four times a second, 1.5 cm deep from 2 mm above it: with 40 ms of round
 // trip the force comes late on the way in and is still there on the way out, so the device
@@ -338,10 +360,12 @@ std::string TapScript(const std::string& dir) {
 TEST(HapticE2E, ThroughDelayJitterAndLossThePassivityControllerKeepsThePortPassive) {
   const std::string dir = ScratchDir();
   Daemon daemon("haptic-c", {}, dir);
-  const json created = Create(dir, "--scene-file " + StiffPushScene() + " --frame-rate -1 --rate 1000");
+  const json created =
+      Create(dir, "--scene-file " + StiffPushScene() + " --frame-rate -1 --rate 1000");
   const int64_t id = created.value("session", int64_t{0});
   ASSERT_GT(id, 0);
-  const std::string common = "--script " + TapScript(dir) + " --delay-ms 20 --jitter-ms 5 --loss 0.1 --seed 7";
+  const std::string common =
+      "--script " + TapScript(dir) + " --delay-ms 20 --jitter-ms 5 --loss 0.1 --seed 7";
   const HapticRun on = Haptic(dir, id, common, "on.jsonl");
   const HapticRun off = Haptic(dir, id, common + " --no-passivity", "off.jsonl");
   ASSERT_FALSE(on.summary.is_null());
@@ -357,13 +381,15 @@ TEST(HapticE2E, ThroughDelayJitterAndLossThePassivityControllerKeepsThePortPassi
     EXPECT_LE(s["peak_force_n"].get<double>(), s["max_force_n"].get<double>() + 1e-9);
     EXPECT_GT(s["peak_force_n"].get<double>(), 0.5);
     // (the log prints 9 significant digits)
-    for (const Sample& p : r->log) ASSERT_LE(p.f.norm(), s["max_force_n"].get<double>() * (1 + 1e-7));
+    for (const Sample& p : r->log)
+      ASSERT_LE(p.f.norm(), s["max_force_n"].get<double>() * (1 + 1e-7));
   }
   // The books: the port's energy at the end, with what the stalls of a busy machine injected
   // (measured from each run's own log) taken out of the controller's account. 1 mJ: what the
   // controller itself may leave, its damping capped and its prediction one period ahead.
   const double tolerance = 1e-3;
-  const double on_stalled = StalledInjection(on.log, 1000.0), off_stalled = StalledInjection(off.log, 1000.0);
+  const double on_stalled = StalledInjection(on.log, 1000.0),
+               off_stalled = StalledInjection(off.log, 1000.0);
   RecordProperty("stalled_injection_on_j", std::to_string(on_stalled));
   RecordProperty("stalled_injection_off_j", std::to_string(off_stalled));
   for (const HapticRun* r : {&on, &off}) {  // the log's energy is the summary's (to its 9 digits)
@@ -389,20 +415,24 @@ TEST(HapticE2E, WhenTheServerDiesTheForceFadesToZeroWithoutAStep) {
   HapticRun run;
   DeviceClock device(id);
   std::thread client([&] {
-    run = Haptic(dir, id, "--script " + PressScript(dir) + " --seconds 4.5 --stale-ms 100 --fade-ms 150", "kill.jsonl");
+    run = Haptic(dir, id,
+                 "--script " + PressScript(dir) + " --seconds 4.5 --stale-ms 100 --fade-ms 150",
+                 "kill.jsonl");
   });
   // kill -9 the server once the hand presses into the tube (2.6 s into its script)
   const bool pressing = device.WaitUntil(2.6);
   daemon->Stop(SIGKILL);
   client.join();
-  ASSERT_TRUE(pressing) << "the device loop's poses never reached 2.6 s (at " << device.script_s() << " s)";
+  ASSERT_TRUE(pressing) << "the device loop's poses never reached 2.6 s (at " << device.script_s()
+                        << " s)";
   ASSERT_GT(run.log.size(), 1000u);
   // the last answer's pose, and the force then
   size_t last_fresh = 0;
   for (size_t i = 0; i < run.log.size(); ++i) {
     if (run.log[i].age_ms < stale_ms) last_fresh = i;
   }
-  ASSERT_GT(run.log.back().t, run.log[last_fresh].t + 0.5) << "the loop must outlive the server by 0.5 s";
+  ASSERT_GT(run.log.back().t, run.log[last_fresh].t + 0.5)
+      << "the loop must outlive the server by 0.5 s";
   const double force_then = run.log[last_fresh].f.norm();
   EXPECT_GT(force_then, 0.3) << "the hand must be pressing when the server dies";
   // zero within stale + fade of the last answer's pose, plus one period
@@ -414,7 +444,8 @@ TEST(HapticE2E, WhenTheServerDiesTheForceFadesToZeroWithoutAStep) {
   // no step above the raised cosine's steepest: pi/2 F / fade per 1 ms period (+ the hand's
   // own motion through the local model, 10 %)
   const double bound = 1.1 * M_PI / 2.0 * force_then / fade_ms;
-  EXPECT_LE(LargestStep(run.log, last_fresh, run.log.size(), [](const Sample& p) { return p.f; }), bound);
+  EXPECT_LE(LargestStep(run.log, last_fresh, run.log.size(), [](const Sample& p) { return p.f; }),
+            bound);
   EXPECT_GE(run.summary["fade_events"].get<int64_t>(), 1);
 }
 
@@ -425,9 +456,8 @@ TEST(HapticE2E, ANonFiniteForceMessageGivesZeroForceAndACountedEvent) {
   ASSERT_GT(id, 0);
   HapticRun run;
   DeviceClock device(id);
-  std::thread client([&] {
-    run = Haptic(dir, id, "--script " + PressScript(dir) + " --seconds 5", "nan.jsonl");
-  });
+  std::thread client(
+      [&] { run = Haptic(dir, id, "--script " + PressScript(dir) + " --seconds 5", "nan.jsonl"); });
   // two forged answers while the hand presses (from about 2 s of its script on): a NaN force,
   // then an infinite stiffness
   const std::string channel = bus::SessionChannel(bus::kForcePrefix, id);
@@ -435,7 +465,8 @@ TEST(HapticE2E, ANonFiniteForceMessageGivesZeroForceAndACountedEvent) {
     const double at_s = k == 0 ? 2.6 : 3.3;
     if (!device.WaitUntil(at_s)) {
       client.join();
-      FAIL() << "the device loop's poses never reached " << at_s << " s (at " << device.script_s() << " s)";
+      FAIL() << "the device loop's poses never reached " << at_s << " s (at " << device.script_s()
+             << " s)";
     }
     viscera_proto::force_feedback_t f{};
     f.header = bus::MakeHeader(id, 1'000'000'000);
@@ -473,7 +504,8 @@ TEST(HapticE2E, ANonFiniteForceMessageGivesZeroForceAndACountedEvent) {
       } else {
         // ... through the rate limit over each period as long as it really lasted: no jump
         // (the log prints periods to 0.1 us and forces to 9 digits)
-        EXPECT_LE((run.log[j].fl - run.log[j - 1].fl).norm(), 200.0 * (run.log[j].period_us + 0.1) * 1e-6 + 1e-7);
+        EXPECT_LE((run.log[j].fl - run.log[j - 1].fl).norm(),
+                  200.0 * (run.log[j].period_us + 0.1) * 1e-6 + 1e-7);
       }
     }
     // every period the loop ran from zero_from to the hold's end rendered zero: the log goes on

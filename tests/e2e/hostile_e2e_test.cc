@@ -55,11 +55,13 @@ std::string Repeat(const std::string& part, int n) {
   return out;
 }
 
-const std::string kBase = "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
-                          "[intestine.shape]\nkind = \"straight\"\n";
+const std::string kBase =
+    "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
+    "[intestine.shape]\nkind = \"straight\"\n";
 
 // The witness runs on: its step count grows by more than `steps` within 30 s.
-void ExpectWitnessSteps(const std::string& dir, int64_t id, int64_t steps = 20, const std::string& extra = "") {
+void ExpectWitnessSteps(const std::string& dir, int64_t id, int64_t steps = 20,
+                        const std::string& extra = "") {
   const json first = Status(dir, id, extra);
   ASSERT_EQ(first["state"], "running") << first.dump();
   const int64_t from = first["steps"].get<int64_t>();
@@ -92,7 +94,8 @@ json StatusWhenRejected(const std::string& dir, int64_t id, const std::string& e
 void ExpectRefused(const std::string& dir, const std::string& scene, const std::string& reason) {
   const std::string file = dir + "/hostile.toml";
   std::ofstream(file) << scene;
-  const CliResult r = Viscera(dir, "create --scene-file " + file + " --frame-rate -1 --timeout 30 2>&1");
+  const CliResult r =
+      Viscera(dir, "create --scene-file " + file + " --frame-rate -1 --timeout 30 2>&1");
   EXPECT_EQ(r.rc, 4) << r.out;
   EXPECT_NE(r.out.find(reason), std::string::npos) << r.out.substr(0, 2000);
 }
@@ -104,8 +107,10 @@ TEST(HostileE2E, ADeepDottedKeyOrHeaderIsRefusedAndTheServerLivesOn) {
   Daemon daemon("hostile-a", {}, dir);
   const int64_t witness = Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();
   const std::string deep = Repeat("x.", 40000) + "x";
-  ExpectRefused(dir, kBase + deep + " = 1\n", "a dotted key or [table] header nests deeper than the limit of 16");
-  ExpectRefused(dir, kBase + "[" + deep + "]\n", "a dotted key or [table] header nests deeper than the limit of 16");
+  ExpectRefused(dir, kBase + deep + " = 1\n",
+                "a dotted key or [table] header nests deeper than the limit of 16");
+  ExpectRefused(dir, kBase + "[" + deep + "]\n",
+                "a dotted key or [table] header nests deeper than the limit of 16");
   EXPECT_TRUE(daemon.Alive()) << daemon.Stderr();
   ExpectWitnessSteps(dir, witness);
   EXPECT_EQ(daemon.Stop(), 0);
@@ -113,7 +118,8 @@ TEST(HostileE2E, ADeepDottedKeyOrHeaderIsRefusedAndTheServerLivesOn) {
 
 std::string Tools(int n, const std::string& extra = "") {
   std::string out;
-  for (int i = 0; i < n; ++i) out += "[[tool]]\nname = \"t" + std::to_string(i) + "\"\nport = [0, 0, 0.3]\n" + extra;
+  for (int i = 0; i < n; ++i)
+    out += "[[tool]]\nname = \"t" + std::to_string(i) + "\"\nport = [0, 0, 0.3]\n" + extra;
   return out;
 }
 
@@ -124,15 +130,21 @@ TEST(HostileE2E, CostlyScenesAreRefusedWithTheKeyAndTheLimit) {
   const std::string dir = ScratchDir();
   Daemon daemon("hostile-b", {}, dir);
   const int64_t witness = Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();
-  const std::string tiny = "[intestine]\nlength = 0.4\nradius = 1e-7\nmass = 0.1\ncontrol_points = 21\n"
-                           "[intestine.shape]\nkind = \"straight\"\n";
-  ExpectRefused(dir, tiny, "intestine.length / intestine.radius = 4e+06 collision spheres: above this server's limit of 2000");
+  const std::string tiny =
+      "[intestine]\nlength = 0.4\nradius = 1e-7\nmass = 0.1\ncontrol_points = 21\n"
+      "[intestine.shape]\nkind = \"straight\"\n";
+  ExpectRefused(dir, tiny,
+                "intestine.length / intestine.radius = 4e+06 collision spheres: above this "
+                "server's limit of 2000");
   ExpectRefused(dir, kBase + "[contacts]\nmargin = 10.0\n",
                 "contacts.margin = 10 m: above this server's limit of 4 tube radii");
   ExpectRefused(dir, kBase + Tools(300), "[[tool]] count = 300: above this server's limit of 8");
-  ExpectRefused(dir, kBase + Tools(1, "coupling_stiffness = 1e308\n"), "tool[0].coupling_stiffness = 1e+308: outside");
-  ExpectRefused(dir, kBase + Tools(1, "max_force = 1e308\n"), "tool[0].max_force = 1e+308: outside");
-  ExpectRefused(dir, kBase + Tools(1, "mass = 1e-300\n"), "tool[0].mass = 1e-300: expected 0.001..10 kg");
+  ExpectRefused(dir, kBase + Tools(1, "coupling_stiffness = 1e308\n"),
+                "tool[0].coupling_stiffness = 1e+308: outside");
+  ExpectRefused(dir, kBase + Tools(1, "max_force = 1e308\n"),
+                "tool[0].max_force = 1e+308: outside");
+  ExpectRefused(dir, kBase + Tools(1, "mass = 1e-300\n"),
+                "tool[0].mass = 1e-300: expected 0.001..10 kg");
   EXPECT_TRUE(daemon.Alive()) << daemon.Stderr();
   ExpectWitnessSteps(dir, witness);
   EXPECT_EQ(daemon.Stop(), 0);
@@ -142,7 +154,8 @@ TEST(HostileE2E, CostlyScenesAreRefusedWithTheKeyAndTheLimit) {
 // sub-steps (the load estimate is off so that nothing refuses it first).
 const std::string kSlowBuild =
     "[simulation]\nrate_hz = 1000\nsubsteps = 64\nsettle = 10\nintegrator = \"implicit\"\n"
-    "[intestine]\nlength = 2.0\nradius = 0.0125\nmass = 0.5\ncontrol_points = 1000\nstretch_stiffness = 50\n"
+    "[intestine]\nlength = 2.0\nradius = 0.0125\nmass = 0.5\ncontrol_points = "
+    "1000\nstretch_stiffness = 50\n"
     "[intestine.shape]\nkind = \"straight\"\n";
 
 TEST(HostileE2E, ABuildPastItsDeadlineIsAbandonedWithTheLimit) {
@@ -158,7 +171,8 @@ TEST(HostileE2E, ABuildPastItsDeadlineIsAbandonedWithTheLimit) {
 // Threads of a process.
 size_t Threads(pid_t pid) {
   size_t n = 0;
-  for (const auto& entry : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
     (void)entry;
     ++n;
   }
@@ -171,11 +185,12 @@ TEST(HostileE2E, SigtermAbandonsAPendingBuild) {
   const std::string dir = ScratchDir();
   Daemon daemon("hostile-d", {"--max-session-load", "0"}, dir);
   Create(dir, "hanging --frame-rate -1");  // the server is up
-  Sleep(1.0);  // and its threads settled
+  Sleep(1.0);                              // and its threads settled
   std::ofstream(dir + "/slow.toml") << kSlowBuild;
   CliResult create;
   std::thread client([&] {
-    create = Viscera(dir, "create --scene-file " + dir + "/slow.toml --frame-rate -1 --timeout 10 --build-timeout 10 2>&1");
+    create = Viscera(dir, "create --scene-file " + dir +
+                              "/slow.toml --frame-rate -1 --timeout 10 --build-timeout 10 2>&1");
   });
   // the create is heard and its build runs: the server has one thread more (the builder)
   const size_t threads = Threads(daemon.pid());
@@ -185,7 +200,8 @@ TEST(HostileE2E, SigtermAbandonsAPendingBuild) {
   const auto signalled = std::chrono::steady_clock::now();
   kill(daemon.pid(), SIGTERM);
   const int rc = daemon.WaitExit(20.0);
-  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
   client.join();
   EXPECT_EQ(rc, 0) << daemon.Stderr();
   std::printf("viscerad exited %.2f s after SIGTERM with a build pending\n", took);
@@ -211,7 +227,8 @@ TEST(HostileE2E, APoseIsTakenOnlyOnItsExactChannelName) {
   const std::string key = " --key-file " + dir + "/psk";
   ASSERT_EQ(Viscera(dir, "keygen " + dir + "/psk").rc, 0);
   Daemon daemon("hostile-f", {"--key-file", dir + "/psk"}, dir);
-  const json created = Create(dir, "--scene-file " + std::string(VISCERA_SOURCE_DIR) + "/tests/e2e/scenes/push.toml --frame-rate -1" + key);
+  const json created = Create(dir, "--scene-file " + std::string(VISCERA_SOURCE_DIR) +
+                                       "/tests/e2e/scenes/push.toml --frame-rate -1" + key);
   ASSERT_FALSE(created.is_null());
   const int64_t id = created["session"].get<int64_t>();
   const auto auth = bus::MessageAuth::FromKeyFile(dir + "/psk");
@@ -294,7 +311,8 @@ TEST(HostileE2E, HeartbeatsWithEverNewServerIdsKeepMemoryFlat) {
 TEST(HostileE2E, CreatesFromRotatingSendersMeetOneLimit) {
   const std::string dir = ScratchDir();
   Daemon daemon("hostile-i", {"--max-creates-per-minute", "4"}, dir);
-  const int64_t witness = Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();  // 1 of 4
+  const int64_t witness =
+      Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();  // 1 of 4
   Capture bus(bus::kReplyChannel);
   int refused_by_rate = 0;
   for (int i = 0; i < 8; ++i) {
@@ -324,10 +342,12 @@ TEST(HostileE2E, CreatesFromRotatingSendersMeetOneLimit) {
 TEST(HostileE2E, SceneNamesThatAreLinksOrFifosAreRefusedAndShutdownIsClean) {
   const std::string dir = ScratchDir();
   const std::string scenes = dir + "/scenes";
-  ASSERT_EQ(std::system(("mkdir -p '" + scenes + "' && cp '" + VISCERA_SOURCE_DIR + "/scenes/hanging.toml' '" + scenes +
-                         "/' && cp '" + VISCERA_SOURCE_DIR + "/scenes/hanging.toml' '" + dir + "/outside.toml' && ln -s '" +
-                         dir + "/outside.toml' '" + scenes + "/out.toml' && ln -s /dev/zero '" + scenes +
-                         "/zero.toml' && mkfifo '" + scenes + "/fifo.toml'").c_str()),
+  ASSERT_EQ(std::system(("mkdir -p '" + scenes + "' && cp '" + VISCERA_SOURCE_DIR +
+                         "/scenes/hanging.toml' '" + scenes + "/' && cp '" + VISCERA_SOURCE_DIR +
+                         "/scenes/hanging.toml' '" + dir + "/outside.toml' && ln -s '" + dir +
+                         "/outside.toml' '" + scenes + "/out.toml' && ln -s /dev/zero '" + scenes +
+                         "/zero.toml' && mkfifo '" + scenes + "/fifo.toml'")
+                            .c_str()),
             0);
   Daemon daemon("hostile-j", {"--scene-dir", scenes}, dir);
   const int64_t witness = Create(dir, "hanging --frame-rate -1")["session"].get<int64_t>();
@@ -342,7 +362,8 @@ TEST(HostileE2E, SceneNamesThatAreLinksOrFifosAreRefusedAndShutdownIsClean) {
   ExpectWitnessSteps(dir, witness);
   const auto stopping = std::chrono::steady_clock::now();
   EXPECT_EQ(daemon.Stop(), 0);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - stopping).count(), 10.0);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - stopping).count(),
+            10.0);
 }
 
 // The record directory's disk is (said to be) full: creates are refused with the reason,
@@ -389,7 +410,9 @@ TEST(HostileE2E, AFakeServersEscapesAreNotPrintedAndItsHugeReplyIsDropped) {
         s.header = bus::MakeHeader(q->header.session_id, 0);
         s.server_id = "fake";
         s.scene = "evil\x1b[31m";
-        s.last_error = "\x1b]0;owned\x07\x1b[2J\xc2\x9b" "1m";
+        s.last_error =
+            "\x1b]0;owned\x07\x1b[2J\xc2\x9b"
+            "1m";
         s.state = 1;
         if (q->command == session_request_t::kList) r.message = std::string(4 << 20, 'A');
         r.num_sessions = 1;

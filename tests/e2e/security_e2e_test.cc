@@ -121,11 +121,13 @@ TEST(SecurityE2E, HostileInlineScenesAreRefusedWithTheReasonAndMemoryStaysFlat) 
   ASSERT_FALSE(first.is_null());
   const int64_t before = RssKb(daemon.pid());
   ASSERT_GT(before, 0);
-  const std::string base = "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
-                           "[intestine.shape]\nkind = \"straight\"\n";
+  const std::string base =
+      "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
+      "[intestine.shape]\nkind = \"straight\"\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[[obstacle]]\nkind = \"mesh\"\nfile = \"/dev/zero\"\n", "absolute paths are refused"},
-      {"[[obstacle]]\nkind = \"mesh\"\nfile = \"/proc/self/environ\"\n", "absolute paths are refused"},
+      {"[[obstacle]]\nkind = \"mesh\"\nfile = \"/proc/self/environ\"\n",
+       "absolute paths are refused"},
       {"[[obstacle]]\nkind = \"mesh\"\nfile = \"/etc/passwd\"\n", "absolute paths are refused"},
       {"[[obstacle]]\nkind = \"mesh\"\nfile = \"../../../../dev/zero\"\n", "\"..\" is refused"},
       {"[[obstacle]]\nkind = \"mesh\"\nfile = \"../CMakeLists.txt\"\n", "\"..\" is refused"},
@@ -133,7 +135,8 @@ TEST(SecurityE2E, HostileInlineScenesAreRefusedWithTheReasonAndMemoryStaysFlat) 
   for (const auto& [obstacle, reason] : cases) {
     const std::string file = dir + "/hostile.toml";
     std::ofstream(file) << base << obstacle;
-    const CliResult r = Viscera(dir, "create --scene-file " + file + " --frame-rate -1 --timeout 30 2>&1");
+    const CliResult r =
+        Viscera(dir, "create --scene-file " + file + " --frame-rate -1 --timeout 30 2>&1");
     EXPECT_EQ(r.rc, 4) << r.out;
     EXPECT_NE(r.out.find(reason), std::string::npos) << r.out;
   }
@@ -141,14 +144,15 @@ TEST(SecurityE2E, HostileInlineScenesAreRefusedWithTheReasonAndMemoryStaysFlat) 
   std::string big = base;
   big.replace(big.find("control_points = 21"), 19, "control_points = 5000");
   std::ofstream(dir + "/big.toml") << big;
-  const CliResult r = Viscera(dir, "create --scene-file " + dir + "/big.toml --frame-rate -1 --timeout 30 2>&1");
+  const CliResult r =
+      Viscera(dir, "create --scene-file " + dir + "/big.toml --frame-rate -1 --timeout 30 2>&1");
   EXPECT_EQ(r.rc, 4) << r.out;
   EXPECT_NE(r.out.find("above this server's limit of 1000"), std::string::npos) << r.out;
 
   const int64_t after = RssKb(daemon.pid());
   EXPECT_LT(after - before, 16 * 1024) << "RSS grew from " << before << " to " << after << " kB";
-  std::printf("viscerad RSS before %lld kB, after %zu hostile creates %lld kB\n", static_cast<long long>(before),
-              cases.size() + 1, static_cast<long long>(after));
+  std::printf("viscerad RSS before %lld kB, after %zu hostile creates %lld kB\n",
+              static_cast<long long>(before), cases.size() + 1, static_cast<long long>(after));
   EXPECT_EQ(Status(dir, first["session"].get<int64_t>())["state"], "running");
   EXPECT_EQ(daemon.Stop(), 0);
 }
@@ -156,13 +160,15 @@ TEST(SecurityE2E, HostileInlineScenesAreRefusedWithTheReasonAndMemoryStaysFlat) 
 TEST(SecurityE2E, ASessionLivesWhileWatchedAndEndsAfterItsLease) {
   const std::string dir = ScratchDir();
   Daemon daemon("sec-d", {"--session-lease", "1.5", "--log-dir", dir}, dir);
-  const int64_t id = Create(dir, "hanging --width 160 --height 120 --frame-rate 10")["session"].get<int64_t>();
+  const int64_t id =
+      Create(dir, "hanging --width 160 --height 120 --frame-rate 10")["session"].get<int64_t>();
   // `viscera frames` watches for 6 s, renewing the lease meanwhile; after more than two leases of
   // it, the session still runs. Asked while the watch goes on: asked after it, a busy machine's
   // gap between one CLI's end and the next one's status outlasted the 1.5 s lease.
   CliResult watched;
   std::thread watch([&] {
-    watched = Viscera(dir, "frames " + std::to_string(id) + " --out " + dir + "/frames --seconds 6");
+    watched =
+        Viscera(dir, "frames " + std::to_string(id) + " --out " + dir + "/frames --seconds 6");
   });
   Sleep(3.5);  // time itself is what is tested here: more than two leases
   const json s = Status(dir, id);
@@ -204,8 +210,8 @@ TEST(SecurityE2E, KillNineLosesAtMostAFifthOfASecondOfARecord) {
       ++events;
     }
     const double lost_s = static_cast<double>(killed_at - last) * 1e-6;
-    std::printf("session %lld: %lld events, last %.3f s before the kill\n", static_cast<long long>(id),
-                static_cast<long long>(events), lost_s);
+    std::printf("session %lld: %lld events, last %.3f s before the kill\n",
+                static_cast<long long>(id), static_cast<long long>(events), lost_s);
     EXPECT_GT(events, 50);
     EXPECT_LE(lost_s, 0.2);
   }

@@ -42,10 +42,13 @@ using viscera::testing::Eventually;
 json StatusWhen(const std::string& dir, int64_t id, const std::function<bool(const json&)>& done,
                 const std::string& extra = "") {
   json s;
-  EXPECT_TRUE(Eventually([&] {
-    s = TryStatus(dir, id, extra);
-    return !s.is_null() && done(s);
-  }, 30.0, [] { Sleep(0.05); })) << "last status: " << s.dump();
+  EXPECT_TRUE(Eventually(
+      [&] {
+        s = TryStatus(dir, id, extra);
+        return !s.is_null() && done(s);
+      },
+      30.0, [] { Sleep(0.05); }))
+      << "last status: " << s.dump();
   return s;
 }
 
@@ -77,7 +80,8 @@ TEST(SessionsE2E, CreateStatusListDestroy) {
   EXPECT_GT(id, 0);
   EXPECT_EQ(created["server_id"], "e2e-a");
   EXPECT_EQ(created["token"].get<std::string>().size(), 32u);  // 16 random bytes
-  const json s = StatusWhen(dir, id, [](const json& s) { return s["sim_time"].get<double>() > 1.0; });
+  const json s =
+      StatusWhen(dir, id, [](const json& s) { return s["sim_time"].get<double>() > 1.0; });
   EXPECT_EQ(s["session"], id);
   EXPECT_EQ(s["state"], "running");
   // liveness and consistency; the rate and misses themselves are bench/server_bench.sh's
@@ -96,7 +100,8 @@ TEST(SessionsE2E, CreateStatusListDestroy) {
   StatusWhen(dir, id, [](const json& s) { return s["state"] == "paused"; });
   EXPECT_EQ(Viscera(dir, "resume " + std::to_string(id)).rc, 0);
   EXPECT_EQ(Viscera(dir, "reset " + std::to_string(id)).rc, 0);
-  EXPECT_EQ(Viscera(dir, "camera " + std::to_string(id) + " --eye 0 -0.3 0.3 --target 0 0 0").rc, 0);
+  EXPECT_EQ(Viscera(dir, "camera " + std::to_string(id) + " --eye 0 -0.3 0.3 --target 0 0 0").rc,
+            0);
 
   const CliResult destroyed = Viscera(dir, "destroy " + std::to_string(id) + " --json");
   ASSERT_EQ(destroyed.rc, 0);
@@ -120,20 +125,25 @@ TEST(SessionsE2E, TwoSessionsStayIsolated) {
   std::ofstream(dir + "/token_a") << token_a;
   EXPECT_EQ(Viscera(dir, "pause " + std::to_string(b) + " --token-file " + dir + "/token_a").rc, 4);
   // never on the command line, where every local user reads it (/proc/PID/cmdline)
-  const CliResult argv_token = Viscera(dir, "pause " + std::to_string(a) + " --token " + token_a + " 2>&1");
+  const CliResult argv_token =
+      Viscera(dir, "pause " + std::to_string(a) + " --token " + token_a + " 2>&1");
   EXPECT_EQ(argv_token.rc, 1);
   EXPECT_NE(argv_token.out.find("--token is refused"), std::string::npos) << argv_token.out;
   EXPECT_EQ(Viscera(dir, "pause " + std::to_string(a)).rc, 0);
   const json sa = StatusWhen(dir, a, [](const json& s) { return s["state"] == "paused"; });
-  const json sb = StatusWhen(dir, b, [](const json& s) { return s["rate_hz"].get<double>() > 0.0; });
+  const json sb =
+      StatusWhen(dir, b, [](const json& s) { return s["rate_hz"].get<double>() > 0.0; });
   EXPECT_EQ(sb["state"], "running");
   EXPECT_EQ(sb["configured_rate_hz"], 200.0);
   EXPECT_EQ(sa["rejected"], 0);
   EXPECT_EQ(sb["rejected"], 1);  // the pause with a's token
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a)).rc, 0);
-  EXPECT_TRUE(Eventually([&] { return Viscera(dir, "list --json").json().size() == 1u; }, 30.0, [] { Sleep(0.05); }));
+  EXPECT_TRUE(Eventually([&] { return Viscera(dir, "list --json").json().size() == 1u; }, 30.0,
+                         [] { Sleep(0.05); }));
   const int64_t b_steps = Status(dir, b)["steps"].get<int64_t>();
-  StatusWhen(dir, b, [&](const json& s) { return s["state"] == "running" && s["steps"].get<int64_t>() > b_steps; });
+  StatusWhen(dir, b, [&](const json& s) {
+    return s["state"] == "running" && s["steps"].get<int64_t>() > b_steps;
+  });
 }
 
 // Every kind of bad datagram, one at a time, to a session whose scene has a tool (so that the
@@ -147,82 +157,114 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
   const int64_t a = ca["session"].get<int64_t>();
   const int64_t b = Create(dir, "hanging")["session"].get<int64_t>();
   const std::vector<uint8_t> token = client::FromHex(ca["token"].get<std::string>());
-  const std::vector<uint8_t> token_b =
-      client::TokenStore(dir + "/sessions.json").Find(b)->token;
+  const std::vector<uint8_t> token_b = client::TokenStore(dir + "/sessions.json").Find(b)->token;
 
   bus::LcmBus probe(kUrl);
   const std::string pose_a = bus::SessionChannel(bus::kPosePrefix, a);
   int64_t expected_a = 0;
   // sends one bad datagram with `send`, then waits until a's status has counted exactly one
   // more rejection, for the reason `why`
-  auto expect_rejected = [&](const std::string& what, const std::function<void()>& send, const std::string& why) {
+  auto expect_rejected = [&](const std::string& what, const std::function<void()>& send,
+                             const std::string& why) {
     SCOPED_TRACE(what);
     send();
     ++expected_a;
-    const json s = StatusWhen(dir, a, [&](const json& s) { return s["rejected"].get<int64_t>() >= expected_a; });
+    const json s = StatusWhen(
+        dir, a, [&](const json& s) { return s["rejected"].get<int64_t>() >= expected_a; });
     EXPECT_EQ(s["rejected"], expected_a) << s.dump();
     EXPECT_NE(s["last_error"].get<std::string>().find(why), std::string::npos) << s["last_error"];
   };
   std::mt19937 rng(1234);
   std::vector<uint8_t> garbage(64);
   for (uint8_t& g : garbage) g = static_cast<uint8_t>(rng());
-  expect_rejected("garbage", [&] { probe.PublishRaw(pose_a, garbage.data(), 64); }, "malformed message on " + pose_a);
-  expect_rejected("truncated", [&] { probe.PublishRaw(pose_a, garbage.data(), 3); }, "malformed message");
-  expect_rejected("another type", [&] {
-    viscera_proto::heartbeat_t hb{};
-    hb.header = bus::MakeHeader(a, 0);
-    probe.Publish(pose_a, hb);
-  }, "malformed message");
+  expect_rejected(
+      "garbage", [&] { probe.PublishRaw(pose_a, garbage.data(), 64); },
+      "malformed message on " + pose_a);
+  expect_rejected(
+      "truncated", [&] { probe.PublishRaw(pose_a, garbage.data(), 3); }, "malformed message");
+  expect_rejected(
+      "another type",
+      [&] {
+        viscera_proto::heartbeat_t hb{};
+        hb.header = bus::MakeHeader(a, 0);
+        probe.Publish(pose_a, hb);
+      },
+      "malformed message");
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
-  expect_rejected("NaN position", [&] { probe.Publish(pose_a, Pose(a, token, 1, Vec3(nan, 0.0, 0.0))); },
-                  "pose: position (nan");
-  expect_rejected("inf orientation", [&] {
-    auto p = Pose(a, token, 2, Vec3::Zero());
-    p.orientation[2] = inf;
-    probe.Publish(pose_a, p);
-  }, "pose: orientation quaternion of norm inf");
-  expect_rejected("far position", [&] { probe.Publish(pose_a, Pose(a, token, 3, Vec3(1e9, 0.0, 0.0))); },
-                  "pose: position (1e+09, 0, 0) m: not finite or beyond");
-  expect_rejected("jaw out of range", [&] {
-    auto p = Pose(a, token, 4, Vec3::Zero());
-    p.jaw = 5.0;
-    probe.Publish(pose_a, p);
-  }, "pose: jaw 5: must be within [0, 1]");
-  expect_rejected("no such tool", [&] {
-    auto p = Pose(a, token, 5, Vec3::Zero());
-    p.tool = 1;
-    probe.Publish(pose_a, p);
-  }, "pose: tool 1 does not exist (the scene has 1)");
-  expect_rejected("another session's token", [&] { probe.Publish(pose_a, Pose(a, token_b, 6, Vec3::Zero())); },
-                  "pose with a wrong session token");
-  expect_rejected("no token", [&] { probe.Publish(pose_a, Pose(a, {}, 7, Vec3::Zero())); },
-                  "pose without the session token");
-  expect_rejected("another protocol version", [&] {
-    auto p = Pose(a, token, 8, Vec3::Zero());
-    p.header.version = viscera_proto::header_t::kProtocolVersion + 1;
-    probe.Publish(pose_a, p);
-  }, "pose: protocol version");
+  expect_rejected(
+      "NaN position", [&] { probe.Publish(pose_a, Pose(a, token, 1, Vec3(nan, 0.0, 0.0))); },
+      "pose: position (nan");
+  expect_rejected(
+      "inf orientation",
+      [&] {
+        auto p = Pose(a, token, 2, Vec3::Zero());
+        p.orientation[2] = inf;
+        probe.Publish(pose_a, p);
+      },
+      "pose: orientation quaternion of norm inf");
+  expect_rejected(
+      "far position", [&] { probe.Publish(pose_a, Pose(a, token, 3, Vec3(1e9, 0.0, 0.0))); },
+      "pose: position (1e+09, 0, 0) m: not finite or beyond");
+  expect_rejected(
+      "jaw out of range",
+      [&] {
+        auto p = Pose(a, token, 4, Vec3::Zero());
+        p.jaw = 5.0;
+        probe.Publish(pose_a, p);
+      },
+      "pose: jaw 5: must be within [0, 1]");
+  expect_rejected(
+      "no such tool",
+      [&] {
+        auto p = Pose(a, token, 5, Vec3::Zero());
+        p.tool = 1;
+        probe.Publish(pose_a, p);
+      },
+      "pose: tool 1 does not exist (the scene has 1)");
+  expect_rejected(
+      "another session's token", [&] { probe.Publish(pose_a, Pose(a, token_b, 6, Vec3::Zero())); },
+      "pose with a wrong session token");
+  expect_rejected(
+      "no token", [&] { probe.Publish(pose_a, Pose(a, {}, 7, Vec3::Zero())); },
+      "pose without the session token");
+  expect_rejected(
+      "another protocol version",
+      [&] {
+        auto p = Pose(a, token, 8, Vec3::Zero());
+        p.header.version = viscera_proto::header_t::kProtocolVersion + 1;
+        probe.Publish(pose_a, p);
+      },
+      "pose: protocol version");
   // a stale pose: after a good one (seq 1000), an older seq sent earlier (a reordered datagram)
   const auto good = Pose(a, token, 1000, Vec3(0.0, 0.0, 0.2));
   probe.Publish(pose_a, good);
   StatusWhen(dir, a, [](const json& s) { return s["poses"].get<int64_t>() == 1; });
-  expect_rejected("stale pose", [&] {
-    auto p = Pose(a, token, 999, Vec3(0.0, 0.0, 0.2));
-    p.header.utime = good.header.utime - 1000;
-    probe.Publish(pose_a, p);
-  }, "stale pose (seq 999 after a newer one)");
-  expect_rejected("a destroy with another session's token", [&] {
-    std::ofstream(dir + "/token_b") << client::ToHex(token_b);
-    EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a) + " --token-file " + dir + "/token_b").rc, 4);
-  }, "request with a wrong session token");
+  expect_rejected(
+      "stale pose",
+      [&] {
+        auto p = Pose(a, token, 999, Vec3(0.0, 0.0, 0.2));
+        p.header.utime = good.header.utime - 1000;
+        probe.Publish(pose_a, p);
+      },
+      "stale pose (seq 999 after a newer one)");
+  expect_rejected(
+      "a destroy with another session's token",
+      [&] {
+        std::ofstream(dir + "/token_b") << client::ToHex(token_b);
+        EXPECT_EQ(
+            Viscera(dir, "destroy " + std::to_string(a) + " --token-file " + dir + "/token_b").rc,
+            4);
+      },
+      "request with a wrong session token");
   // a request of another protocol version is answered, in this version's layout, kBadRequest
   {
     SCOPED_TRACE("request of another version");
     std::vector<viscera_proto::session_reply_t> replies;
-    probe.Subscribe<viscera_proto::session_reply_t>(bus::kReplyChannel, [&](const viscera_proto::session_reply_t& r, int64_t) {
-      if (r.request_id == 4242) replies.push_back(r);
-    });
+    probe.Subscribe<viscera_proto::session_reply_t>(
+        bus::kReplyChannel, [&](const viscera_proto::session_reply_t& r, int64_t) {
+          if (r.request_id == 4242) replies.push_back(r);
+        });
     viscera_proto::session_request_t request{};
     request.header = bus::MakeHeader(a, 1);
     request.header.version = viscera_proto::header_t::kProtocolVersion - 1;
@@ -233,14 +275,16 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
     ASSERT_TRUE(Eventually([&] { return !replies.empty(); }, 30.0, [&] { probe.Pump(20); }));
     EXPECT_EQ(replies[0].result, viscera_proto::session_reply_t::kBadRequest);
     EXPECT_NE(replies[0].message.find("protocol version"), std::string::npos) << replies[0].message;
-    const json s = StatusWhen(dir, a, [&](const json& s) { return s["rejected"].get<int64_t>() >= expected_a; });
+    const json s = StatusWhen(
+        dir, a, [&](const json& s) { return s["rejected"].get<int64_t>() >= expected_a; });
     EXPECT_EQ(s["rejected"], expected_a);
   }
   // a pose whose header names b, on a's channel: charged to b (the session it claims), not a
   {
     SCOPED_TRACE("session id that does not match its channel");
     probe.Publish(pose_a, Pose(b, token_b, 1, Vec3::Zero()));
-    const json sb = StatusWhen(dir, b, [](const json& s) { return s["rejected"].get<int64_t>() >= 1; });
+    const json sb =
+        StatusWhen(dir, b, [](const json& s) { return s["rejected"].get<int64_t>() >= 1; });
     EXPECT_EQ(sb["rejected"], 1);
     EXPECT_EQ(sb["poses"], 0);
     EXPECT_EQ(sb["last_error"], "pose for session " + std::to_string(b) + " on channel " + pose_a);
@@ -263,14 +307,18 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
   // the server subscribes to requests, heartbeats (other servers, for placement) and poses only:
   // the request and heartbeat garbage rejected, the unknown pose not ours
   int64_t now_rejected = 0, now_not_ours = 0;
-  EXPECT_TRUE(Eventually([&] {
-    const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
-    if (r.rc == 0) {
-      now_rejected = r.json()[0]["rejected"].get<int64_t>();
-      now_not_ours = r.json()[0]["not_ours"].get<int64_t>();
-    }
-    return now_rejected >= server_rejected + 2 && now_not_ours >= server_not_ours + 1;
-  }, 30.0)) << "the server did not count the garbage request and heartbeat and the unknown session's pose";
+  EXPECT_TRUE(Eventually(
+      [&] {
+        const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
+        if (r.rc == 0) {
+          now_rejected = r.json()[0]["rejected"].get<int64_t>();
+          now_not_ours = r.json()[0]["not_ours"].get<int64_t>();
+        }
+        return now_rejected >= server_rejected + 2 && now_not_ours >= server_not_ours + 1;
+      },
+      30.0))
+      << "the server did not count the garbage request and heartbeat and the unknown session's "
+         "pose";
   EXPECT_EQ(now_rejected, server_rejected + 2);
   EXPECT_EQ(now_not_ours, server_not_ours + 1);
   json sa = Status(dir, a);
@@ -279,7 +327,8 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
 
   // a flood: 20000 good poses as fast as the bus takes them. UDP on loopback may lose some;
   // none is rejected, none reaches b, and both sessions keep running.
-  for (int64_t k = 0; k < 20000; ++k) probe.Publish(pose_a, Pose(a, token, 2000 + k, Vec3(0.0, 0.0, 0.3)));
+  for (int64_t k = 0; k < 20000; ++k)
+    probe.Publish(pose_a, Pose(a, token, 2000 + k, Vec3(0.0, 0.0, 0.3)));
   probe.Publish(pose_a, Pose(a, token, 30000, Vec3(0.0, 0.0, 0.3)));  // a last one, paced
   sa = StatusWhen(dir, a, [](const json& s) { return s["poses"].get<int64_t>() > 200; });
   ASSERT_TRUE(daemon.Alive());
@@ -293,7 +342,8 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
 
   // nothing recorded was lost: a's record, poses and forces, replays exactly
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(a)).rc, 0);
-  const session::ReplayResult r = session::ReplayRecord(dir + "/session-" + std::to_string(a) + ".lcmlog");
+  const session::ReplayResult r =
+      session::ReplayRecord(dir + "/session-" + std::to_string(a) + ".lcmlog");
   EXPECT_GT(r.steps, 50);
   EXPECT_GT(r.skeletons_compared, 10);
   EXPECT_EQ(r.max_deviation, 0.0);
@@ -305,23 +355,27 @@ TEST(SessionsE2E, BadInputIsDroppedCountedAndHarmless) {
 TEST(SessionsE2E, AMechanicalBlowUpIsRecoveredAndReported) {
   const std::string dir = ScratchDir();
   const std::string unstable = dir + "/unstable.toml";
-  std::ofstream(unstable) << "[simulation]\nrate_hz = 100\nsubsteps = 1\nintegrator = \"rk4\"\n"
-                             "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\n"
-                             "control_points = 41\nstretch_stiffness = 1.0e4\nbend_stiffness = 1.0e-4\n"
-                             "[intestine.shape]\nkind = \"serpentine\"\nstart = [0.0, 0.0, 0.1]\n"
-                             "amplitude = 0.05\nwavelength = 0.2\n";
-  // No scene budget: the unstable scene's CPU-timed load estimate sits near the default limit of one
-  // core, and under load it crossed it (1.03) and the create was refused. The budget has its own
-  // tests (tests/server/security_test.cc); this one is about the blow-up.
+  std::ofstream(unstable)
+      << "[simulation]\nrate_hz = 100\nsubsteps = 1\nintegrator = \"rk4\"\n"
+         "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\n"
+         "control_points = 41\nstretch_stiffness = 1.0e4\nbend_stiffness = 1.0e-4\n"
+         "[intestine.shape]\nkind = \"serpentine\"\nstart = [0.0, 0.0, 0.1]\n"
+         "amplitude = 0.05\nwavelength = 0.2\n";
+  // No scene budget: the unstable scene's CPU-timed load estimate sits near the default limit of
+  // one core, and under load it crossed it (1.03) and the create was refused. The budget has its
+  // own tests (tests/server/security_test.cc); this one is about the blow-up.
   Daemon daemon("e2e-d", {"--max-session-load", "0"}, dir);
   const int64_t good = Create(dir, "fall")["session"].get<int64_t>();
   const int64_t bad = Create(dir, "--scene-file " + unstable)["session"].get<int64_t>();
-  const json sb = StatusWhen(dir, bad, [](const json& s) { return s["recoveries"].get<int64_t>() > 0; });
+  const json sb =
+      StatusWhen(dir, bad, [](const json& s) { return s["recoveries"].get<int64_t>() > 0; });
   EXPECT_EQ(sb["state"], "running");
   EXPECT_NE(sb["last_error"].get<std::string>().find("blew up"), std::string::npos);
   EXPECT_TRUE(std::isfinite(sb["energy"].get<double>()));
   const int64_t bad_steps = sb["steps"].get<int64_t>();
-  StatusWhen(dir, bad, [&](const json& s) { return s["steps"].get<int64_t>() > bad_steps + 10; });  // lives on
+  StatusWhen(dir, bad, [&](const json& s) {
+    return s["steps"].get<int64_t>() > bad_steps + 10;
+  });  // lives on
   const json sg = Status(dir, good);
   EXPECT_EQ(sg["state"], "running");
   EXPECT_EQ(sg["recoveries"], 0);
@@ -336,7 +390,8 @@ TEST(SessionsE2E, UnconvergedSolvesReachTheStatusAndTheServersHeartbeat) {
   std::ofstream(coiled) << session::testing::UnconvergedSceneToml();
   Daemon daemon("e2e-u", {"--max-session-load", "0"}, dir);
   const int64_t id = Create(dir, "--scene-file " + coiled)["session"].get<int64_t>();
-  const json s = StatusWhen(dir, id, [](const json& s) { return s["unconverged_solves"].get<int64_t>() > 0; });
+  const json s =
+      StatusWhen(dir, id, [](const json& s) { return s["unconverged_solves"].get<int64_t>() > 0; });
   const int64_t seen = s["unconverged_solves"].get<int64_t>();
 
   // the table: its UNCONV column, after RECOVER
@@ -356,10 +411,12 @@ TEST(SessionsE2E, UnconvergedSolvesReachTheStatusAndTheServersHeartbeat) {
   // the heartbeat: at least what the status said, and no less once the session has ended
   const auto server_count = [&] {
     const CliResult r = Viscera(dir, "servers --timeout 1.2 --json");
-    return r.rc == 0 && !r.json().empty() ? r.json()[0]["unconverged_solves"].get<int64_t>() : int64_t{-1};
+    return r.rc == 0 && !r.json().empty() ? r.json()[0]["unconverged_solves"].get<int64_t>()
+                                          : int64_t{-1};
   };
   int64_t heard = -1;
-  EXPECT_TRUE(Eventually([&] { return (heard = server_count()) >= seen; }, 30.0)) << heard << " < " << seen;
+  EXPECT_TRUE(Eventually([&] { return (heard = server_count()) >= seen; }, 30.0))
+      << heard << " < " << seen;
   const CliResult destroyed = Viscera(dir, "destroy " + std::to_string(id) + " --json");
   ASSERT_EQ(destroyed.rc, 0);
   const int64_t final_count = destroyed.json()["status"]["unconverged_solves"].get<int64_t>();
@@ -380,10 +437,12 @@ TEST(SessionsE2E, WithAPreSharedKeyOnlyKeyHoldersCreateOrDrive) {
   const std::vector<uint8_t> token = client::FromHex(created["token"].get<std::string>());
   // a datagram with the right token but no MAC (what a LAN host could send): dropped
   bus::LcmBus unsigned_probe(kUrl);
-  unsigned_probe.Publish(bus::SessionChannel(bus::kPosePrefix, id), Pose(id, token, 0, Vec3::Zero()));
+  unsigned_probe.Publish(bus::SessionChannel(bus::kPosePrefix, id),
+                         Pose(id, token, 0, Vec3::Zero()));
   EXPECT_EQ(Viscera(dir, "destroy " + std::to_string(id) + " --timeout 1").rc, 2);
-  const json s = StatusWhen(dir, id, [](const json& s) { return s["rejected"].get<int64_t>() >= 1; },
-                            " --key-file " + dir + "/psk");
+  const json s = StatusWhen(
+      dir, id, [](const json& s) { return s["rejected"].get<int64_t>() >= 1; },
+      " --key-file " + dir + "/psk");
   EXPECT_EQ(s["state"], "running");
   EXPECT_EQ(s["rejected"], 1);  // the unsigned pose, charged to its session
   EXPECT_EQ(s["poses"], 0);
@@ -397,7 +456,8 @@ TEST(SessionsE2E, ARecordSurvivesAKilledServerAndReplays) {
   EXPECT_EQ(Viscera(dir, "reset " + std::to_string(id)).rc, 0);
   StatusWhen(dir, id, [](const json& s) { return s["steps"].get<int64_t>() > 120; });
   EXPECT_EQ(daemon.Stop(SIGKILL), 128 + SIGKILL);  // no chance to flush
-  const session::ReplayResult r = session::ReplayRecord(dir + "/session-" + std::to_string(id) + ".lcmlog");
+  const session::ReplayResult r =
+      session::ReplayRecord(dir + "/session-" + std::to_string(id) + ".lcmlog");
   EXPECT_EQ(r.session_id, id);
   EXPECT_EQ(r.resets, 1);
   EXPECT_GT(r.steps, 80);  // at most a fraction of a second lost
@@ -405,8 +465,10 @@ TEST(SessionsE2E, ARecordSurvivesAKilledServerAndReplays) {
   EXPECT_EQ(r.max_deviation, 0.0);
   // The offline runner replays the same record to the same trajectory.
   const std::string trace = dir + "/replay.jsonl";
-  FILE* pipe = popen((std::string(VISCERA_SIM) + " --replay " + dir + "/session-" + std::to_string(id) +
-                      ".lcmlog --json --trace " + trace + " 2>&1").c_str(), "r");
+  FILE* pipe = popen((std::string(VISCERA_SIM) + " --replay " + dir + "/session-" +
+                      std::to_string(id) + ".lcmlog --json --trace " + trace + " 2>&1")
+                         .c_str(),
+                     "r");
   std::string out;
   char buf[4096];
   for (size_t n; (n = fread(buf, 1, sizeof buf, pipe)) > 0;) out.append(buf, n);
@@ -465,8 +527,8 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   std::sort(held.begin(), held.end());
   const double server = held[5];
   const std::string trace = dir + "/push.jsonl";
-  const std::string command = std::string(VISCERA_SIM) + " " + PushScene() + " --tool-script " + script +
-                              " --duration 3.25 --trace " + trace + " > /dev/null";
+  const std::string command = std::string(VISCERA_SIM) + " " + PushScene() + " --tool-script " +
+                              script + " --duration 3.25 --trace " + trace + " > /dev/null";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   double offline = 0.0;
   std::istringstream lines(ReadFile(trace));
@@ -474,7 +536,8 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
     const json frame = json::parse(line);
     if (!frame.contains("tool_force")) continue;
     const json& f = frame["tool_force"]["grasper"];
-    offline = std::hypot(f[0].get<double>(), f[1].get<double>(), f[2].get<double>());  // the last frame's
+    offline =
+        std::hypot(f[0].get<double>(), f[1].get<double>(), f[2].get<double>());  // the last frame's
   }
   ASSERT_GT(offline, 0.5) << "the offline push felt nothing";
   std::printf("steady push: server %.4f N, offline runner %.4f N\n", server, offline);
@@ -504,8 +567,11 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
     const double z = std::max(0.015, 0.1 - 0.0015 * static_cast<double>(seq));
     probe.Publish(channel, Pose(id, token, seq++, Vec3(0.0, 0.0, z)));
     const auto next = std::chrono::steady_clock::now() + std::chrono::milliseconds(5);
-    for (auto now = std::chrono::steady_clock::now(); now < next; now = std::chrono::steady_clock::now()) {
-      probe.Pump(static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(next - now).count()) + 1);
+    for (auto now = std::chrono::steady_clock::now(); now < next;
+         now = std::chrono::steady_clock::now()) {
+      probe.Pump(static_cast<int>(
+                     std::chrono::duration_cast<std::chrono::milliseconds>(next - now).count()) +
+                 1);
     }
   };
   // The server has pressed with our poses for `steps` steps (the tip reaches the bottom
@@ -525,16 +591,19 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
     probe.Publish(channel, Pose(id, token, seq++, Vec3(0.0, 0.0, 0.015)));
   }
   const int64_t after_flood = seq;
-  ASSERT_TRUE(Eventually([&] { return !forces.empty() && forces.back().pose_seq >= after_flood; }, 30.0,
-                         send_paced))
+  ASSERT_TRUE(Eventually([&] { return !forces.empty() && forces.back().pose_seq >= after_flood; },
+                         30.0, send_paced))
       << "no pose after the flood reached the session; " << Status(dir, id).dump();
   const size_t pressing = forces.size();
   const int64_t sent = seq;
   // then silence, until the tool is idle and its force has faded (or the test fails at 30 s)
-  EXPECT_TRUE(Eventually([&] {
-    const auto& f = forces.back();
-    return !f.active && std::hypot(f.force[0], f.force[1], f.force[2]) < 1e-3;
-  }, 30.0, [&] { probe.Pump(20); })) << "the force must fade to zero";
+  EXPECT_TRUE(Eventually(
+      [&] {
+        const auto& f = forces.back();
+        return !f.active && std::hypot(f.force[0], f.force[1], f.force[2]) < 1e-3;
+      },
+      30.0, [&] { probe.Pump(20); }))
+      << "the force must fade to zero";
   double max_pressing = 0.0;
   for (size_t i = 0; i < pressing; ++i) {
     if (forces[i].active) max_pressing = std::max(max_pressing, std::abs(forces[i].force[2]));
@@ -547,13 +616,17 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
     if (forces[i - 1].active && !forces[i].active) idle = i;
   }
   ASSERT_GT(idle, 0u);
-  const auto norm = [&](size_t i) { return std::hypot(forces[i].force[0], forces[i].force[1], forces[i].force[2]); };
+  const auto norm = [&](size_t i) {
+    return std::hypot(forces[i].force[0], forces[i].force[1], forces[i].force[2]);
+  };
   const double before = norm(idle - 1);
   EXPECT_GT(before, 0.05);
-  ASSERT_EQ(forces[idle].step, forces[idle - 1].step + 1) << "lost the step that went idle: cannot tell";
+  ASSERT_EQ(forces[idle].step, forces[idle - 1].step + 1)
+      << "lost the step that went idle: cannot tell";
   EXPECT_GE(norm(idle), 0.5 * before) << "the force dropped at once";
   for (size_t i = idle + 1; i < forces.size(); ++i) {
-    EXPECT_LE(norm(i), norm(i - 1) * (1.0 + 1e-9)) << "rose again " << i - idle << " steps after going idle";
+    EXPECT_LE(norm(i), norm(i - 1) * (1.0 + 1e-9))
+        << "rose again " << i - idle << " steps after going idle";
     if (forces[i].sim_time - forces[idle].sim_time >= 0.4) {
       EXPECT_LT(norm(i), 0.01 * before);
     }
@@ -561,7 +634,8 @@ TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {
   const json s = Status(dir, id);
   // at least the silence; a starved client may have let it go idle more often (each counted)
   int64_t transitions = 0;
-  for (size_t i = 1; i < forces.size(); ++i) transitions += forces[i - 1].active && !forces[i].active;
+  for (size_t i = 1; i < forces.size(); ++i)
+    transitions += forces[i - 1].active && !forces[i].active;
   EXPECT_GE(s["idle_events"].get<int64_t>(), std::max<int64_t>(1, transitions));
   // Every pose the force stream answered was counted, and none twice: UDP may drop some of
   // the flood (what the receive buffers hold arrives), so the count lies between the two.

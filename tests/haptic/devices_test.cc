@@ -11,7 +11,8 @@ namespace {
 
 script::ToolScript Hold(double z) {
   return script::ToolScript::Parse("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,hand,0,0," + std::to_string(z) +
-                                   ",1,0,0,0,1\n1,hand,0,0," + std::to_string(z) + ",1,0,0,0,0.5\n");
+                                   ",1,0,0,0,1\n1,hand,0,0," + std::to_string(z) +
+                                   ",1,0,0,0,0.5\n");
 }
 
 TEST(SimDevice, AConstantForceDisplacesTheHandByHookesLaw) {
@@ -60,9 +61,11 @@ TEST(ReplayDevice, NamesTheLineOfAnythingMalformed) {
     }
     return std::string("no error");
   };
-  EXPECT_NE(error("{\"t\":0,\"position\":[0,0,0]}\nnot json\n").find("log.jsonl:2"), std::string::npos);
+  EXPECT_NE(error("{\"t\":0,\"position\":[0,0,0]}\nnot json\n").find("log.jsonl:2"),
+            std::string::npos);
   EXPECT_NE(error("{\"t\":0}\n").find("log.jsonl:1"), std::string::npos);
-  EXPECT_NE(error("{\"t\":1,\"position\":[0,0,0]}\n{\"t\":0.5,\"position\":[0,0,0]}\n").find("back in time"),
+  EXPECT_NE(error("{\"t\":1,\"position\":[0,0,0]}\n{\"t\":0.5,\"position\":[0,0,0]}\n")
+                .find("back in time"),
             std::string::npos);
   EXPECT_NE(error("").find("no samples"), std::string::npos);
   EXPECT_NE(error("{\"t\":0,\"position\":[0,\"x\",0]}\n").find("position[1]"), std::string::npos);

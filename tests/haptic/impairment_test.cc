@@ -69,7 +69,8 @@ TEST(Impairment, LosesTheGivenFractionReproduciblyPerSeed) {
   b.seed = 12;
   const auto other = Transmit(b, 100000);
   int differ = 0;
-  for (size_t i = 0; i < std::min(first.size(), other.size()); ++i) differ += first[i].id != other[i].id;
+  for (size_t i = 0; i < std::min(first.size(), other.size()); ++i)
+    differ += first[i].id != other[i].id;
   EXPECT_GT(differ, 0);
 }
 

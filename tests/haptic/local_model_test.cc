@@ -39,7 +39,8 @@ TEST(RestoringStiffness, SymmetricWithEigenvaluesClippedToTheCap) {
     EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-9);
     EXPECT_LE(eig.eigenvalues().maxCoeff(), 400.0 + 1e-9);
     Eigen::SelfAdjointEigenSolver<Mat3> sent(0.5 * (k + k.transpose()));
-    const bool outside = sent.eigenvalues().minCoeff() < 0.0 || sent.eigenvalues().maxCoeff() > 400.0;
+    const bool outside =
+        sent.eigenvalues().minCoeff() < 0.0 || sent.eigenvalues().maxCoeff() > 400.0;
     EXPECT_EQ(clipped, outside);
     // within the range it changes nothing but the antisymmetric part
     if (!outside) {
@@ -64,20 +65,22 @@ TEST(ColgateBound, IsTwiceTheDampingOverThePeriod) {
 // A linear spring (a grasp) answered at 100 Hz with 10 ms of delay: the local model gives the exact
 // spring force at every 1 ms sample; the newest answer's force held (zero-order hold) does not.
 TEST(LocalModel, RendersALinearSpringExactlyBetweenDelayedAnswers) {
-  LocalModel model({.max_stiffness_n_m = 1000.0, .crossfade_periods = 1, .stale_after_s = 1.0, .fade_s = 1e-3});
+  LocalModel model(
+      {.max_stiffness_n_m = 1000.0, .crossfade_periods = 1, .stale_after_s = 1.0, .fade_s = 1e-3});
   const Vec3 wall(0.001, 0, 0.0);
   const double k = 200.0;
   std::vector<Vec3> sent;  // positions by pose seq (one per ms)
   double worst_model = 0.0, worst_hold = 0.0;
   for (int ms = 0; ms < 400; ++ms) {
     const int64_t now = (ms + 1) * kMs;
-    const Vec3 x(0, 0.002 * std::cos(ms * 1e-3 * 2 * M_PI), -0.01 * std::sin(ms * 1e-3 * 2 * M_PI * 2.0));
+    const Vec3 x(0, 0.002 * std::cos(ms * 1e-3 * 2 * M_PI),
+                 -0.01 * std::sin(ms * 1e-3 * 2 * M_PI * 2.0));
     sent.push_back(x);
     // every 10 ms the server answers the pose sent 10 ms earlier
     if (ms >= 10 && ms % 10 == 0) {
       const int64_t seq = ms - 10;
-      model.Offer(SpringAnswer(seq, sent[static_cast<size_t>(seq)], wall, k), sent[static_cast<size_t>(seq)],
-                  (seq + 1) * kMs, now);
+      model.Offer(SpringAnswer(seq, sent[static_cast<size_t>(seq)], wall, k),
+                  sent[static_cast<size_t>(seq)], (seq + 1) * kMs, now);
     }
     const Vec3 f = model.Force(x, now);
     if (ms < 20) continue;
@@ -90,8 +93,11 @@ TEST(LocalModel, RendersALinearSpringExactlyBetweenDelayedAnswers) {
 }
 
 TEST(LocalModel, CrossFadesANewAnswerLinearlyInTime) {
-  LocalModel model({.max_stiffness_n_m = 1000.0, .crossfade_periods = 5, .max_crossfade_s = 0.005,
-                    .stale_after_s = 1.0, .fade_s = 1e-3});
+  LocalModel model({.max_stiffness_n_m = 1000.0,
+                    .crossfade_periods = 5,
+                    .max_crossfade_s = 0.005,
+                    .stale_after_s = 1.0,
+                    .fade_s = 1e-3});
   const Vec3 x = Vec3::Zero();
   Answer a;
   a.seq = 0;
@@ -133,7 +139,10 @@ TEST(LocalModel, DropsStaleAndOutOfOrderAnswersAndCountsThem) {
 
 TEST(LocalModel, FadesSmoothlyToZeroWhenStaleAndBackWhenAnswersReturn) {
   const double stale = 0.05, fade = 0.1;
-  LocalModel model({.max_stiffness_n_m = 1000.0, .crossfade_periods = 1, .stale_after_s = stale, .fade_s = fade});
+  LocalModel model({.max_stiffness_n_m = 1000.0,
+                    .crossfade_periods = 1,
+                    .stale_after_s = stale,
+                    .fade_s = fade});
   Answer a;
   a.seq = 0;
   a.pose_seq = 0;
@@ -162,7 +171,8 @@ TEST(LocalModel, FadesSmoothlyToZeroWhenStaleAndBackWhenAnswersReturn) {
 }
 
 TEST(LocalModel, ANonFiniteAnswerGivesZeroForceACountAndDoesNotBlockLaterAnswers) {
-  LocalModel model({.crossfade_periods = 1, .stale_after_s = 1.0, .fade_s = 0.01, .nonfinite_hold_s = 0.02});
+  LocalModel model(
+      {.crossfade_periods = 1, .stale_after_s = 1.0, .fade_s = 0.01, .nonfinite_hold_s = 0.02});
   Answer a;
   a.seq = 0;
   a.pose_seq = 0;
@@ -188,7 +198,8 @@ TEST(LocalModel, ANonFiniteAnswerGivesZeroForceACountAndDoesNotBlockLaterAnswers
 }
 
 TEST(LocalModel, ContactExtrapolationNeverPullsButAGraspDoes) {
-  LocalModel model({.crossfade_periods = 1, .max_crossfade_s = 0.0, .stale_after_s = 1.0, .fade_s = 1e-3});
+  LocalModel model(
+      {.crossfade_periods = 1, .max_crossfade_s = 0.0, .stale_after_s = 1.0, .fade_s = 1e-3});
   Answer a;
   a.seq = 0;
   a.pose_seq = 0;
@@ -213,7 +224,8 @@ TEST(LocalModel, TheCrossFadeLastsAboutTheIntervalBetweenAnswersWithinItsBounds)
       a.seq = a.pose_seq = k;
       model.Offer(a, Vec3::Zero(), 0, static_cast<int64_t>(k * interval_ms * kMs));
     }
-    EXPECT_NEAR(model.crossfade_s(), std::clamp(interval_ms * 1e-3, 0.004, 0.025), 1e-9) << interval_ms;
+    EXPECT_NEAR(model.crossfade_s(), std::clamp(interval_ms * 1e-3, 0.004, 0.025), 1e-9)
+        << interval_ms;
   }
 }
 
@@ -221,8 +233,12 @@ TEST(LocalModel, TheCrossFadeLastsAboutTheIntervalBetweenAnswersWithinItsBounds)
 // then a speculative one that pulls): the one-sided rule of each answer must not make the
 // rendered force jump when the newest answer's direction flips.
 TEST(LocalModel, AnAnswerFlippingDirectionIsCrossFadedNotSwitched) {
-  LocalModel model({.max_stiffness_n_m = 1000.0, .period_s = 1e-3, .crossfade_periods = 4,
-                    .max_crossfade_s = 0.004, .stale_after_s = 1.0, .fade_s = 1e-3});
+  LocalModel model({.max_stiffness_n_m = 1000.0,
+                    .period_s = 1e-3,
+                    .crossfade_periods = 4,
+                    .max_crossfade_s = 0.004,
+                    .stale_after_s = 1.0,
+                    .fade_s = 1e-3});
   Answer up;
   up.seq = up.pose_seq = 0;
   up.force = Vec3(0, 0, 0.2);

@@ -41,7 +41,8 @@ DelayedSpringRun RunDelayedSpring(bool controller, int delay_periods) {
     const Vec3 x(0, 0, -0.005 * (1.0 - std::cos(2 * M_PI * 2.0 * n * T)));  // in and out, 2 Hz
     pc.Observe(x);
     delayed.push_back(-k * x);
-    const Vec3 spring = delayed.size() > static_cast<size_t>(delay_periods) ? delayed.front() : Vec3::Zero();
+    const Vec3 spring =
+        delayed.size() > static_cast<size_t>(delay_periods) ? delayed.front() : Vec3::Zero();
     if (delayed.size() > static_cast<size_t>(delay_periods)) delayed.pop_front();
     const Vec3 f = pc.Control(spring, (x - x_prev) / T, T);
     pc.Commit(f);

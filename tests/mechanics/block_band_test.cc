@@ -50,7 +50,8 @@ TEST(BlockBand, MultiplyAndSolveMatchTheDenseMatrix) {
 
   Points x = Eigen::Map<const Points>(b.data(), n, 3), y(n, 3);
   a.Multiply(x, &y);
-  EXPECT_LT((Eigen::Map<const VecX>(y.data(), 3 * n) - dense * b).cwiseAbs().maxCoeff(), 1e-12 * (dense * b).norm());
+  EXPECT_LT((Eigen::Map<const VecX>(y.data(), 3 * n) - dense * b).cwiseAbs().maxCoeff(),
+            1e-12 * (dense * b).norm());
 
   BlockBandCholesky chol;
   ASSERT_TRUE(chol.Factor(a));
@@ -100,7 +101,8 @@ void EigenSolve(const BlockBandCholesky& chol, double* b) {
   const int n = chol.n();
   for (int i = 0; i < n; ++i) {
     Vec3 v = Vec(b + 3 * i);
-    for (int d = 1; d <= std::min(i, 3); ++d) v.noalias() -= chol.lower_block(i, d) * Vec(b + 3 * (i - d));
+    for (int d = 1; d <= std::min(i, 3); ++d)
+      v.noalias() -= chol.lower_block(i, d) * Vec(b + 3 * (i - d));
     Vec(b + 3 * i).noalias() = chol.inverse_diagonal(i) * v;
   }
   for (int i = n - 1; i >= 0; --i) {
@@ -116,7 +118,8 @@ void EigenSolve(const BlockBandCholesky& chol, double* b) {
 // per lane) against it, bit for bit.
 TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
 #if defined(__AVX__)
-  GTEST_SKIP() << "the solve keeps Eigen's SSE2 association; built for AVX (VISCERA_NATIVE=ON), Eigen sums otherwise";
+  GTEST_SKIP() << "the solve keeps Eigen's SSE2 association; built for AVX (VISCERA_NATIVE=ON), "
+                  "Eigen sums otherwise";
 #endif
   for (const int n : {1, 2, 3, 4, 5, 7, 40}) {
     SCOPED_TRACE(n);
@@ -163,7 +166,8 @@ TEST(BlockBand, AddSymmetricIsAddOfTheScaledBlockBitForBit) {
   }
   for (int i = 0; i < 8; ++i) {
     for (int d = 0; d < BlockBand::kWidth; ++d) {
-      for (int k = 0; k < 9; ++k) EXPECT_EQ(a.block(i, d)(k / 3, k % 3), b.block(i, d)(k / 3, k % 3)) << i << " " << d;
+      for (int k = 0; k < 9; ++k)
+        EXPECT_EQ(a.block(i, d)(k / 3, k % 3), b.block(i, d)(k / 3, k % 3)) << i << " " << d;
     }
   }
 }

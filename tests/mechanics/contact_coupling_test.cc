@@ -65,8 +65,10 @@ TEST(ContactCoupling, APileMovedAsABlockCarriesItsTrueMass) {
   const Vec3 expected(0.3, 0.0, 0.0);  // g t
   for (double rate : {100.0, 1000.0}) {
     const BlockPush exact = PushAsABlock(pile, rate, true);
-    EXPECT_GT(exact.mean_pairs, 100.0) << rate << " Hz: the pile must stay packed for the test to mean anything";
-    EXPECT_LT((exact.velocity - expected).norm(), 0.02 * expected.norm()) << rate << " Hz: " << exact.velocity.transpose();
+    EXPECT_GT(exact.mean_pairs, 100.0)
+        << rate << " Hz: the pile must stay packed for the test to mean anything";
+    EXPECT_LT((exact.velocity - expected).norm(), 0.02 * expected.norm())
+        << rate << " Hz: " << exact.velocity.transpose();
   }
   // Negative control: each side's own window only, 2 k n n^T: the contacts drag the block.
   const BlockPush band = PushAsABlock(pile, 100.0, false);
@@ -112,7 +114,8 @@ TEST(ContactCoupling, ASettledPileStopsAtGravitysScaleAndMovesAsWithTheStrictSto
   for (int k = 0; k < 50; ++k) {
     Step(model, {}, &floor_state, &floor_workspace);
     Step(model, {}, &strict_state, &strict_workspace);
-    worst_distance = std::max(worst_distance, (floor_state.q - strict_state.q).rowwise().norm().maxCoeff());
+    worst_distance =
+        std::max(worst_distance, (floor_state.q - strict_state.q).rowwise().norm().maxCoeff());
     fastest = std::max(fastest, strict_state.qd.rowwise().norm().maxCoeff());
   }
   EXPECT_GT(settled.contacts.self, 100) << "the pile must be packed for the test to mean anything";

@@ -13,8 +13,8 @@ namespace {
 // The plain projected Gauss-Seidel, one pass over every speed per change, in the order the
 // solver used before it deferred changes four at a time: the numbers SolveContactImpulses must
 // reproduce bit for bit (its deferral, its AVX clone and its grouping of sums are speed only).
-int ReferenceImpulses(const MatX& g, Eigen::Index count, const VecX& target, double immobile, VecX* lambda,
-                      VecX* speed) {
+int ReferenceImpulses(const MatX& g, Eigen::Index count, const VecX& target, double immobile,
+                      VecX* lambda, VecX* speed) {
   VecX& l = *lambda;
   VecX& s = *speed;
   l.head(count).setZero();
@@ -52,12 +52,13 @@ Problem RandomProblem(Eigen::Index count, Eigen::Index padding, int pinned, unsi
   }
   if (pinned >= 0) j.row(pinned).setZero();
   Problem p;
-  p.delassus = MatX::Constant(count + padding, count + padding, 1e300);  // the padding must not be read
+  p.delassus =
+      MatX::Constant(count + padding, count + padding, 1e300);  // the padding must not be read
   p.delassus.topLeftCorner(count, count) = j * j.transpose();
   p.target.resize(count);
   p.speed.resize(count);
   for (Eigen::Index i = 0; i < count; ++i) {
-    p.speed(i) = u(rng) - 0.4;             // most approach
+    p.speed(i) = u(rng) - 0.4;              // most approach
     p.target(i) = -0.1 * std::abs(u(rng));  // some may keep a little approach
   }
   return p;
@@ -73,13 +74,16 @@ TEST(ContactImpulses, DeferredChangesGiveThePlainGaussSeidelBitForBit) {
     for (unsigned seed = 0; seed < 8; ++seed) {
       for (const Eigen::Index padding : {Eigen::Index{0}, Eigen::Index{3}}) {
         const int pinned = seed % 2 == 1 ? static_cast<int>(seed % count) : -1;
-        SCOPED_TRACE(testing::Message() << "count " << count << " seed " << seed << " padding " << padding
-                                        << " pinned " << pinned);
-        const Problem p = RandomProblem(count, padding, pinned, 1000 * static_cast<unsigned>(count) + seed);
+        SCOPED_TRACE(testing::Message() << "count " << count << " seed " << seed << " padding "
+                                        << padding << " pinned " << pinned);
+        const Problem p =
+            RandomProblem(count, padding, pinned, 1000 * static_cast<unsigned>(count) + seed);
         VecX lambda(count), speed = p.speed;
         VecX ref_lambda(count), ref_speed = p.speed;
-        const int sweeps = SolveContactImpulses(p.delassus, count, p.target, 1e-12, &lambda, &speed);
-        const int ref_sweeps = ReferenceImpulses(p.delassus, count, p.target, 1e-12, &ref_lambda, &ref_speed);
+        const int sweeps =
+            SolveContactImpulses(p.delassus, count, p.target, 1e-12, &lambda, &speed);
+        const int ref_sweeps =
+            ReferenceImpulses(p.delassus, count, p.target, 1e-12, &ref_lambda, &ref_speed);
         EXPECT_EQ(sweeps, ref_sweeps);
         EXPECT_TRUE(SameBits(lambda, ref_lambda, count));
         EXPECT_TRUE(SameBits(speed, ref_speed, count));

@@ -12,7 +12,9 @@
 namespace viscera::mechanics {
 namespace {
 
-bool SameBits(const double* a, const double* b, size_t count) { return std::memcmp(a, b, count * sizeof(double)) == 0; }
+bool SameBits(const double* a, const double* b, size_t count) {
+  return std::memcmp(a, b, count * sizeof(double)) == 0;
+}
 
 bool SameBits(const BlockBand& a, const BlockBand& b) {
   for (int i = 0; i < a.n(); ++i) {

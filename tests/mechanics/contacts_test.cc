@@ -29,7 +29,8 @@ struct Simulation {
 
 Simulation Start(const std::string& text) {
   Simulation r;
-  r.model = std::make_unique<Model>(scene::ParseScene(text, std::string(VISCERA_SOURCE_DIR) + "/scenes/x.toml").model);
+  r.model = std::make_unique<Model>(
+      scene::ParseScene(text, std::string(VISCERA_SOURCE_DIR) + "/scenes/x.toml").model);
   r.state = InitialState(*r.model);
   r.workspace = std::make_unique<Workspace>(*r.model);
   return r;
@@ -51,7 +52,8 @@ TEST(Contacts, FallSettlesOnItsPlaneWithoutSinkingIntoItOrItself) {
   const int skip = static_cast<int>(std::floor(2.0 * radius / chain.spacing())) + 1;
   for (size_t a = 0; a < spheres.size(); ++a) {
     lowest = std::min(lowest, spheres[a].centre.z());
-    for (size_t b = a + skip; b < spheres.size(); ++b) closest = std::min(closest, (spheres[a].centre - spheres[b].centre).norm());
+    for (size_t b = a + skip; b < spheres.size(); ++b)
+      closest = std::min(closest, (spheres[a].centre - spheres[b].centre).norm());
   }
   EXPECT_GT(lowest, 0.8 * radius);
   EXPECT_GT(closest, 2.0 * radius - 0.2 * radius);
@@ -82,7 +84,8 @@ TEST(Contacts, SameInputsGiveBitIdenticalStates) {
   Advance(&b, 0.6);
   ASSERT_EQ(a.state.q.size(), b.state.q.size());
   EXPECT_EQ(std::memcmp(a.state.q.data(), b.state.q.data(), sizeof(double) * a.state.q.size()), 0);
-  EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()), 0);
+  EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()),
+            0);
 }
 
 // fall.toml with the impact limiter and the stiffening law alone: the impulses inside the implicit
@@ -92,7 +95,8 @@ std::string LimiterOnlyFall() {
   std::string text = SceneText("fall.toml");
   const size_t table = text.find("[contacts]");
   EXPECT_NE(table, std::string::npos);
-  text.insert(table + std::string("[contacts]").size(), "\nimpact_constraints = false\nspheres = \"arc_length\"\n");
+  text.insert(table + std::string("[contacts]").size(),
+              "\nimpact_constraints = false\nspheres = \"arc_length\"\n");
   return text;
 }
 
@@ -113,7 +117,8 @@ TEST(Contacts, TheLimiterAloneNeverGainsEnergyOnTheShippedFallAndRerunsBitIdenti
   }
   EXPECT_LT(previous, 0.5 * start);  // the impact dissipated
   EXPECT_EQ(std::memcmp(a.state.q.data(), b.state.q.data(), sizeof(double) * a.state.q.size()), 0);
-  EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()), 0);
+  EXPECT_EQ(std::memcmp(a.state.qd.data(), b.state.qd.data(), sizeof(double) * a.state.qd.size()),
+            0);
 }
 
 // The goal: no pair deeper than a tenth of the radius at the end of any step, on every shipped
@@ -123,7 +128,8 @@ TEST(Contacts, TheLimiterAloneNeverGainsEnergyOnTheShippedFallAndRerunsBitIdenti
 // 10 cm), sank a pair 26 % of R deep in its first step until it was widened to 14 cm.
 TEST(Contacts, NoShippedSceneSinksAPairDeeperThanATenthOfTheRadius) {
   int scenes = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(std::string(VISCERA_SOURCE_DIR) + "/scenes")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::string(VISCERA_SOURCE_DIR) + "/scenes")) {
     if (entry.path().extension() != ".toml") continue;
     for (const double rate : {0.0, 1000.0}) {  // 0: the scene's own
       scene::Scene scene = scene::LoadSceneFile(entry.path().string());
@@ -139,7 +145,8 @@ TEST(Contacts, NoShippedSceneSinksAPairDeeperThanATenthOfTheRadius) {
         const double depth = -state.contacts.min_clearance / model.params().radius;
         if (!std::isnan(depth) && depth > deepest) deepest = depth, when = state.t;
       }
-      EXPECT_LE(deepest, 0.10) << entry.path().filename() << " at " << model.params().rate_hz << " Hz, t = " << when << " s";
+      EXPECT_LE(deepest, 0.10) << entry.path().filename() << " at " << model.params().rate_hz
+                               << " Hz, t = " << when << " s";
       scenes += rate > 0.0 ? 1 : 0;
     }
   }
@@ -178,7 +185,8 @@ TEST(Contacts, DetectorFindsExactlyTheBruteForcePairsOfAPile) {
   Advance(&r, 1.5);
   const Interactions& in = *r.workspace->interactions();
   const auto& spheres = in.chain().spheres();
-  const int skip = static_cast<int>(std::floor(2.0 * in.chain().radius() / in.chain().spacing())) + 1;
+  const int skip =
+      static_cast<int>(std::floor(2.0 * in.chain().radius() / in.chain().spacing())) + 1;
   collision::ContactDetector detector(in.chain().radius(), 0.003, true, skip);
   std::vector<collision::ContactCandidate> found;
   detector.Detect(spheres, {}, {}, &found);
@@ -188,7 +196,8 @@ TEST(Contacts, DetectorFindsExactlyTheBruteForcePairsOfAPile) {
   std::vector<Vec3> centres;
   for (const auto& s : spheres) centres.push_back(s.centre);
   std::vector<std::pair<int, int>> brute;
-  for (const auto& p : collision::SpatialGrid::BruteForcePairs(centres, 2.0 * in.chain().radius() + 0.003)) {
+  for (const auto& p :
+       collision::SpatialGrid::BruteForcePairs(centres, 2.0 * in.chain().radius() + 0.003)) {
     if (p.second - p.first >= skip) brute.push_back(p);
   }
   EXPECT_EQ(grid, brute);

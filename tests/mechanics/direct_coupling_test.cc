@@ -18,13 +18,15 @@ using mechanics::ImplicitEulerIntegrator;
 // The fall's landing at 0.5 s (>20 pairs on its last sub-step, still weighed for A).
 class DirectCoupling : public ::testing::Test {
  protected:
-  DirectCoupling() : model(FallParams(250)), workspace(model), state(mechanics::InitialState(model)) {
+  DirectCoupling()
+      : model(FallParams(250)), workspace(model), state(mechanics::InitialState(model)) {
     for (int k = 0; k < 50; ++k) mechanics::Step(model, {}, &state, &workspace);
   }
   const mechanics::Model model;
   mechanics::Workspace workspace;
   mechanics::State state;
-  const ImplicitEulerIntegrator& integrator = dynamic_cast<const ImplicitEulerIntegrator&>(workspace.integrator());
+  const ImplicitEulerIntegrator& integrator =
+      dynamic_cast<const ImplicitEulerIntegrator&>(workspace.integrator());
   const mechanics::Interactions& interactions = *workspace.interactions();
 };
 
@@ -83,18 +85,22 @@ TEST_F(DirectCoupling, IncompleteCholeskyPreconditionedCgReachesCgsAnswerInFewer
   // fewer iterations come from the pairs' entries it adds. AMD without fill is left out: it drops
   // what the chain needs and stagnates (bench_direct_coupling: unconverged after 500 iterations
   // on most of the fall's sub-steps; docs/contacts.md).
-  const std::pair<IcOrdering, int> variants[] = {{IcOrdering::kNatural, 0}, {IcOrdering::kNatural, 5},
-                                                 {IcOrdering::kNatural, 20}, {IcOrdering::kAmd, 5},
+  const std::pair<IcOrdering, int> variants[] = {{IcOrdering::kNatural, 0},
+                                                 {IcOrdering::kNatural, 5},
+                                                 {IcOrdering::kNatural, 20},
+                                                 {IcOrdering::kAmd, 5},
                                                  {IcOrdering::kAmd, 20}};
   for (const auto& [ordering, fill] : variants) {
     IncompleteCholeskyPreconditioner ic(ordering, fill);
     ASSERT_TRUE(ic.Factor(a, w, u)) << ic.name();
-    EXPECT_GE(ic.factor_nonzeros(), a.nonzeros() - 9 * static_cast<int64_t>(CoupledBlocks(a).size()))
+    EXPECT_GE(ic.factor_nonzeros(),
+              a.nonzeros() - 9 * static_cast<int64_t>(CoupledBlocks(a).size()))
         << ic.name();  // at least the band's count
     VecX x;
     const int iterations = SolveByCg(integrator, ic, b, 1e-12, 500, &x);
     EXPECT_LT(iterations, 500) << ic.name();
-    EXPECT_LT((x - converged).norm(), 1e-8 * converged.norm()) << ic.name() << ": " << iterations << " iterations";
+    EXPECT_LT((x - converged).norm(), 1e-8 * converged.norm())
+        << ic.name() << ": " << iterations << " iterations";
     if (ordering == IcOrdering::kNatural) {
       EXPECT_LT(iterations, band_iterations) << ic.name();
       // One application is already nearer the answer than the band's.

@@ -16,8 +16,8 @@
 namespace viscera::mechanics {
 namespace {
 
-constexpr double kHeight = 0.55;   // m
-constexpr double kSeconds = 1.5;   // impact at ~0.33 s; the landing and the pile sliding after it
+constexpr double kHeight = 0.55;    // m
+constexpr double kSeconds = 1.5;    // impact at ~0.33 s; the landing and the pile sliding after it
 constexpr double kRoundOff = 1e-9;  // of the energy at release: far above double round-off on ~6 J
 
 // held = false: the impact limiter and the stiffening law alone, without the impulses inside the
@@ -36,7 +36,8 @@ FallRecord Drop(double rate_hz, double impact_depth = -1.0, bool held = true) {
 void ExpectNoStepGains(double rate_hz, bool held) {
   const FallRecord r = Drop(rate_hz, -1.0, held);
   EXPECT_LE(r.LargestGain(), kRoundOff * r.start_energy) << rate_hz << " Hz: " << Describe(r);
-  EXPECT_LT(r.energy.back(), 0.1 * r.start_energy) << rate_hz << " Hz: it landed and the impact dissipated";
+  EXPECT_LT(r.energy.back(), 0.1 * r.start_energy)
+      << rate_hz << " Hz: it landed and the impact dissipated";
 }
 
 // The goal, with the defaults: the impulses inside the implicit solve and spheres that follow the
@@ -86,7 +87,8 @@ ShippedFall RunShippedFall(double rate_hz, bool impact_redo) {
     const double e = ComputeEnergies(model, s.q, s.qd, in).total();
     f.largest_gain = std::max(f.largest_gain, e - previous);
     previous = e;
-    if (!std::isnan(s.contacts.min_clearance)) f.deepest = std::max(f.deepest, -s.contacts.min_clearance / p.radius);
+    if (!std::isnan(s.contacts.min_clearance))
+      f.deepest = std::max(f.deepest, -s.contacts.min_clearance / p.radius);
   }
   return f;
 }
@@ -111,16 +113,21 @@ TEST(DropEnergy, WithoutTheBackwardEulerRedoTheShippedFallGains) {
 
 // Figures for docs/benchmarks.md: VISCERA_DROP_ENERGY_FIGURES=1 prints every rate.
 TEST(DropEnergy, Figures) {
-  if (!std::getenv("VISCERA_DROP_ENERGY_FIGURES")) GTEST_SKIP() << "set VISCERA_DROP_ENERGY_FIGURES=1 to print the table";
+  if (!std::getenv("VISCERA_DROP_ENERGY_FIGURES"))
+    GTEST_SKIP() << "set VISCERA_DROP_ENERGY_FIGURES=1 to print the table";
   for (double depth : {-1.0, 0.0}) {  // the scene's impact limiter, then none (and the linear law)
     for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
       const FallRecord r = Drop(rate, depth, false);
       std::string gains;  // the steps that gained more than round-off
       for (size_t k = 0; k < r.energy.size(); ++k) {
         const double gain = r.energy[k] - (k ? r.energy[k - 1] : r.start_energy);
-        if (gain > kRoundOff * r.start_energy) gains += " " + std::to_string(r.Seconds(static_cast<int>(k))).substr(0, 5) + " s (" + std::to_string(gain * 1e3).substr(0, 5) + " mJ)";
+        if (gain > kRoundOff * r.start_energy)
+          gains += " " + std::to_string(r.Seconds(static_cast<int>(k))).substr(0, 5) + " s (" +
+                   std::to_string(gain * 1e3).substr(0, 5) + " mJ)";
       }
-      std::printf("%s %5.0f Hz: gains at [%s]; %s\n", depth < 0.0 ? "limiter alone" : "none         ", rate, gains.c_str(), Describe(r).c_str());
+      std::printf("%s %5.0f Hz: gains at [%s]; %s\n",
+                  depth < 0.0 ? "limiter alone" : "none         ", rate, gains.c_str(),
+                  Describe(r).c_str());
     }
   }
 }

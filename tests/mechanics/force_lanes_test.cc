@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cstring>
-#include <vector>
 #include <random>
+#include <vector>
 
 #include "mechanics/forces.h"
 #include "mechanics/model.h"
@@ -88,8 +88,10 @@ void AddSegmentLengthHessian(const Model& model, const Scratch& s, int j, double
       continue;
     }
     const double c = coeff * Rule::kWeights[g] * s.node_inv_speed(node);
-    const double x = s.node_tangent(node, 0), y = s.node_tangent(node, 1), z = s.node_tangent(node, 2);
-    p[g] = {c * (1.0 - x * x), c * (1.0 - y * y), c * (1.0 - z * z), c * (0.0 - x * y), c * (0.0 - x * z), c * (0.0 - y * z)};
+    const double x = s.node_tangent(node, 0), y = s.node_tangent(node, 1),
+                 z = s.node_tangent(node, 2);
+    p[g] = {c * (1.0 - x * x), c * (1.0 - y * y), c * (1.0 - z * z),
+            c * (0.0 - x * y), c * (0.0 - x * z), c * (0.0 - y * z)};
   }
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
@@ -105,11 +107,8 @@ void AddSegmentLengthHessian(const Model& model, const Scratch& s, int j, double
   }
 }
 
-
-
-
-double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Points* F,
-                           BlockBand* K, Points* rank1_u, double* rank1_coeff) {
+double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Points* F, BlockBand* K,
+                           Points* rank1_u, double* rank1_coeff) {
   const double k = model.params().continuous_stretch;
   if (rank1_coeff) *rank1_coeff = 0.0;
   if (k <= 0.0) return 0.0;
@@ -123,7 +122,8 @@ double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Poin
     const double de_dl = 2.0 * k * strain * lambda / l0;
     const double d2e_dl2 = 2.0 * k * (3.0 * lambda * lambda - 1.0) / (l0 * l0);
     s->length_gradient.setZero();
-    for (int j = 0; j < model.num_segments(); ++j) AddSegmentGradient(model, *s, j, 1.0, &s->length_gradient);
+    for (int j = 0; j < model.num_segments(); ++j)
+      AddSegmentGradient(model, *s, j, 1.0, &s->length_gradient);
     *F -= de_dl * s->length_gradient;
     if (K) {
       // Positive semi-definite parts only: a compressed curve gets no negative stiffness.
@@ -156,7 +156,8 @@ double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Poin
       const int f = model.curve().FirstIndex(j);
       Eigen::Matrix<double, 4, 3> g = Eigen::Matrix<double, 4, 3>::Zero();
       for (int n = 0; n < 4; ++n) {
-        for (int a = 0; a < 4; ++a) g.row(a) += Rule::kWeights[n] * dw(n, a) * s->node_tangent.row(4 * j + n);
+        for (int a = 0; a < 4; ++a)
+          g.row(a) += Rule::kWeights[n] * dw(n, a) * s->node_tangent.row(4 * j + n);
       }
       for (int a = 0; a < 4; ++a) {
         for (int b = a; b < 4; ++b) K->Add(f + a, f + b, d2e_dl2 * g.row(a).transpose() * g.row(b));
@@ -168,15 +169,14 @@ double AddStretchingForces(const Model& model, const Points& q, Scratch* s, Poin
   return energy;
 }
 
-
 // The springs' scalar code before its lanes (commit 9c51277).
-double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd, Points* F,
-                       BlockBand* K, BlockBand* D) {
+double AddSpringForces(std::span<const Spring> springs, const Points& q, const Points& qd,
+                       Points* F, BlockBand* K, BlockBand* D) {
   double energy = 0.0;
   for (const Spring& sp : springs) {
     const Vec3 x = (q.row(sp.j) - q.row(sp.i)).transpose();
     const double l = x.norm();
-    if (l <= 0.0) continue;  // coincident points: no direction to push along
+    if (l <= 0.0) continue;        // coincident points: no direction to push along
     const double inv_l = 1.0 / l;  // one division, not four
     const Vec3 t = x * inv_l;
     const double stretch = l - sp.rest;
@@ -187,13 +187,15 @@ double AddSpringForces(std::span<const Spring> springs, const Points& q, const P
     F->row(sp.j) -= f.transpose();
     if (!K && !(D && sp.damping > 0.0)) continue;  // forces only (RK4, energies)
     // Both blocks are symmetric: h on the two diagonal blocks, -h between them.
-    const Sym3 ttT{t.x() * t.x(), t.y() * t.y(), t.z() * t.z(), t.x() * t.y(), t.x() * t.z(), t.y() * t.z()};
+    const Sym3 ttT{t.x() * t.x(), t.y() * t.y(), t.z() * t.z(),
+                   t.x() * t.y(), t.x() * t.z(), t.y() * t.z()};
     if (K) {
       // k (t t^T + g (I - t t^T)), g the geometric part.
       const double geometric = std::max(0.0, 1.0 - sp.rest * inv_l);
       const double k = sp.stiffness, g = geometric;
-      const Sym3 h{k * (ttT[0] + g * (1.0 - ttT[0])), k * (ttT[1] + g * (1.0 - ttT[1])), k * (ttT[2] + g * (1.0 - ttT[2])),
-                   k * (ttT[3] - g * ttT[3]),         k * (ttT[4] - g * ttT[4]),         k * (ttT[5] - g * ttT[5])};
+      const Sym3 h{k * (ttT[0] + g * (1.0 - ttT[0])), k * (ttT[1] + g * (1.0 - ttT[1])),
+                   k * (ttT[2] + g * (1.0 - ttT[2])), k * (ttT[3] - g * ttT[3]),
+                   k * (ttT[4] - g * ttT[4]),         k * (ttT[5] - g * ttT[5])};
       K->AddSymmetric(sp.i, sp.i, 1.0, h);
       K->AddSymmetric(sp.j, sp.j, 1.0, h);
       K->AddSymmetric(sp.i, sp.j, -1.0, h);
@@ -209,7 +211,6 @@ double AddSpringForces(std::span<const Spring> springs, const Points& q, const P
   }
   return energy;
 }
-
 
 }  // namespace reference
 
@@ -238,7 +239,8 @@ bool SameBits(const Points& a, const Points& b) {
 bool SameBits(const BlockBand& a, const BlockBand& b) {
   for (int i = 0; i < a.n(); ++i) {
     for (int d = 0; d < BlockBand::kWidth; ++d) {
-      if (std::memcmp(a.block(i, d).data(), b.block(i, d).data(), sizeof(double) * 9) != 0) return false;
+      if (std::memcmp(a.block(i, d).data(), b.block(i, d).data(), sizeof(double) * 9) != 0)
+        return false;
     }
   }
   return true;
@@ -256,17 +258,20 @@ Model ChainModel(int n, ContinuousScope scope, unsigned seed) {
 
 TEST(ForceLanes, StretchingIsTheScalarCodeBitForBit) {
 #if defined(__AVX__)
-  GTEST_SKIP() << "the reference sums as Eigen's SSE2 code does; built for AVX (VISCERA_NATIVE=ON), Eigen sums otherwise";
+  GTEST_SKIP() << "the reference sums as Eigen's SSE2 code does; built for AVX "
+                  "(VISCERA_NATIVE=ON), Eigen sums otherwise";
 #endif
   for (const ContinuousScope scope : {ContinuousScope::kGlobal, ContinuousScope::kSegment}) {
     for (const int n : {4, 5, 6, 7, 12, 41}) {
       for (unsigned seed = 0; seed < 10; ++seed) {
-        SCOPED_TRACE(::testing::Message() << "scope " << static_cast<int>(scope) << " n " << n << " seed " << seed);
+        SCOPED_TRACE(::testing::Message()
+                     << "scope " << static_cast<int>(scope) << " n " << n << " seed " << seed);
         const Model model = ChainModel(n, scope, seed);
         std::mt19937 rng(1000 * n + seed);
         Points q = model.params().initial_q + RandomPoints(n, 0.2 / n, &rng);
         if (seed == 9 && n >= 7) {
-          for (int i = 2; i < 7; ++i) q.row(i).setZero();  // segments of exactly zero speed (not 1e-17)
+          for (int i = 2; i < 7; ++i)
+            q.row(i).setZero();  // segments of exactly zero speed (not 1e-17)
         }
         const Points f0 = RandomPoints(n, 1.0, &rng);
         const BlockBand k0 = RandomBand(n, &rng);
@@ -277,7 +282,8 @@ TEST(ForceLanes, StretchingIsTheScalarCodeBitForBit) {
         scratch.Resize(n);
         reference::Scratch scratch_ref(n);
         const double e = AddStretchingForces(model, q, &scratch, &f, &k, &u, &c);
-        const double e_ref = reference::AddStretchingForces(model, q, &scratch_ref, &f_ref, &k_ref, &u_ref, &c_ref);
+        const double e_ref =
+            reference::AddStretchingForces(model, q, &scratch_ref, &f_ref, &k_ref, &u_ref, &c_ref);
         EXPECT_EQ(std::memcmp(&e, &e_ref, sizeof e), 0);
         EXPECT_EQ(std::memcmp(&c, &c_ref, sizeof c), 0);
         EXPECT_TRUE(SameBits(f, f_ref));
@@ -303,7 +309,8 @@ TEST(ForceLanes, SpringsAreTheScalarCodeBitForBit) {
       const Points qd = RandomPoints(n, 1.0, &rng);
       if (seed == 0 && n > 2) q.row(1) = q.row(0);  // coincident points: their springs are skipped
       std::vector<Spring> springs;
-      for (int k = 0; k < 4 * n; ++k) {  // random pairs at most 3 apart, both orders, repeated blocks
+      for (int k = 0; k < 4 * n;
+           ++k) {  // random pairs at most 3 apart, both orders, repeated blocks
         const int i = std::min(n - 1, static_cast<int>(u(rng) * n));
         const int j = std::clamp(i + static_cast<int>(u(rng) * 7) - 3, 0, n - 1);
         if (i == j) continue;
@@ -321,7 +328,8 @@ TEST(ForceLanes, SpringsAreTheScalarCodeBitForBit) {
         Points f = f0, f_ref = f0;
         BlockBand k = k0, k_ref = k0, d = d0, d_ref = d0;
         const double e = AddSpringForces(springs, q, qd, &f, &k, with_d ? &d : nullptr);
-        const double e_ref = reference::AddSpringForces(springs, q, qd, &f_ref, &k_ref, with_d ? &d_ref : nullptr);
+        const double e_ref =
+            reference::AddSpringForces(springs, q, qd, &f_ref, &k_ref, with_d ? &d_ref : nullptr);
         EXPECT_EQ(std::memcmp(&e, &e_ref, sizeof e), 0);
         EXPECT_TRUE(SameBits(f, f_ref));
         EXPECT_TRUE(SameBits(k, k_ref));

@@ -91,7 +91,8 @@ TEST(Forces, GravityGivesFreeFallAtExactlyG) {
   // Potential energy is m g h relative to z = 0.
   Points lifted = p.initial_q;
   lifted.col(2).array() += 2.0;
-  EXPECT_NEAR(Evaluate(model, lifted, Points::Zero(12, 3)).energies.gravity, p.mass * 9.81 * 2.0, 1e-12);
+  EXPECT_NEAR(Evaluate(model, lifted, Points::Zero(12, 3)).energies.gravity, p.mass * 9.81 * 2.0,
+              1e-12);
 }
 
 TEST(Forces, StretchSpringGradientAndHessian) {
@@ -155,7 +156,8 @@ TEST(Forces, DampingJacobianMatchesFiniteDifferences) {
       Points plus = qd, minus = qd;
       plus(i, a) += eps;
       minus(i, a) -= eps;
-      const Points df = (Evaluate(model, q, plus).force - Evaluate(model, q, minus).force) / (2 * eps);
+      const Points df =
+          (Evaluate(model, q, plus).force - Evaluate(model, q, minus).force) / (2 * eps);
       const VecX column = -Eigen::Map<const VecX>(df.data(), 24);
       EXPECT_LT((d.col(3 * i + a) - column).cwiseAbs().maxCoeff(), 1e-6) << i << "," << a;
     }
@@ -190,7 +192,8 @@ TEST(Forces, BendSpringsMatchRodEnergyAtReferenceCurvature) {
     const Model model(p);
     const double bend = Evaluate(model, p.initial_q, Points::Zero(n, 3)).energies.bend;
     const double springs_length = (n - 2) * model.rest_segment_length();
-    EXPECT_NEAR(bend / springs_length, 0.5 * ei * kappa * kappa, 0.01 * 0.5 * ei * kappa * kappa) << n;
+    EXPECT_NEAR(bend / springs_length, 0.5 * ei * kappa * kappa, 0.01 * 0.5 * ei * kappa * kappa)
+        << n;
   }
 }
 

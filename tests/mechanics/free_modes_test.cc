@@ -24,11 +24,11 @@ namespace viscera::mechanics {
 namespace {
 
 constexpr int kPoints = 21;
-constexpr double kLength = 0.5;    // m
-constexpr double kSpan = 0.2;      // m between the two held ends
-constexpr double kDamping = 0.2;   // 1/s: the amplitude decays as exp(-0.1 t)
+constexpr double kLength = 0.5;       // m
+constexpr double kSpan = 0.2;         // m between the two held ends
+constexpr double kDamping = 0.2;      // 1/s: the amplitude decays as exp(-0.1 t)
 constexpr double kAmplitude = 0.005;  // m: the largest displacement of the mode at release
-constexpr double kSeconds = 10.0;  // about 10 periods, the amplitude down to exp(-1)
+constexpr double kSeconds = 10.0;     // about 10 periods, the amplitude down to exp(-1)
 
 // 50 cm of tube (0.2 kg/m) held at both ends 20 cm apart, hanging in a U; no contacts.
 ModelParams HangingLoop(IntegratorKind kind, double rate_hz) {
@@ -100,7 +100,8 @@ Linearized Linearize(const Model& model, const Points& q) {
   MatX g = MatX::Zero(3 * model.pins().size(), dim);
   for (size_t r = 0; r < model.pins().size(); ++r) {
     for (int a = 0; a < 4; ++a) {
-      for (int axis = 0; axis < 3; ++axis) g(3 * r + axis, 3 * (model.pins()[r].at.first + a) + axis) = model.pins()[r].at.w(a);
+      for (int axis = 0; axis < 3; ++axis)
+        g(3 * r + axis, 3 * (model.pins()[r].at.first + a) + axis) = model.pins()[r].at.w(a);
     }
   }
   l.z = Eigen::FullPivLU<MatX>(g).kernel();
@@ -139,7 +140,8 @@ struct Mode {
 
 Mode FirstMode(const Model& model, const Points& q) {
   const Linearized l = Linearize(model, q);
-  const MatX mr = l.z.transpose() * l.m * l.z, kr = l.z.transpose() * l.k * l.z, dr = l.z.transpose() * l.d * l.z;
+  const MatX mr = l.z.transpose() * l.m * l.z, kr = l.z.transpose() * l.k * l.z,
+             dr = l.z.transpose() * l.d * l.z;
   const Eigen::Index r = mr.rows();
   MatX a = MatX::Zero(2 * r, 2 * r);
   a.topRightCorner(r, r).setIdentity();
@@ -180,7 +182,8 @@ Swing Simulate(const ModelParams& p, const Points& q_eq, const Mode& mode) {
     Step(model, {}, &s, &ws);
     const Points dq = s.q - q_eq;
     t.push_back(s.t);
-    amp.push_back(m_shape.dot(Eigen::Map<const VecX>(dq.data(), 3 * kPoints)) / m_shape.dot(mode.shape));
+    amp.push_back(m_shape.dot(Eigen::Map<const VecX>(dq.data(), 3 * kPoints)) /
+                  m_shape.dot(mode.shape));
   }
   std::vector<double> crossings;
   std::vector<double> peak_t, peak_log;
@@ -198,7 +201,8 @@ Swing Simulate(const ModelParams& p, const Points& q_eq, const Mode& mode) {
   }
   Swing swing{0.0, 0.0};
   if (crossings.size() < 4) return swing;
-  swing.period = 2.0 * (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  swing.period =
+      2.0 * (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
   const double n = static_cast<double>(peak_t.size());
   double st = 0, sl = 0, stt = 0, stl = 0;
   for (size_t i = 0; i < peak_t.size(); ++i) {
@@ -248,7 +252,8 @@ TEST(FreeModes, Rk4AtATinyStepReadsThePhysicalModeBack) {
   const Model probe(p);
   State start = InitialState(probe);
   start.q = Physics().q_eq;
-  p.substeps = std::max(1, static_cast<int>(std::ceil(EstimateStability(probe, start).omega_max * probe.step_size() / 0.5)));
+  p.substeps = std::max(1, static_cast<int>(std::ceil(EstimateStability(probe, start).omega_max *
+                                                      probe.step_size() / 0.5)));
   const Swing swing = Simulate(p, Physics().q_eq, Physics().mode);
   EXPECT_NEAR(swing.period, Physics().mode.period, 0.002 * Physics().mode.period);
   EXPECT_NEAR(swing.decay, Physics().mode.decay, 0.03 * Physics().mode.decay);
@@ -294,7 +299,8 @@ TEST(FreeModes, ACopiedStateStepsOnBitForBit) {
 
 // Figures for docs/mechanics.md: VISCERA_FREE_MODE_FIGURES=1 prints each rate and scheme.
 TEST(FreeModes, Figures) {
-  if (!std::getenv("VISCERA_FREE_MODE_FIGURES")) GTEST_SKIP() << "set VISCERA_FREE_MODE_FIGURES=1 to print the table";
+  if (!std::getenv("VISCERA_FREE_MODE_FIGURES"))
+    GTEST_SKIP() << "set VISCERA_FREE_MODE_FIGURES=1 to print the table";
   const Mode& mode = Physics().mode;
   std::printf("physics: period %.4f s, decay %.4f 1/s\n", mode.period, mode.decay);
   for (ImplicitScheme scheme : {ImplicitScheme::kBdf2, ImplicitScheme::kBackwardEuler}) {

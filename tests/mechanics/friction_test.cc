@@ -99,7 +99,8 @@ TEST(Friction, ALoopOnASlopeBelowTheFrictionAngleStaysPut) {
     for (double rate : {100.0, 250.0, 1000.0}) {
       const Slide s = SlideDown(Degrees(degrees), mu, rate, "stick_slip");
       std::printf("%4.0f deg, mu %.2f, %5.0f Hz: %.4f mm/s\n", degrees, mu, rate, 1000 * s.speed);
-      EXPECT_LT(std::abs(s.speed), 0.0005) << degrees << " deg, mu " << mu << ", " << rate << " Hz: it crept";
+      EXPECT_LT(std::abs(s.speed), 0.0005)
+          << degrees << " deg, mu " << mu << ", " << rate << " Hz: it crept";
     }
   }
 }
@@ -110,8 +111,10 @@ TEST(Friction, ALoopOnASteeperSlopeSlidesWithCoulombsAcceleration) {
     const double exact = kGravity * (std::sin(theta) - mu * std::cos(theta));
     for (double rate : {100.0, 250.0, 1000.0}) {
       const Slide s = SlideDown(theta, mu, rate, "stick_slip");
-      std::printf("%4.0f deg, mu %.2f, %5.0f Hz: %.4f m/s^2 (Coulomb: %.4f)\n", degrees, mu, rate, s.acceleration, exact);
-      EXPECT_NEAR(s.acceleration, exact, 0.05 * exact) << degrees << " deg, mu " << mu << ", " << rate << " Hz";
+      std::printf("%4.0f deg, mu %.2f, %5.0f Hz: %.4f m/s^2 (Coulomb: %.4f)\n", degrees, mu, rate,
+                  s.acceleration, exact);
+      EXPECT_NEAR(s.acceleration, exact, 0.05 * exact)
+          << degrees << " deg, mu " << mu << ", " << rate << " Hz";
     }
   }
 }
@@ -124,7 +127,8 @@ TEST(Friction, ATubeSlidingOnALevelPlaneStopsAtCoulombsDistance) {
     const Model model(scene::ParseScene(Scene(0.0, kMu, rate, "stick_slip")).model);
     State state = InitialState(model);
     Workspace workspace(model);
-    for (int k = 0; k < static_cast<int>(0.3 * rate); ++k) Step(model, {}, &state, &workspace);  // land
+    for (int k = 0; k < static_cast<int>(0.3 * rate); ++k)
+      Step(model, {}, &state, &workspace);  // land
     Points scratch(model.num_points(), 3);
     auto centre = [&] {
       BandMultiply(model.mass_band(), state.q, &scratch);
@@ -136,7 +140,9 @@ TEST(Friction, ATubeSlidingOnALevelPlaneStopsAtCoulombsDistance) {
     // The whole energy (the stuck springs' included) does not grow by more than 1e-4 of the
     // launch's in a step (at 100 Hz the step in which the tube stops gains 7.5e-5 of it: a
     // stuck spring's release, linearized once; 1e-7 at 250 Hz, rounding at 1 kHz).
-    auto energy = [&] { return ComputeEnergies(model, state.q, state.qd, workspace.interactions()).total(); };
+    auto energy = [&] {
+      return ComputeEnergies(model, state.q, state.qd, workspace.interactions()).total();
+    };
     const double launched = energy();
     double previous = launched, largest_gain = 0.0;
     for (int k = 0; k < static_cast<int>(0.5 * rate); ++k) {
@@ -149,11 +155,14 @@ TEST(Friction, ATubeSlidingOnALevelPlaneStopsAtCoulombsDistance) {
     const double before = centre();
     for (int k = 0; k < static_cast<int>(0.5 * rate); ++k) Step(model, {}, &state, &workspace);
     const double drift = (centre() - before) / 0.5;
-    std::printf("%5.0f Hz: stopped after %.2f mm (Coulomb: %.2f), then %.4f mm/s; largest gain in a step %.2e J\n", rate,
-                1000 * travelled, 1000 * exact, 1000 * drift, largest_gain);
+    std::printf(
+        "%5.0f Hz: stopped after %.2f mm (Coulomb: %.2f), then %.4f mm/s; largest gain in a step "
+        "%.2e J\n",
+        rate, 1000 * travelled, 1000 * exact, 1000 * drift, largest_gain);
     EXPECT_NEAR(travelled, exact, 0.02 * exact) << rate << " Hz";
     EXPECT_LT(std::abs(drift), 0.0005) << rate << " Hz";
-    EXPECT_LE(largest_gain, 1e-4 * std::abs(launched)) << rate << " Hz: the sliding tube gained energy";
+    EXPECT_LE(largest_gain, 1e-4 * std::abs(launched))
+        << rate << " Hz: the sliding tube gained energy";
   }
 }
 
@@ -164,8 +173,8 @@ TEST(Friction, TheRegularizedLawCreepsAndSlidesSlowerAtLowRates) {
   const double theta = Degrees(35.0);
   const double exact = kGravity * (std::sin(theta) - 0.3 * std::cos(theta));
   const Slide slide = SlideDown(theta, 0.3, 100.0, "regularized");
-  std::printf("regularized, 100 Hz: 10 deg %.4f mm/s; 35 deg %.4f m/s^2 (Coulomb: %.4f)\n", 1000 * creep.speed,
-              slide.acceleration, exact);
+  std::printf("regularized, 100 Hz: 10 deg %.4f mm/s; 35 deg %.4f m/s^2 (Coulomb: %.4f)\n",
+              1000 * creep.speed, slide.acceleration, exact);
   EXPECT_GT(std::abs(creep.speed), 0.0005);
   EXPECT_LT(slide.acceleration, 0.95 * exact);
 }

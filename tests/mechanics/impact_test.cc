@@ -18,17 +18,18 @@ namespace viscera::mechanics {
 namespace {
 
 struct Drop {
-  double height = 0.5;       // m: the centre line's lowest point above the plane at release
+  double height = 0.5;  // m: the centre line's lowest point above the plane at release
   double rate_hz = 100.0;
   IntegratorKind integrator = IntegratorKind::kImplicitEuler;
-  double impact_depth = -1;  // < 0: the default
+  double impact_depth = -1;    // < 0: the default
   double bend_stiffness = -1;  // < 0: the scene's
   double seconds = 0.8;
   bool constraints = true;  // [contacts] impact_constraints (the default)
   bool material = true;     // [contacts] spheres = "material" (the default)
 };
 
-// The impact limiter and the stiffening law alone (impact_constraints = false, spheres = "arc_length").
+// The impact limiter and the stiffening law alone (impact_constraints = false, spheres =
+// "arc_length").
 Drop LimiterOnly(double rate_hz) {
   Drop d;
   d.rate_hz = rate_hz;
@@ -66,7 +67,8 @@ DropRun RunDrop(const Drop& d) {
   for (int k = 0; k < steps; ++k) {
     Step(model, {}, &state, &workspace);
     run.substeps += state.substeps;
-    if (!std::isnan(state.contacts.min_clearance)) run.deepest = std::max(run.deepest, -state.contacts.min_clearance / p.radius);
+    if (!std::isnan(state.contacts.min_clearance))
+      run.deepest = std::max(run.deepest, -state.contacts.min_clearance / p.radius);
     const double e = ComputeEnergies(model, state.q, state.qd, in).total();
     run.growth = std::max(run.growth, e - previous);
     previous = e;
@@ -103,7 +105,8 @@ TEST_P(FiftyCentimetreDropLimiterOnly, SinksLessThanAFifthOfTheRadius) {
   EXPECT_LT(run.end, 0.5 * run.start);
 }
 
-INSTANTIATE_TEST_SUITE_P(Rates, FiftyCentimetreDropLimiterOnly, testing::Values(100.0, 250.0, 500.0, 1000.0));
+INSTANTIATE_TEST_SUITE_P(Rates, FiftyCentimetreDropLimiterOnly,
+                         testing::Values(100.0, 250.0, 500.0, 1000.0));
 
 // The safeguard: without either part the same drop goes deeper than a tenth of the radius at
 // 250 or 500 Hz. Without the impulses inside the solve the penalty and the limiter let a landing
@@ -120,7 +123,8 @@ TEST(Impacts, EachPartOfTheSolveIsNeeded) {
       d.material = !constraints;
       deepest = std::max(deepest, RunDrop(d).deepest);
     }
-    EXPECT_GT(deepest, 0.10) << (constraints ? "spheres re-placed along the arc length" : "no impulses inside the solve");
+    EXPECT_GT(deepest, 0.10) << (constraints ? "spheres re-placed along the arc length"
+                                             : "no impulses inside the solve");
   }
 }
 
@@ -136,16 +140,19 @@ TEST(Impacts, WithoutTheLimiterTheDropSinksDeep) {
 
 // Figures for docs/contacts.md: VISCERA_IMPACT_FIGURES=1 prints every candidate at every rate.
 TEST(Impacts, Figures) {
-  if (!std::getenv("VISCERA_IMPACT_FIGURES")) GTEST_SKIP() << "set VISCERA_IMPACT_FIGURES=1 to print the table";
+  if (!std::getenv("VISCERA_IMPACT_FIGURES"))
+    GTEST_SKIP() << "set VISCERA_IMPACT_FIGURES=1 to print the table";
   const char* only = std::getenv("VISCERA_IMPACT_ONLY");  // "height rate": one run
   if (only) {
     Drop d;
     int constraints = 0, material = 0;
-    std::sscanf(only, "%lf %lf %lf %d %d", &d.height, &d.rate_hz, &d.impact_depth, &constraints, &material);
+    std::sscanf(only, "%lf %lf %lf %d %d", &d.height, &d.rate_hz, &d.impact_depth, &constraints,
+                &material);
     d.constraints = constraints != 0;
     d.material = material != 0;
     const DropRun r = RunDrop(d);
-    std::printf("deepest %.1f %% R growth %.2e substeps %d\n", 100 * r.deepest, r.growth, r.substeps);
+    std::printf("deepest %.1f %% R growth %.2e substeps %d\n", 100 * r.deepest, r.growth,
+                r.substeps);
     return;
   }
   for (double height : {0.3, 0.5, 1.0}) {
@@ -159,10 +166,12 @@ TEST(Impacts, Figures) {
           d.constraints = variant >= 2;
           d.material = variant == 3;
           const DropRun r = RunDrop(d);
-          std::printf("height %.2f %-8s limiter %.2f constraints %d material %d %5.0f Hz: deepest %6.1f %% R, "
-                      "worst step energy gain %+.2e J, energy %.3f -> %.3f J, %d sub-steps\n",
-                      height, Name(kind), d.impact_depth, d.constraints, d.material, rate, 100.0 * r.deepest,
-                      r.growth, r.start, r.end, r.substeps);
+          std::printf(
+              "height %.2f %-8s limiter %.2f constraints %d material %d %5.0f Hz: deepest %6.1f %% "
+              "R, "
+              "worst step energy gain %+.2e J, energy %.3f -> %.3f J, %d sub-steps\n",
+              height, Name(kind), d.impact_depth, d.constraints, d.material, rate,
+              100.0 * r.deepest, r.growth, r.start, r.end, r.substeps);
         }
       }
     }

@@ -23,7 +23,9 @@ State Simulate(const Model& model, double seconds, State state) {
   return state;
 }
 
-double TotalEnergy(const Model& model, const State& s) { return ComputeEnergies(model, s.q, s.qd).total(); }
+double TotalEnergy(const Model& model, const State& s) {
+  return ComputeEnergies(model, s.q, s.qd).total();
+}
 
 TEST(Integrators, Rk4FreeFallIsExact) {
   ModelParams p = StraightChain(20);
@@ -58,10 +60,12 @@ TEST(Integrators, ImplicitEulerFreeFallVelocityIsExact) {
     double z = 0.0, dz = 0.0;
     for (int j = 1; j <= k; ++j) {
       const double vj = j * h * p.gravity.z();
-      dz = j == 1 || scheme == ImplicitScheme::kBackwardEuler ? h * vj : dz / 3.0 + 2.0 * h / 3.0 * vj;
+      dz = j == 1 || scheme == ImplicitScheme::kBackwardEuler ? h * vj
+                                                              : dz / 3.0 + 2.0 * h / 3.0 * vj;
       z += dz;
     }
-    if (scheme == ImplicitScheme::kBackwardEuler) EXPECT_NEAR(z, 0.5 * h * h * p.gravity.z() * k * (k + 1), 1e-12);
+    if (scheme == ImplicitScheme::kBackwardEuler)
+      EXPECT_NEAR(z, 0.5 * h * h * p.gravity.z() * k * (k + 1), 1e-12);
     for (int i = 0; i < 20; ++i) {
       EXPECT_LT((end.qd.row(i).transpose() - p.gravity).norm(), 1e-9);
       EXPECT_NEAR(end.q(i, 2), z, 1e-9);
@@ -94,7 +98,7 @@ TEST(Integrators, Rk4ConservesEnergyOfUndampedStretchedSpline) {
     worst = std::max(worst, std::abs(TotalEnergy(model, s) - e0));
   }
   EXPECT_GT(ComputeEnergies(model, s.q, s.qd).kinetic, 0.01 * e0);  // it really moves
-  EXPECT_LT(worst, 1e-5 * e0) << "substeps " << p.substeps;       // stated tolerance: 1e-5
+  EXPECT_LT(worst, 1e-5 * e0) << "substeps " << p.substeps;         // stated tolerance: 1e-5
 }
 
 TEST(Integrators, StabilityEstimateMatchesADenseEigensolver) {
@@ -130,11 +134,13 @@ TEST(Integrators, StabilityEstimateMatchesADenseEigensolver) {
     MatX g = MatX::Zero(3 * model.pins().size(), 3 * n);
     for (size_t r = 0; r < model.pins().size(); ++r) {
       for (int a = 0; a < 4; ++a) {
-        for (int axis = 0; axis < 3; ++axis) g(3 * r + axis, 3 * (model.pins()[r].at.first + a) + axis) = model.pins()[r].at.w(a);
+        for (int axis = 0; axis < 3; ++axis)
+          g(3 * r + axis, 3 * (model.pins()[r].at.first + a) + axis) = model.pins()[r].at.w(a);
       }
     }
     const MatX z = Eigen::FullPivLU<MatX>(g).kernel();
-    Eigen::GeneralizedSelfAdjointEigenSolver<MatX> eig(z.transpose() * k * z, z.transpose() * m * z);
+    Eigen::GeneralizedSelfAdjointEigenSolver<MatX> eig(z.transpose() * k * z,
+                                                       z.transpose() * m * z);
     const double omega = std::sqrt(eig.eigenvalues().maxCoeff());
     EXPECT_NEAR(EstimateStability(model, InitialState(model)).omega_max, omega, 0.01 * omega) << n;
   }
@@ -157,7 +163,8 @@ TEST(Integrators, StabilityEstimatePredictsRk4BlowUp) {
   p.substeps = est.stable_substeps / 2;  // h * rate about 5.6: far outside the region
   const Model unstable(p);
   const State b = Simulate(unstable, 1.0, InitialState(unstable));
-  EXPECT_TRUE(b.nonfinite_resets > 0 || TotalEnergy(unstable, b) > 10.0 * TotalEnergy(unstable, InitialState(unstable)));
+  EXPECT_TRUE(b.nonfinite_resets > 0 ||
+              TotalEnergy(unstable, b) > 10.0 * TotalEnergy(unstable, InitialState(unstable)));
 }
 
 ModelParams GentleSwing(IntegratorKind kind) {

@@ -15,7 +15,8 @@
 namespace viscera::mechanics {
 namespace {
 
-// Three points along x, 1 apart; the motion that moves the last by `last` and the others not at all.
+// Three points along x, 1 apart; the motion that moves the last by `last` and the others not at
+// all.
 Points Line() {
   Points q(3, 3);
   q << 0, 0, 0, 1, 0, 0, 2, 0, 0;
@@ -29,7 +30,9 @@ Points MovingLast(const Vec3& last) {
 bool Within(const Vec3& last, double limit) {
   return ImplicitEulerIntegrator::UnseenStretchWithin(Line(), MovingLast(last), limit);
 }
-double Unseen(const Vec3& last) { return ImplicitEulerIntegrator::UnseenStretch(Line(), MovingLast(last)); }
+double Unseen(const Vec3& last) {
+  return ImplicitEulerIntegrator::UnseenStretch(Line(), MovingLast(last));
+}
 
 TEST(LinearizationGuard, ATurnOfThetaLeavesAboutHalfThetaSquaredUnseen) {
   // The last segment turned by 0.3 rad, its length kept: to first order it shortened to cos 0.3
@@ -86,7 +89,9 @@ Session Simulate(const char* scene, double rate, double seconds, bool guard) {
   return r;
 }
 
-int64_t Halved(Session& r) { return dynamic_cast<ImplicitEulerIntegrator&>(r.workspace->integrator()).halved_substeps(); }
+int64_t Halved(Session& r) {
+  return dynamic_cast<ImplicitEulerIntegrator&>(r.workspace->integrator()).halved_substeps();
+}
 
 // attached.toml's mesentery springs start 14 cm past their rest length: 2.8 N on a slack tube
 // whose sideways stiffness is zero to first order. At 100 Hz the one linearization let a point
@@ -96,7 +101,8 @@ TEST(LinearizationGuard, ScenesStartingOutOfBalanceGainNoEnergyAtAnyRate) {
   for (const char* scene : {"attached.toml", "fallopian.toml"}) {
     for (const double rate : {100.0, 150.0, 200.0, 250.0, 300.0}) {
       Session r = Simulate(scene, rate, 1.0, true);
-      EXPECT_EQ(r.gaining_steps, 0) << scene << " at " << rate << " Hz: largest gain " << r.largest_gain << " J";
+      EXPECT_EQ(r.gaining_steps, 0)
+          << scene << " at " << rate << " Hz: largest gain " << r.largest_gain << " J";
     }
   }
 }

@@ -1,8 +1,8 @@
 // The mesentery fan (scenes/cavity.toml, [mesentery]): tethers hold every part of the intestine
 // within its slack length of the root while a tool pulls hard, the settled pile lies spread over
-// the posterior wall (more than the four-spring scene, scenes/cavity_springs.toml), and the tethers never add energy.
+// the posterior wall (more than the four-spring scene, scenes/cavity_springs.toml), and the tethers
+// never add energy.
 #include <gtest/gtest.h>
-
 
 #include "mechanics/forces.h"
 #include "mechanics/mesentery_forces.h"
@@ -15,7 +15,8 @@ namespace {
 // The largest stretch (m) of any tether past its slack length: <= 0 while all are slack.
 double WorstStretch(const Model& model, const Points& q) {
   double worst = -1.0;
-  for (const Tether& t : model.tethers()) worst = std::max(worst, (Model::Evaluate(t.at, q) - t.root).norm() - t.length);
+  for (const Tether& t : model.tethers())
+    worst = std::max(worst, (Model::Evaluate(t.at, q) - t.root).norm() - t.length);
   return worst;
 }
 
@@ -45,13 +46,13 @@ Fan Measure(const Model& model, const Points& q, const Vec3& root_start, const V
     if (s >= 0.8) last += (p - root_start).dot(axis), ++n_last;
     const Vec3 r = (p - cavity.centre).cwiseQuotient(cavity.radii);
     const double floor_z =
-        cavity.centre.z() - cavity.radii.z() * std::sqrt(std::max(0.0, 1.0 - r.x() * r.x() - r.y() * r.y()));
+        cavity.centre.z() -
+        cavity.radii.z() * std::sqrt(std::max(0.0, 1.0 - r.x() * r.x() - r.y() * r.y()));
     fan.highest = std::max(fan.highest, p.z() - floor_z);
   }
   fan.order = last / n_last - first / n_first;
   return fan;
 }
-
 
 MesenteryParams CavityMesentery() {
   return *scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml").model.mesentery;
@@ -95,14 +96,14 @@ PullRun Pull(bool tethered) {
     const Vec3 p = Model::Evaluate(at, state.q);
     ToolTarget& left = targets[0];
     left.active = true;
-    if (t < 1.0) {          // go to the loop, jaws open
+    if (t < 1.0) {  // go to the loop, jaws open
       left.tip = p;
       left.jaw = 1.0;
-    } else if (t < 1.5) {   // close on it
+    } else if (t < 1.5) {  // close on it
       left.tip = p;
       left.jaw = 0.0;
       held = p;
-    } else {                // pull 30 cm away from the root, toward the anterior wall
+    } else {  // pull 30 cm away from the root, toward the anterior wall
       left.tip = held + 0.3 * Vec3(0.0, 0.0, 1.0);
       left.jaw = 0.0;
     }
@@ -131,8 +132,8 @@ TEST(Mesentery, NoPartGoesFartherFromTheRootThanItsSlackWhileAToolPullsHard) {
   // 18.7 mm without, 15.1 mm with, so the control is only directional. A pull that separates them
   // by the tolerance needs a loop the pile does not hold (not found yet).
   const PullRun free = Pull(false);
-  std::printf("worst stretch past the slack: %.1f mm with the mesentery, %.1f mm without\n", run.worst_stretch * 1e3,
-              free.worst_stretch * 1e3);
+  std::printf("worst stretch past the slack: %.1f mm with the mesentery, %.1f mm without\n",
+              run.worst_stretch * 1e3, free.worst_stretch * 1e3);
   EXPECT_TRUE(free.grasped);
   EXPECT_GT(free.worst_stretch, run.worst_stretch + 0.002);
 }
@@ -141,12 +142,16 @@ TEST(Mesentery, TheSettledPileLiesFannedOverThePosteriorWall) {
   const MesenteryParams m = CavityMesentery();
   const double root_length = (m.root_end - m.root_start).norm();
   const scene::Scene fanned = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity.toml");
-  const scene::Scene hanging = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_springs.toml");
+  const scene::Scene hanging =
+      scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/cavity_springs.toml");
   const Model fanned_model(fanned.model), hanging_model(hanging.model);
   const Fan fan = Measure(fanned_model, fanned_model.params().initial_q, m.root_start, m.root_end);
-  const Fan springs = Measure(hanging_model, hanging_model.params().initial_q, m.root_start, m.root_end);
-  std::printf("order along the root: fan %.1f mm, four springs %.1f mm; highest: fan %.1f mm, four springs %.1f mm\n",
-              fan.order * 1e3, springs.order * 1e3, fan.highest * 1e3, springs.highest * 1e3);
+  const Fan springs =
+      Measure(hanging_model, hanging_model.params().initial_q, m.root_start, m.root_end);
+  std::printf(
+      "order along the root: fan %.1f mm, four springs %.1f mm; highest: fan %.1f mm, four springs "
+      "%.1f mm\n",
+      fan.order * 1e3, springs.order * 1e3, fan.highest * 1e3, springs.highest * 1e3);
   EXPECT_GE(fan.order, root_length / 3.0);
   EXPECT_GT(fan.order, springs.order + root_length / 4.0);
   EXPECT_LT(fan.highest, springs.highest);
@@ -227,12 +232,14 @@ TEST(Mesentery, ForceIsMinusTheEnergyGradientAndStiffnessItsJacobian) {
         Points fp = Points::Zero(4, 3), fm = Points::Zero(4, 3);
         const double ep = AddMesenteryForces(tethers, plus, zero, &fp);
         const double em = AddMesenteryForces(tethers, minus, zero, &fm);
-        EXPECT_NEAR(f(i, a), -(ep - em) / (2 * kStep), 1e-6 * std::max(1.0, std::abs(f(i, a)))) << lift;
+        EXPECT_NEAR(f(i, a), -(ep - em) / (2 * kStep), 1e-6 * std::max(1.0, std::abs(f(i, a))))
+            << lift;
         for (int j = 0; j < 4; ++j) {
           for (int b = 0; b < 3; ++b) {
             const double numeric = -(fp(j, b) - fm(j, b)) / (2 * kStep);
             const Mat3 block = i <= j ? k.block(i, j - i) : Mat3(k.block(j, i - j).transpose());
-            EXPECT_NEAR(block(a, b), numeric, 1e-4 * t.stiffness) << lift << " " << i << a << " " << j << b;
+            EXPECT_NEAR(block(a, b), numeric, 1e-4 * t.stiffness)
+                << lift << " " << i << a << " " << j << b;
           }
         }
       }

@@ -13,7 +13,7 @@
 namespace viscera::mechanics {
 namespace {
 
-constexpr double kSeconds = 2.0;  // the peers' run
+constexpr double kSeconds = 2.0;                            // the peers' run
 constexpr double kRates[] = {100.0, 250.0, 500.0, 1000.0};  // what a session may ask for
 
 ModelParams PaperCoil(double rate_hz) {
@@ -46,7 +46,8 @@ TEST(PaperCoil, TheLimiterAloneSinksLessThanFifteenPercentOfTheRadiusAndRestsWit
   for (double rate : kRates) {
     const FallRecord r = RecordFall(LimiterOnly(rate), kSeconds);
     EXPECT_LE(r.Deepest(), 0.15) << rate << " Hz: " << Describe(r);
-    EXPECT_LE(*std::max_element(r.floor.begin(), r.floor.end()), 0.15) << rate << " Hz: " << Describe(r);
+    EXPECT_LE(*std::max_element(r.floor.begin(), r.floor.end()), 0.15)
+        << rate << " Hz: " << Describe(r);
     EXPECT_LE(r.depth.back(), 0.10) << rate << " Hz: " << Describe(r);
     EXPECT_GT(r.floor.back(), 0.0) << rate << " Hz: it lies on the floor";
     EXPECT_LT(r.energy.back(), 0.2 * r.start_energy) << rate << " Hz: the impact dissipated";
@@ -77,10 +78,13 @@ TEST(PaperCoil, SinksAtMostATenthOfTheRadiusAtEveryStepAndRateAndNeverGainsEnerg
 
 // Figures for docs/benchmarks.md: VISCERA_PAPER_COIL_FIGURES=1 prints every rate.
 TEST(PaperCoil, Figures) {
-  if (!std::getenv("VISCERA_PAPER_COIL_FIGURES")) GTEST_SKIP() << "set VISCERA_PAPER_COIL_FIGURES=1 to print the table";
+  if (!std::getenv("VISCERA_PAPER_COIL_FIGURES"))
+    GTEST_SKIP() << "set VISCERA_PAPER_COIL_FIGURES=1 to print the table";
   for (double rate : kRates) {
-    std::printf("%5.0f Hz defaults:     %s\n", rate, Describe(RecordFall(PaperCoil(rate), kSeconds)).c_str());
-    std::printf("%5.0f Hz limiter only: %s\n", rate, Describe(RecordFall(LimiterOnly(rate), kSeconds)).c_str());
+    std::printf("%5.0f Hz defaults:     %s\n", rate,
+                Describe(RecordFall(PaperCoil(rate), kSeconds)).c_str());
+    std::printf("%5.0f Hz limiter only: %s\n", rate,
+                Describe(RecordFall(LimiterOnly(rate), kSeconds)).c_str());
   }
 }
 

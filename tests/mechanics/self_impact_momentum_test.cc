@@ -23,14 +23,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 struct Hairpin {
-  double arm = 0.3;        // m: each straight arm's length, as laid out
-  double gap = 0.06;       // m: between the arms' centre lines (the half turn's diameter)
-  double stretch = 1.5;    // laid-out length over rest length
+  double arm = 0.3;      // m: each straight arm's length, as laid out
+  double gap = 0.06;     // m: between the arms' centre lines (the half turn's diameter)
+  double stretch = 1.5;  // laid-out length over rest length
   double rate_hz = 100.0;
   double spacing = 0.016;  // m: between control points, as laid out
   double seconds = 0.6;
-  std::string contacts;    // extra [contacts] keys
-  std::string simulation;  // extra [simulation] keys
+  std::string contacts;       // extra [contacts] keys
+  std::string simulation;     // extra [simulation] keys
   bool momentum_kept = true;  // ImplicitEulerIntegrator::set_impact_momentum_kept
 };
 
@@ -61,18 +61,22 @@ ModelParams HairpinParams(const Hairpin& h) {
   const std::vector<Vec3> points = Layout(h, &laid);
   std::string list;
   for (const Vec3& p : points) {
-    list += (list.empty() ? "[" : ", [") + std::to_string(p.x()) + ", " + std::to_string(p.y()) + ", " +
-            std::to_string(p.z()) + "]";
+    list += (list.empty() ? "[" : ", [") + std::to_string(p.x()) + ", " + std::to_string(p.y()) +
+            ", " + std::to_string(p.z()) + "]";
   }
   // scenes/fall.toml's tube and contact law, without the fluid's drag (an external force)
-  const std::string toml = "[simulation]\nrate_hz = " + std::to_string(h.rate_hz) +
-                           "\nintegrator = \"implicit\"\ngravity = [0.0, 0.0, 0.0]\n" + h.simulation +
-                           "[intestine]\nlength = " + std::to_string(laid / h.stretch) +
-                           "\nradius = 0.0125\nmass = " + std::to_string(0.25 * laid / h.stretch) +
-                           "\nstretch_stiffness = 100.0\nbend_stiffness = 1.0e-4\ncontinuous_stretch = 2.0\n"
-                           "damping = 0.0\nspring_damping = 2.0\n"
-                           "[intestine.shape]\nkind = \"points\"\npoints = [" + list + "]\n"
-                           "[contacts]\n" + h.contacts;  // self contacts: a scene's default
+  const std::string toml =
+      "[simulation]\nrate_hz = " + std::to_string(h.rate_hz) +
+      "\nintegrator = \"implicit\"\ngravity = [0.0, 0.0, 0.0]\n" + h.simulation +
+      "[intestine]\nlength = " + std::to_string(laid / h.stretch) +
+      "\nradius = 0.0125\nmass = " + std::to_string(0.25 * laid / h.stretch) +
+      "\nstretch_stiffness = 100.0\nbend_stiffness = 1.0e-4\ncontinuous_stretch = 2.0\n"
+      "damping = 0.0\nspring_damping = 2.0\n"
+      "[intestine.shape]\nkind = \"points\"\npoints = [" +
+      list +
+      "]\n"
+      "[contacts]\n" +
+      h.contacts;  // self contacts: a scene's default
   return scene::ParseScene(toml, "hairpin").model;
 }
 
@@ -82,9 +86,9 @@ struct ImpactRun {
   double start_energy = 0.0;    // J
   double largest_gain = -INFINITY;  // J: the largest energy gain of one step
   int gain_step = -1;
-  double deepest = 0.0;         // fraction of R: the deepest self pair after any step
-  int max_self = 0;             // self pairs in contact, most in any step
-  int worst_step = -1;          // where momentum_error was reached
+  double deepest = 0.0;  // fraction of R: the deepest self pair after any step
+  int max_self = 0;      // self pairs in contact, most in any step
+  int worst_step = -1;   // where momentum_error was reached
   int64_t unconverged = 0;
   int max_substeps = 0;
 };
@@ -94,7 +98,8 @@ ImpactRun Simulate(const Hairpin& h, bool verbose = false) {
   const Model model(params);
   State state = InitialState(model);
   Workspace workspace(model);
-  dynamic_cast<ImplicitEulerIntegrator&>(workspace.integrator()).set_impact_momentum_kept(h.momentum_kept);
+  dynamic_cast<ImplicitEulerIntegrator&>(workspace.integrator())
+      .set_impact_momentum_kept(h.momentum_kept);
   Interactions* in = workspace.interactions();
   Points mqd(model.num_points(), 3);
   ImpactRun run;
@@ -117,12 +122,16 @@ ImpactRun Simulate(const Hairpin& h, bool verbose = false) {
     const Energies terms = ComputeEnergies(model, state.q, state.qd, in);
     const double e = terms.total();
     if (verbose) {
-      std::printf("  step %3d: momentum %+.3e %+.3e %+.3e N s, arm %.3e N s, energy %.6e J (%+.2e: kinetic %.4e, "
-                  "stretch %.4e, bend %.2e, continuous %.4e, contact %.3e), self %d, clearance %+.3f R, substeps %d\n",
-                  k, total.x(), total.y(), total.z(), arm.norm(), e, e - previous, terms.kinetic, terms.stretch,
-                  terms.bend, terms.continuous, terms.contact, state.contacts.self,
-                  std::isnan(state.contacts.min_clearance) ? 0.0 : state.contacts.min_clearance / params.radius,
-                  state.substeps);
+      std::printf(
+          "  step %3d: momentum %+.3e %+.3e %+.3e N s, arm %.3e N s, energy %.6e J (%+.2e: kinetic "
+          "%.4e, "
+          "stretch %.4e, bend %.2e, continuous %.4e, contact %.3e), self %d, clearance %+.3f R, "
+          "substeps %d\n",
+          k, total.x(), total.y(), total.z(), arm.norm(), e, e - previous, terms.kinetic,
+          terms.stretch, terms.bend, terms.continuous, terms.contact, state.contacts.self,
+          std::isnan(state.contacts.min_clearance) ? 0.0
+                                                   : state.contacts.min_clearance / params.radius,
+          state.substeps);
     }
     if (e - previous > run.largest_gain) {
       run.largest_gain = e - previous;
@@ -143,12 +152,15 @@ ImpactRun Simulate(const Hairpin& h, bool verbose = false) {
 std::string Describe(const Hairpin& h, const ImpactRun& r) {
   char line[512];
   std::snprintf(line, sizeof line,
-                "%5.0f Hz arm %.2f m gap %.3f m stretch %.2f: momentum error %.3e N s (%.2f %% of an arm's %.3e N s, "
-                "step %d); largest gain %+.3e J (%+.2e of %.4f J, step %d); deepest %.1f %% R, self pairs %d, "
+                "%5.0f Hz arm %.2f m gap %.3f m stretch %.2f: momentum error %.3e N s (%.2f %% of "
+                "an arm's %.3e N s, "
+                "step %d); largest gain %+.3e J (%+.2e of %.4f J, step %d); deepest %.1f %% R, "
+                "self pairs %d, "
                 "unconverged %lld, max substeps %d",
-                h.rate_hz, h.arm, h.gap, h.stretch, r.momentum_error, 100.0 * r.momentum_error / r.arm_peak, r.arm_peak,
-                r.worst_step, r.largest_gain, r.largest_gain / r.start_energy, r.start_energy, r.gain_step,
-                100.0 * r.deepest, r.max_self, static_cast<long long>(r.unconverged), r.max_substeps);
+                h.rate_hz, h.arm, h.gap, h.stretch, r.momentum_error,
+                100.0 * r.momentum_error / r.arm_peak, r.arm_peak, r.worst_step, r.largest_gain,
+                r.largest_gain / r.start_energy, r.start_energy, r.gain_step, 100.0 * r.deepest,
+                r.max_self, static_cast<long long>(r.unconverged), r.max_substeps);
   return line;
 }
 
@@ -163,7 +175,8 @@ std::vector<Hairpin> HardImpacts() {
   return {wide, shorter};
 }
 
-constexpr double kRoundOff = 1e-9;  // of the energy at release (tests/mechanics/drop_energy_test.cc)
+constexpr double kRoundOff =
+    1e-9;  // of the energy at release (tests/mechanics/drop_energy_test.cc)
 
 // The goal: the momentum stays within 1 % of one arm's (measured: 0.01-0.09 %, what the solve's
 // CG leaves) and no step gains energy, at 100, 250 and 1000 Hz.
@@ -218,14 +231,18 @@ TEST(SelfImpactMomentum, ImpulsesThroughTheBandSystemAloneCreateMomentum) {
 // safeguard off.
 TEST(SelfImpactMomentum, Figures) {
   const char* only = std::getenv("VISCERA_SELF_IMPACT");
-  if (!only) GTEST_SKIP() << "set VISCERA_SELF_IMPACT=\"arm gap stretch rate [verbose]\" to print a run";
+  if (!only)
+    GTEST_SKIP() << "set VISCERA_SELF_IMPACT=\"arm gap stretch rate [verbose]\" to print a run";
   Hairpin h;
   int verbose = 0;
   std::sscanf(only, "%lf %lf %lf %lf %d", &h.arm, &h.gap, &h.stretch, &h.rate_hz, &verbose);
-  if (const char* extra = std::getenv("VISCERA_SELF_IMPACT_CONTACTS")) h.contacts = std::string(extra) + "\n";
-  if (const char* extra = std::getenv("VISCERA_SELF_IMPACT_SIMULATION")) h.simulation = std::string(extra) + "\n";
+  if (const char* extra = std::getenv("VISCERA_SELF_IMPACT_CONTACTS"))
+    h.contacts = std::string(extra) + "\n";
+  if (const char* extra = std::getenv("VISCERA_SELF_IMPACT_SIMULATION"))
+    h.simulation = std::string(extra) + "\n";
   h.momentum_kept = std::getenv("VISCERA_SELF_IMPACT_MOMENTUM_OFF") == nullptr;
-  if (const char* seconds = std::getenv("VISCERA_SELF_IMPACT_SECONDS")) h.seconds = std::atof(seconds);
+  if (const char* seconds = std::getenv("VISCERA_SELF_IMPACT_SECONDS"))
+    h.seconds = std::atof(seconds);
   const ImpactRun r = Simulate(h, verbose != 0);
   std::printf("%s\n", Describe(h, r).c_str());
 }

@@ -31,7 +31,8 @@ std::atomic<bool> g_counting{false};
 std::atomic<long> g_allocations{0};
 volatile double g_sink = 0.0;  // keeps the canaries' allocations from being optimized out
 void Count() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (g_counting.load(std::memory_order_relaxed))
+    g_allocations.fetch_add(1, std::memory_order_relaxed);
 }
 
 // Counts the allocations `body` makes.
@@ -118,7 +119,8 @@ TEST(AllocationCounter, SeesEveryWayToAllocate) {
             4);
 }
 
-class StepAllocation : public ::testing::TestWithParam<std::tuple<IntegratorKind, MassSolverKind>> {};
+class StepAllocation : public ::testing::TestWithParam<std::tuple<IntegratorKind, MassSolverKind>> {
+};
 
 TEST_P(StepAllocation, StepAllocatesNothingInSteadyState) {
   ModelParams p = testing::StraightChain(50, 1.0, 1.05);
@@ -134,7 +136,8 @@ TEST_P(StepAllocation, StepAllocatesNothingInSteadyState) {
   p.integrator = std::get<0>(GetParam());
   p.mass_solver = std::get<1>(GetParam());
   // The CHOLMOD variant also solves the implicit system with CHOLMOD.
-  p.linear_solver = p.mass_solver == MassSolverKind::kCholmod ? LinearSolverKind::kCholmod : LinearSolverKind::kBlockBand;
+  p.linear_solver = p.mass_solver == MassSolverKind::kCholmod ? LinearSolverKind::kCholmod
+                                                              : LinearSolverKind::kBlockBand;
   p.substeps = EstimateStability(Model(p), InitialState(Model(p))).stable_substeps;
   const Model model(p);
   State state = InitialState(model);
@@ -156,14 +159,16 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Combine(::testing::Values(IntegratorKind::kRk4, IntegratorKind::kImplicitEuler),
                        ::testing::Values(MassSolverKind::kBanded, MassSolverKind::kCholmod)));
 
-// Param: impacts held inside the implicit solve ([contacts] impact_constraints, spheres = "material").
+// Param: impacts held inside the implicit solve ([contacts] impact_constraints, spheres =
+// "material").
 class StepAllocationWithContacts : public ::testing::TestWithParam<bool> {};
 
 TEST_P(StepAllocationWithContacts, ContactsAndToolsAllocateNothingInSteadyState) {
   ModelParams p = testing::StraightChain(60, 1.0);
   p.contacts.impact_constraints = GetParam();
   p.contacts.spheres_follow_material = GetParam();
-  for (int i = 0; i < 60; ++i) p.initial_q.row(i) << 0.2 * std::cos(0.1 * i), 0.2 * std::sin(0.1 * i), 0.05 + 0.0005 * i;
+  for (int i = 0; i < 60; ++i)
+    p.initial_q.row(i) << 0.2 * std::cos(0.1 * i), 0.2 * std::sin(0.1 * i), 0.05 + 0.0005 * i;
   p.gravity = Vec3(0.0, 0.0, -9.81);
   p.stretch_stiffness = 50.0;
   p.damping = 1.0;
@@ -182,7 +187,8 @@ TEST_P(StepAllocationWithContacts, ContactsAndToolsAllocateNothingInSteadyState)
   target.tip = Vec3(0.2, 0.0, 0.03);
   target.jaw = 0.0;  // grasp on the way down
   const StepInputs inputs{{}, std::span<const ToolTarget>(&target, 1)};
-  for (int k = 0; k < 100; ++k) Step(model, inputs, &state, &ws);  // fall, land, grasp: sizes settle
+  for (int k = 0; k < 100; ++k)
+    Step(model, inputs, &state, &ws);  // fall, land, grasp: sizes settle
 
   EXPECT_EQ(AllocationsIn([&] {
               for (int k = 0; k < 50; ++k) Step(model, inputs, &state, &ws);
@@ -199,7 +205,8 @@ TEST(StepAllocation, HalvedSubstepsAllocateNothing) {
   ModelParams p = testing::StraightChain(40, 1.0);
   p.stretch_stiffness = 100.0;
   p.integrator = IntegratorKind::kImplicitEuler;
-  p.attachments.push_back({.s = 0.5, .point = Vec3(0.5, 0.3, 0.0), .stiffness = 20.0, .rest_length = 0.15});
+  p.attachments.push_back(
+      {.s = 0.5, .point = Vec3(0.5, 0.3, 0.0), .stiffness = 20.0, .rest_length = 0.15});
   const Model model(p);
   const State start = InitialState(model);
   State state = start;

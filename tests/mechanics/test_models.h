@@ -25,7 +25,8 @@ inline Points Perturbed(const Points& q, double amplitude, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uni(-amplitude, amplitude);
   Points out = q;
-  for (int i = 0; i < out.rows(); ++i) out.row(i) += Eigen::RowVector3d(uni(rng), uni(rng), uni(rng));
+  for (int i = 0; i < out.rows(); ++i)
+    out.row(i) += Eigen::RowVector3d(uni(rng), uni(rng), uni(rng));
   return out;
 }
 

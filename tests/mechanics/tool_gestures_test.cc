@@ -23,7 +23,7 @@ namespace {
 struct GestureRun {
   double deepest = 0.0;  // fraction of R, any pair, at the end of any step
   double t = 0.0;
-  std::string kind;      // what the deepest pair touches
+  std::string kind;         // what the deepest pair touches
   double peak_force = 0.0;  // N, the largest force on any hand
 };
 
@@ -38,10 +38,13 @@ GestureRun RunGesture(const std::string& script_path, double rate_hz, double imp
   GestureRun run;
   const int steps = static_cast<int>(std::lround(scripted.duration() * rate_hz));
   for (int k = 0; k < steps; ++k) {
-    Step(model, {{}, scripted.At(state.t + model.step_size(), workspace.interactions())}, &state, &workspace);
+    Step(model, {{}, scripted.At(state.t + model.step_size(), workspace.interactions())}, &state,
+         &workspace);
     const double depth = -state.contacts.min_clearance / model.params().radius;
-    if (!std::isnan(depth) && depth > run.deepest) run.deepest = depth, run.t = state.t, run.kind = state.contacts.deepest;
-    for (const ToolState& tool : state.tools) run.peak_force = std::max(run.peak_force, tool.force.norm());
+    if (!std::isnan(depth) && depth > run.deepest)
+      run.deepest = depth, run.t = state.t, run.kind = state.contacts.deepest;
+    for (const ToolState& tool : state.tools)
+      run.peak_force = std::max(run.peak_force, tool.force.norm());
   }
   EXPECT_EQ(state.nonfinite_resets, 0) << script_path;
   return run;
@@ -49,14 +52,19 @@ GestureRun RunGesture(const std::string& script_path, double rate_hz, double imp
 
 TEST(ToolGestures, NoGestureSinksAPairDeeperThanATenthOfTheRadius) {
   int scripts = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(VISCERA_SOURCE_DIR "/scenes/gestures")) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(VISCERA_SOURCE_DIR "/scenes/gestures")) {
     if (entry.path().extension() != ".csv") continue;
     ++scripts;
     for (const double rate : {100.0, 1000.0}) {
       const GestureRun r = RunGesture(entry.path().string(), rate);
-      std::printf("%-14s %6.0f Hz: deepest %.1f %% of R (%s pair, t = %.2f s), peak force on a hand %.2f N\n",
-                  entry.path().filename().c_str(), rate, 100.0 * r.deepest, r.kind.c_str(), r.t, r.peak_force);
-      EXPECT_LE(r.deepest, 0.10) << entry.path().filename() << " at " << rate << " Hz: " << r.kind << " pair, t = " << r.t << " s";
+      std::printf(
+          "%-14s %6.0f Hz: deepest %.1f %% of R (%s pair, t = %.2f s), peak force on a hand %.2f "
+          "N\n",
+          entry.path().filename().c_str(), rate, 100.0 * r.deepest, r.kind.c_str(), r.t,
+          r.peak_force);
+      EXPECT_LE(r.deepest, 0.10) << entry.path().filename() << " at " << rate << " Hz: " << r.kind
+                                 << " pair, t = " << r.t << " s";
       // the gesture works the tissue: a hand that felt under 1 N never pressed, swept or pulled
       EXPECT_GT(r.peak_force, 1.0) << entry.path().filename() << " at " << rate << " Hz";
     }

@@ -57,16 +57,16 @@ port = [%g, %g, %g]
 radius = 0.0025
 max_force = 5.0
 )",
-                rate_hz, setup.length, setup.mass, setup.points, setup.self ? "true" : "false", setup.port.x(),
-                setup.port.y(), setup.port.z());
+                rate_hz, setup.length, setup.mass, setup.points, setup.self ? "true" : "false",
+                setup.port.x(), setup.port.y(), setup.port.z());
   return text;
 }
 
 struct Push {
-  double tube_speed = 0.0;  // the pushed part's mean speed along the push, last half (m/s)
+  double tube_speed = 0.0;    // the pushed part's mean speed along the push, last half (m/s)
   double centre_speed = 0.0;  // the tube's centre of mass's, over the same time (m/s)
-  double hand = 0.0;        // impulse the hand gave along the push (N s)
-  double momentum = 0.0;    // the tube's and the tip's momentum along the push (N s)
+  double hand = 0.0;          // impulse the hand gave along the push (N s)
+  double momentum = 0.0;      // the tube's and the tip's momentum along the push (N s)
 };
 
 // Pushes the tube's middle along +y at `speed` for long enough to move it 4 cm. The tube is
@@ -100,7 +100,8 @@ Push PushTube(const PushSetup& setup, double rate_hz, double speed, bool tips_in
     target.jaw = 1.0;
     Step(model, {{}, std::span<const ToolTarget>(&target, 1)}, &state, &workspace);
     push.hand -= dt * state.tools[0].force.y();  // the hand feels the reaction of what it gives
-    if (k + 1 == steps / 2) centre_half = tube_centre(), middle_half = model.curve().Position(state.q, 0.5).y();
+    if (k + 1 == steps / 2)
+      centre_half = tube_centre(), middle_half = model.curve().Position(state.q, 0.5).y();
   }
   const double half = (steps - steps / 2) * dt;
   push.tube_speed = (model.curve().Position(state.q, 0.5).y() - middle_half) / half;
@@ -117,15 +118,19 @@ TEST(ToolThirdLaw, AFreeTubeFollowsThePushAndTheHandsImpulseIsItsMomentum) {
     for (double rate : {100.0, 250.0, 1000.0}) {
       for (double speed : {0.01, 0.08, 0.2, 0.5}) {
         const Push p = PushTube(setup, rate, speed, true);
-        std::printf("%2.0f cm tube, %6.0f Hz %4.0f cm/s: pushed part %.4f m/s (%.3f of the hand's; centre of mass %.3f), hand impulse %.5f N s, momentum %.5f N s\n",
-                    100 * setup.length, rate, 100 * speed, p.tube_speed, p.tube_speed / speed, p.centre_speed / speed, p.hand,
-                    p.momentum);
+        std::printf(
+            "%2.0f cm tube, %6.0f Hz %4.0f cm/s: pushed part %.4f m/s (%.3f of the hand's; centre "
+            "of mass %.3f), hand impulse %.5f N s, momentum %.5f N s\n",
+            100 * setup.length, rate, 100 * speed, p.tube_speed, p.tube_speed / speed,
+            p.centre_speed / speed, p.hand, p.momentum);
         // At 1 cm/s the coarse tube's middle runs up to 20 % ahead of the upright shaft, off it
         // (its impulse is still the hand's): only the faster pushes hold it against the shaft.
         if (tube == &kSlanted || speed > 0.05) {
-          EXPECT_NEAR(p.tube_speed, speed, 0.1 * speed) << rate << " Hz, " << speed << " m/s: the tube did not follow";
+          EXPECT_NEAR(p.tube_speed, speed, 0.1 * speed)
+              << rate << " Hz, " << speed << " m/s: the tube did not follow";
         }
-        EXPECT_NEAR(p.hand, p.momentum, 0.1 * std::abs(p.momentum)) << rate << " Hz, " << speed << " m/s";
+        EXPECT_NEAR(p.hand, p.momentum, 0.1 * std::abs(p.momentum))
+            << rate << " Hz, " << speed << " m/s";
       }
     }
   }
@@ -134,10 +139,13 @@ TEST(ToolThirdLaw, AFreeTubeFollowsThePushAndTheHandsImpulseIsItsMomentum) {
 TEST(ToolThirdLaw, WithTheTipInItsOwnCyclesTheContactLocksAt100Hz) {
   // The control: the tube's solve holds the tool still and the tip's cycles hold the tube still.
   const Push p = PushTube(kSlanted, 100.0, 0.1, false);
-  std::printf("own cycles, 100 Hz 10 cm/s: pushed part %.4f m/s, hand impulse %.5f N s, momentum %.5f N s\n", p.tube_speed,
-              p.hand, p.momentum);
+  std::printf(
+      "own cycles, 100 Hz 10 cm/s: pushed part %.4f m/s, hand impulse %.5f N s, momentum %.5f N "
+      "s\n",
+      p.tube_speed, p.hand, p.momentum);
   EXPECT_LT(p.tube_speed, 0.9 * 0.1) << "the pushed part followed";
-  EXPECT_GT(std::abs(p.hand - p.momentum), 0.1 * std::abs(p.momentum)) << "the hand's impulse matched";
+  EXPECT_GT(std::abs(p.hand - p.momentum), 0.1 * std::abs(p.momentum))
+      << "the hand's impulse matched";
 }
 
 }  // namespace

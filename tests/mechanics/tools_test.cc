@@ -28,7 +28,8 @@ class Tools : public ::testing::Test {
     target.jaw = jaw;
     target.active = active;
     const int steps = static_cast<int>(std::lround(seconds * model_->params().rate_hz));
-    for (int k = 0; k < steps; ++k) Step(*model_, {{}, std::span<const ToolTarget>(&target, 1)}, &state_, workspace_.get());
+    for (int k = 0; k < steps; ++k)
+      Step(*model_, {{}, std::span<const ToolTarget>(&target, 1)}, &state_, workspace_.get());
     return state_.tools[0];
   }
   double MiddleHeight() const { return model_->curve().Position(state_.q, 0.5).z(); }
@@ -65,7 +66,8 @@ TEST_F(Tools, ATipThatStopsShortOfTheTubeFeelsWhatItFeelsInFreeSpace) {
     const int steps = static_cast<int>(std::lround(0.4 * model_->params().rate_hz));
     for (int k = 0; k <= steps; ++k) {
       const double t = k / model_->params().rate_hz;
-      const ToolState& tool = Hold(Vec3(0.3, 0.0, std::max(stop, start - 0.5 * t)), 1.0, 1.0 / model_->params().rate_hz);
+      const ToolState& tool = Hold(Vec3(0.3, 0.0, std::max(stop, start - 0.5 * t)), 1.0,
+                                   1.0 / model_->params().rate_hz);
       forces.push_back(tool.force);
       lowest_tip = std::min(lowest_tip, tool.tip.z() - lift);
     }
@@ -132,7 +134,7 @@ TEST_F(Tools, AGraspLiftsTheTubeAndReleasingLetsItFallBack) {
   ASSERT_TRUE(closed.grasping);
   EXPECT_NEAR(closed.grasp_s, 0.5, 0.05);
   Hold(Vec3(0.3, 0.0, 0.09), 0.0, 1.0);
-  EXPECT_GT(MiddleHeight(), 0.06);  // lifted by more than 5 cm
+  EXPECT_GT(MiddleHeight(), 0.06);            // lifted by more than 5 cm
   EXPECT_LT(state_.tools[0].force.z(), 0.0);  // the hand carries the load
   const ToolState& open = Hold(Vec3(0.3, 0.0, 0.09), 1.0, 0.1);
   EXPECT_FALSE(open.grasping);
@@ -188,11 +190,14 @@ TEST_F(Tools, AnIdleDeviceFadesTheForceToZeroStepByStep) {
   ASSERT_GT(pushing, 0.5);
   const double h = 1.0 / model_->params().rate_hz;
   std::vector<double> f = {pushing};  // f[0]: the last active step; f[k]: k steps idle
-  for (int k = 1; k * h <= 0.4 + 1e-9; ++k) f.push_back(Hold(Vec3(0.3, 0.0, kTouch - 0.01), 1.0, h, false).force.norm());
+  for (int k = 1; k * h <= 0.4 + 1e-9; ++k)
+    f.push_back(Hold(Vec3(0.3, 0.0, kTouch - 0.01), 1.0, h, false).force.norm());
   EXPECT_GE(f[1], 0.5 * f[0]) << "the force dropped at once";
-  for (size_t k = 1; k < f.size(); ++k) EXPECT_LE(f[k], f[k - 1] * (1.0 + 1e-9)) << "rose again at idle step " << k;
+  for (size_t k = 1; k < f.size(); ++k)
+    EXPECT_LE(f[k], f[k - 1] * (1.0 + 1e-9)) << "rose again at idle step " << k;
   const auto at = [&](double t) { return f[static_cast<size_t>(std::lround(t / h))]; };
-  for (double t : {0.05, 0.1, 0.2, 0.3, 0.4}) std::printf("idle %.2f s: %.4f of the force\n", t, at(t) / pushing);
+  for (double t : {0.05, 0.1, 0.2, 0.3, 0.4})
+    std::printf("idle %.2f s: %.4f of the force\n", t, at(t) / pushing);
   // the coupling's scale is exp(-t / 0.05 s) (docs/protocol.md)
   EXPECT_LT(at(0.1), 0.5 * pushing);
   EXPECT_LT(at(0.3), 0.02 * pushing);
@@ -212,9 +217,10 @@ TEST_F(Tools, LocalStiffnessMatchesFiniteDifferencesOfTheForce) {
   p.pinned.clear();
   for (int i = 0; i < n; ++i) p.pinned.push_back(static_cast<double>(i) / (n - 1));  // a rigid tube
   const double rho = p.radius + p.tools[0].radius;
-  for (const Vec3& dir : {Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.6, -0.8)}) {  // straight down, and oblique
+  for (const Vec3& dir :
+       {Vec3(0.0, 0.0, -1.0), Vec3(0.0, 0.6, -0.8)}) {  // straight down, and oblique
     SCOPED_TRACE(::testing::Message() << "push along " << dir.transpose());
-    const Vec3 normal = -dir;                                   // from the tube's axis to the tool
+    const Vec3 normal = -dir;                                    // from the tube's axis to the tool
     const Vec3 surface = Vec3(0.3, 0.0, 0.0125) + rho * normal;  // where the tool's side touches
     auto settled = [&](const Vec3& target) {
       Reset(p);
@@ -234,18 +240,23 @@ TEST_F(Tools, LocalStiffnessMatchesFiniteDifferencesOfTheForce) {
     const double d = 0.001;
     for (int axis = 0; axis < 3; ++axis) {
       const Vec3 delta = 2.0 * d * Vec3::Unit(axis);  // central difference: +d and -d
-      const Vec3 dF = settled(base_target + 0.5 * delta).force - settled(base_target - 0.5 * delta).force;
+      const Vec3 dF =
+          settled(base_target + 0.5 * delta).force - settled(base_target - 0.5 * delta).force;
       const Vec3 predicted = -K * delta;  // restoring: the hand is pushed back
       const Vec3 miss = dF - predicted;
       const double scale = K.norm() * delta.norm();
       EXPECT_LE(std::abs(normal.dot(miss)), 0.2 * std::max(std::abs(normal.dot(dF)), 0.1 * scale))
-          << "axis " << axis << "\nK =\n" << K << "\ndF = " << dF.transpose();
+          << "axis " << axis << "\nK =\n"
+          << K << "\ndF = " << dF.transpose();
       // what K leaves out: tangential, destabilizing, of size |F| / rho (within 30 %)
       const Vec3 slide = across * delta;
-      EXPECT_LE((across * miss - base.force.norm() / rho * slide).norm(), 0.3 * base.force.norm() / rho * slide.norm() + 1e-4 * scale)
-          << "axis " << axis << ": tangential miss " << (across * miss).transpose() << ", |F| / rho = " << base.force.norm() / rho;
+      EXPECT_LE((across * miss - base.force.norm() / rho * slide).norm(),
+                0.3 * base.force.norm() / rho * slide.norm() + 1e-4 * scale)
+          << "axis " << axis << ": tangential miss " << (across * miss).transpose()
+          << ", |F| / rho = " << base.force.norm() / rho;
     }
-    EXPECT_LT((state_.q - p.initial_q).cwiseAbs().maxCoeff(), 1e-3) << "the tube was meant to stay put";
+    EXPECT_LT((state_.q - p.initial_q).cwiseAbs().maxCoeff(), 1e-3)
+        << "the tube was meant to stay put";
   }
 }
 

@@ -17,7 +17,8 @@ std::vector<uint8_t> RunPython(const std::string& script) {
   EXPECT_NE(pipe, nullptr);
   std::vector<uint8_t> out;
   if (pipe == nullptr) return out;
-  for (int c = std::fgetc(pipe); c != EOF; c = std::fgetc(pipe)) out.push_back(static_cast<uint8_t>(c));
+  for (int c = std::fgetc(pipe); c != EOF; c = std::fgetc(pipe))
+    out.push_back(static_cast<uint8_t>(c));
   EXPECT_EQ(pclose(pipe), 0) << command;
   return out;
 }
@@ -27,13 +28,15 @@ TEST(PythonInterop, HeartbeatEncodedByPythonDecodesInCpp) {
   const std::vector<uint8_t> bytes = RunPython(
       "import sys; from viscera_proto import heartbeat_t, header_t\n"
       "m = heartbeat_t(); h = header_t()\n"
-      "h.version = header_t.kProtocolVersion; h.session_id = 0; h.seq = 41; h.utime = 1700000000000000\n"
+      "h.version = header_t.kProtocolVersion; h.session_id = 0; h.seq = 41; h.utime = "
+      "1700000000000000\n"
       "h.token = bytes([1, 2, 3]); h.token_len = 3; h.mac = b''; h.mac_len = 0; m.header = h\n"
       "m.server_id = 'py'; m.num_sessions = 2; m.max_sessions = 9; m.load = 0.5; m.uptime_us = 77\n"
       "m.rejected = 5\n"
       "sys.stdout.buffer.write(m.encode())");
   viscera_proto::heartbeat_t msg;
-  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   EXPECT_EQ(msg.header.version, viscera_proto::header_t::kProtocolVersion);
   EXPECT_EQ(msg.header.seq, 41);
   EXPECT_EQ(msg.header.utime, 1700000000000000);
@@ -53,10 +56,12 @@ TEST(PythonInterop, ToolPoseEncodedByPythonDecodesInCpp) {
       "p = tool_pose_t(); h = header_t()\n"
       "h.version = header_t.kProtocolVersion; h.session_id = 99; h.seq = 5; h.utime = 17\n"
       "h.token = bytes(range(16)); h.token_len = 16; h.mac = b''; h.mac_len = 0; p.header = h\n"
-      "p.tool = 1; p.position = [0.1, -0.2, 0.3]; p.orientation = [1.0, 0.0, 0.0, 0.0]; p.jaw = 0.25\n"
+      "p.tool = 1; p.position = [0.1, -0.2, 0.3]; p.orientation = [1.0, 0.0, 0.0, 0.0]; p.jaw = "
+      "0.25\n"
       "sys.stdout.buffer.write(p.encode())");
   viscera_proto::tool_pose_t msg;
-  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
+  ASSERT_EQ(msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
   EXPECT_EQ(msg.header.session_id, 99);
   EXPECT_EQ(msg.header.token.size(), 16u);
   EXPECT_EQ(msg.header.token[15], 15);

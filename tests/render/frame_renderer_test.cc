@@ -30,7 +30,8 @@ Points USkeleton() {
   }
   for (int i = 0; i <= 12; ++i) points.emplace_back(0.06, -0.08 + 0.16 * i / 12.0, 0.0);
   Points q(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t i = 0; i < points.size(); ++i) q.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
+  for (size_t i = 0; i < points.size(); ++i)
+    q.row(static_cast<Eigen::Index>(i)) = points[i].transpose();
   return q;
 }
 
@@ -91,21 +92,24 @@ TEST(FrameRenderer, IntestineWhereTheSkeletonProjectsBackgroundElsewhere) {
     const CameraMatrices m = scope.Matrices(kWidth, kHeight);
     // control points of both arms and the bend (not the rounded ends)
     for (int i : {3, 8, 14, 20, 26, 32, 37}) {
-      const Projection p = Project(m, kWidth, kHeight, scene.initial_q.row(i).transpose().cast<float>());
+      const Projection p =
+          Project(m, kWidth, kHeight, scene.initial_q.row(i).transpose().cast<float>());
       const cv::Vec3d bgr = MeanAround(image, p.pixel);
-      EXPECT_TRUE(IntestineColoured(bgr)) << "control point " << i << " at " << p.pixel.transpose() << ": BGR "
-                                          << bgr;
+      EXPECT_TRUE(IntestineColoured(bgr))
+          << "control point " << i << " at " << p.pixel.transpose() << ": BGR " << bgr;
     }
     // between the arms, beyond the ends, and the corners: nothing there
-    for (const Eigen::Vector3f& empty : {Eigen::Vector3f(0.0f, 0.0f, 0.0f), Eigen::Vector3f(0.0f, 0.13f, 0.0f),
-                                         Eigen::Vector3f(0.13f, -0.05f, 0.0f), Eigen::Vector3f(-0.13f, 0.0f, 0.0f)}) {
+    for (const Eigen::Vector3f& empty :
+         {Eigen::Vector3f(0.0f, 0.0f, 0.0f), Eigen::Vector3f(0.0f, 0.13f, 0.0f),
+          Eigen::Vector3f(0.13f, -0.05f, 0.0f), Eigen::Vector3f(-0.13f, 0.0f, 0.0f)}) {
       const Projection p = Project(m, kWidth, kHeight, empty);
       ASSERT_GT(p.pixel.x(), 2.0f);
       ASSERT_LT(p.pixel.x(), kWidth - 2.0f);
       EXPECT_TRUE(Background(MeanAround(image, p.pixel), renderer.scene().palette()))
           << "at " << empty.transpose() << ": BGR " << MeanAround(image, p.pixel);
     }
-    for (const Eigen::Vector2f& corner : {Eigen::Vector2f(3, 3), Eigen::Vector2f(kWidth - 4, kHeight - 4)}) {
+    for (const Eigen::Vector2f& corner :
+         {Eigen::Vector2f(3, 3), Eigen::Vector2f(kWidth - 4, kHeight - 4)}) {
       EXPECT_TRUE(Background(MeanAround(image, corner), renderer.scene().palette()));
     }
   }
@@ -182,7 +186,8 @@ TEST(FrameRenderer, CavityWallOrganAndToolShowInTheirColours) {
     EXPECT_LT(organ[1], 0.45 * organ[2]) << "liver is darker red than the intestine: BGR " << organ;
     // the tool shaft halfway between tip and port: grey, lit
     const Vec3 shaft = 0.5 * (tools[0].tip + tool.port);
-    const cv::Vec3d grey = MeanAround(image, Project(m, kWidth, kHeight, shaft.cast<float>()).pixel);
+    const cv::Vec3d grey =
+        MeanAround(image, Project(m, kWidth, kHeight, shaft.cast<float>()).pixel);
     if (!outside) {
       EXPECT_GT(grey[0], 60.0) << "tool BGR " << grey;
       EXPECT_LT(std::abs(grey[2] - grey[0]), 35.0) << "tool BGR " << grey;
@@ -194,7 +199,8 @@ TEST(FrameRenderer, CavityWallOrganAndToolShowInTheirColours) {
       EXPECT_GT(corner[2], corner[0] + 5.0) << "the wall is reddish: BGR " << corner;
     }
     // the intestine still shows
-    const Projection p = Project(m, kWidth, kHeight, scene.initial_q.row(3).transpose().cast<float>());
+    const Projection p =
+        Project(m, kWidth, kHeight, scene.initial_q.row(3).transpose().cast<float>());
     EXPECT_TRUE(IntestineColoured(MeanAround(image, p.pixel))) << MeanAround(image, p.pixel);
   }
 }

@@ -27,7 +27,8 @@ TEST(Laparoscope, FramingSeesTheWholeBoxFromAboveAndInFront) {
     EXPECT_LT(scope.eye.y(), lo.y());
     const CameraMatrices m = scope.Matrices(w, h);
     for (int corner = 0; corner < 8; ++corner) {
-      const Vec3 c((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(), (corner & 4) ? hi.z() : lo.z());
+      const Vec3 c((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(),
+                   (corner & 4) ? hi.z() : lo.z());
       const Projection p = Project(m, w, h, c.cast<float>());
       EXPECT_GT(p.depth, scope.near);
       EXPECT_GE(p.pixel.x(), 0.0f);

@@ -86,7 +86,8 @@ class SpotOnAWall : public ::testing::Test {
   // The column of the centre row whose ray leaves the axis at `degrees`.
   int ColumnAt(double degrees) const {
     const double t = std::tan(0.5 * scope_.fov_y_degrees * kDegree);
-    return static_cast<int>(0.5 * kWidth * (1.0 + std::tan(degrees * kDegree) / (t * kWidth / kHeight)));
+    return static_cast<int>(0.5 * kWidth *
+                            (1.0 + std::tan(degrees * kDegree) / (t * kWidth / kHeight)));
   }
 
   FrameOptions options_;
@@ -112,7 +113,8 @@ TEST_F(SpotOnAWall, ThePixelsFollowTheConeAndAreDarkOutsideIt) {
   for (const double degrees : {0.0, 10.0, 19.0, 25.0, 30.0, 35.0, 39.0, 45.0, 50.0}) {
     const int col = ColumnAt(degrees), row = kHeight / 2;
     const cv::Vec4b px = At(frame, col, row);
-    EXPECT_NEAR(px[2], Predicted(col, row, kHeightM, true), 2.0) << degrees << " degrees off the axis";
+    EXPECT_NEAR(px[2], Predicted(col, row, kHeightM, true), 2.0)
+        << degrees << " degrees off the axis";
     EXPECT_EQ(px[0], px[2]) << "a white wall stays grey";
   }
   EXPECT_LE(At(frame, ColumnAt(45.0), kHeight / 2)[2], 1) << "no light beyond the cone";
@@ -167,15 +169,17 @@ class ObliqueOptics : public ::testing::Test {
 };
 
 TEST_F(ObliqueOptics, AMarkerOnTheShaftMovesAsThirtyDegreesPredict) {
-  const double shift = 0.5 * kHeight / std::tan(35.0 * kDegree) * std::tan(30.0 * kDegree);  // 198 px
+  const double shift =
+      0.5 * kHeight / std::tan(35.0 * kDegree) * std::tan(30.0 * kDegree);  // 198 px
   const Eigen::Vector2d centre(0.5 * kWidth, 0.5 * kHeight);
   struct Case {
     double optics, roll;
     Eigen::Vector2d expected;
   };
-  for (const Case& c : {Case{0.0, 0.0, centre}, Case{30.0, 0.0, centre + Eigen::Vector2d(0.0, -shift)},
-                        Case{30.0, 90.0, centre + Eigen::Vector2d(-shift, 0.0)},
-                        Case{30.0, 180.0, centre + Eigen::Vector2d(0.0, shift)}}) {
+  for (const Case& c :
+       {Case{0.0, 0.0, centre}, Case{30.0, 0.0, centre + Eigen::Vector2d(0.0, -shift)},
+        Case{30.0, 90.0, centre + Eigen::Vector2d(-shift, 0.0)},
+        Case{30.0, 180.0, centre + Eigen::Vector2d(0.0, shift)}}) {
     int count = 0;
     const Eigen::Vector2d at = Marker(c.optics, c.roll, &count);
     EXPECT_GT(count, 50) << "optics " << c.optics << ", roll " << c.roll;
@@ -192,12 +196,14 @@ TEST(PortLaparoscope, TheTipIsOnTheShaftAndTheLightIsASpot) {
   const Laparoscope l = PortLaparoscope(s);
   const Vec3 shaft = (s.look_at - s.port).normalized();
   EXPECT_LT((l.eye.cast<double>() - (s.port + 0.06 * shaft)).norm(), 1e-6);
-  EXPECT_GT((l.target - l.eye).cast<double>().normalized().dot(shaft), 1.0 - 1e-6) << "forward optics";
+  EXPECT_GT((l.target - l.eye).cast<double>().normalized().dot(shaft), 1.0 - 1e-6)
+      << "forward optics";
   EXPECT_FLOAT_EQ(l.spot_outer_deg, static_cast<float>(s.light_cone_deg));
   EXPECT_FLOAT_EQ(l.spot_inner_deg, kSpotInnerFraction * l.spot_outer_deg);
   s.optics_deg = 30.0;
   const Laparoscope oblique = PortLaparoscope(s);
-  EXPECT_NEAR((oblique.target - oblique.eye).cast<double>().normalized().dot(shaft), std::cos(30.0 * kDegree), 1e-6);
+  EXPECT_NEAR((oblique.target - oblique.eye).cast<double>().normalized().dot(shaft),
+              std::cos(30.0 * kDegree), 1e-6);
 }
 
 // The target's patch on the textured peritoneum, seen through the default scope: every pixel of
@@ -233,11 +239,13 @@ TEST(TargetPatch, StandsOutFromTheTexturedWall) {
   for (int k = 0; k < 48; ++k) {
     const double a = 2.0 * std::numbers::pi * k / 48.0;
     const Vec3 dir(std::cos(a), std::sin(a), 0.0);
-    for (const double r : {0.0, 0.3, 0.6}) patch.push_back(pixel(lesion.centre + r * lesion.radius * dir));
+    for (const double r : {0.0, 0.3, 0.6})
+      patch.push_back(pixel(lesion.centre + r * lesion.radius * dir));
     for (const double r : {1.6, 2.5, 4.0}) {
       // on the cavity's floor: z where the ellipsoid passes under (x, y)
       const Vec3 xy = r * lesion.radius * dir;
-      const double z = 0.13 - 0.13 * std::sqrt(1.0 - std::pow(xy.x() / 0.2, 2) - std::pow(xy.y() / 0.16, 2));
+      const double z =
+          0.13 - 0.13 * std::sqrt(1.0 - std::pow(xy.x() / 0.2, 2) - std::pow(xy.y() / 0.16, 2));
       wall.push_back(pixel(Vec3(xy.x(), xy.y(), z)));
     }
   }
@@ -257,8 +265,8 @@ TEST(SceneLaparoscope, TheScenesScopeElseTheFraming) {
   mechanics::ModelParams p = Empty();
   const Points& q = p.initial_q;
   const Laparoscope framing = SceneLaparoscope(p, q, kWidth, kHeight);
-  const Laparoscope expected = FramingLaparoscope(q.colwise().minCoeff().transpose(), q.colwise().maxCoeff().transpose(),
-                                                  kWidth, kHeight);
+  const Laparoscope expected = FramingLaparoscope(
+      q.colwise().minCoeff().transpose(), q.colwise().maxCoeff().transpose(), kWidth, kHeight);
   EXPECT_EQ(framing.eye, expected.eye);
   EXPECT_EQ(framing.spot_outer_deg, 0.0f);
   p.scope = mechanics::ScopeParams{};

@@ -74,7 +74,8 @@ TEST(MesenteryFilm, BlendsTheFilmColourWithWhatIsBehindIt) {
   const Blend b = CompareFilm(0.35f);
   const int pixels = 320 * 240;
   EXPECT_GT(b.changed, pixels / 50) << "the film hardly shows";
-  EXPECT_LE(b.off_segment, b.changed / 100) << "pixels that are not a blend of the film and the scene behind";
+  EXPECT_LE(b.off_segment, b.changed / 100)
+      << "pixels that are not a blend of the film and the scene behind";
   EXPECT_LT(b.median_share, 0.8) << "the film hides what is behind it";
   EXPECT_GT(b.median_share, 0.3) << "the film is fainter than one layer";
   // negative control: an opaque film replaces what is behind it

@@ -22,7 +22,8 @@ cv::Point Project(const CameraMatrices& camera, const Eigen::Vector3f& point) {
   const Eigen::Vector4f clip = camera.projection * camera.view * point.homogeneous();
   const float x = clip.x() / clip.w();
   const float y = clip.y() / clip.w();
-  return {static_cast<int>((x + 1.0f) * 0.5f * kWidth), static_cast<int>((1.0f - y) * 0.5f * kHeight)};
+  return {static_cast<int>((x + 1.0f) * 0.5f * kWidth),
+          static_cast<int>((1.0f - y) * 0.5f * kHeight)};
 }
 
 // Mean BGR of the 5x5 block around `p` (smooths JPEG's block noise).
@@ -46,7 +47,8 @@ TEST(MeshRenderer, LitTriangleShowsWhereItProjectsAndClearColourElsewhere) {
   triangles << 0, 1, 2;
   CameraMatrices camera;
   camera.view = LookAt({0.0f, 0.0f, 2.0f}, Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitY());
-  camera.projection = Perspective(std::numbers::pi_v<float> / 3, float{kWidth} / kHeight, 0.1f, 10.0f);
+  camera.projection =
+      Perspective(std::numbers::pi_v<float> / 3, float{kWidth} / kHeight, 0.1f, 10.0f);
   Material red;
   red.albedo = {0.9f, 0.1f, 0.1f};
   red.ambient = 0.2f;
@@ -79,9 +81,11 @@ TEST(MeshRenderer, LitTriangleShowsWhereItProjectsAndClearColourElsewhere) {
   // Outside: the same pixel mirrored top-to-bottom (catches a flipped frame) and the
   // lower left corner show the clear colour.
   const cv::Vec3d expected_clear(255.0 * clear.z(), 255.0 * clear.y(), 255.0 * clear.x());
-  for (const cv::Point p : {cv::Point(inside.x, kHeight - 1 - inside.y), cv::Point(10, kHeight - 10)}) {
+  for (const cv::Point p :
+       {cv::Point(inside.x, kHeight - 1 - inside.y), cv::Point(10, kHeight - 10)}) {
     const cv::Vec3d out = MeanAround(image, p);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(out[c], expected_clear[c], 6.0) << "at " << p << " channel " << c;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(out[c], expected_clear[c], 6.0) << "at " << p << " channel " << c;
   }
 }
 
@@ -90,7 +94,8 @@ TEST(MeshRenderer, NearerTriangleHidesTheFartherOne) {
   MeshRenderer renderer;
   CameraMatrices camera;
   camera.view = LookAt({0.0f, 0.0f, 2.0f}, Eigen::Vector3f::Zero(), Eigen::Vector3f::UnitY());
-  camera.projection = Perspective(std::numbers::pi_v<float> / 3, float{kWidth} / kHeight, 0.1f, 10.0f);
+  camera.projection =
+      Perspective(std::numbers::pi_v<float> / 3, float{kWidth} / kHeight, 0.1f, 10.0f);
   VerticesF near_tri(3, 3);
   near_tri << -0.5f, -0.5f, 0.5f, 0.5f, -0.5f, 0.5f, 0.0f, 0.5f, 0.5f;
   VerticesF far_tri = near_tri;

@@ -27,7 +27,8 @@ void ExpectOnSurfaceAndOutward(const collision::Obstacle& o, const TriMesh& mesh
     EXPECT_NEAR(mesh.normals[i].norm(), 1.0f, 1e-5f);
   }
   for (int t = 0; t < mesh.num_triangles(); ++t) {
-    const Vec3 a = V(mesh.positions[mesh.indices[3 * t]]), b = V(mesh.positions[mesh.indices[3 * t + 1]]),
+    const Vec3 a = V(mesh.positions[mesh.indices[3 * t]]),
+               b = V(mesh.positions[mesh.indices[3 * t + 1]]),
                c = V(mesh.positions[mesh.indices[3 * t + 2]]);
     const Vec3 face = (b - a).cross(c - a);
     if (face.norm() < 1e-12) continue;  // degenerate triangles at the poles
@@ -52,7 +53,8 @@ void ExpectClosed(const TriMesh& mesh) {
     }
   }
   int open = 0;
-  for (const auto& [edge, count] : edges) open += edges.count({edge.second, edge.first}) == 0 ? 1 : 0;
+  for (const auto& [edge, count] : edges)
+    open += edges.count({edge.second, edge.first}) == 0 ? 1 : 0;
   EXPECT_EQ(open, 0);
 }
 
@@ -87,7 +89,8 @@ TEST(Tessellation, CapsuleSphereAndBoxAreOnTheirSurfacesAndOutward) {
     TriMesh mesh;
     AppendObstacle(o, Vec3::Zero(), 1.0, &mesh);
     ExpectOnSurfaceAndOutward(o, mesh, 1e-6);
-    if (o.kind != collision::ObstacleKind::kBox) ExpectClosed(mesh);  // the box's faces are separate
+    if (o.kind != collision::ObstacleKind::kBox)
+      ExpectClosed(mesh);  // the box's faces are separate
   }
 }
 
@@ -101,7 +104,8 @@ TEST(Tessellation, PlaneIsASquareAroundThePointGiven) {
     mean += p / 4.0f;
   }
   EXPECT_TRUE(mean.isApprox(Eigen::Vector3f(0.3f, 0.2f, 0.01f), 1e-5f));
-  const Eigen::Vector3f face = (mesh.positions[1] - mesh.positions[0]).cross(mesh.positions[2] - mesh.positions[0]);
+  const Eigen::Vector3f face =
+      (mesh.positions[1] - mesh.positions[0]).cross(mesh.positions[2] - mesh.positions[0]);
   EXPECT_GT(face.z(), 0.0f);
 }
 

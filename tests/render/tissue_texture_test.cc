@@ -28,7 +28,8 @@ Points Loop(const Vec3& offset) {
   Points q(kPoints, 3);
   for (int i = 0; i < kPoints; ++i) {
     const double a = 1.6 * std::numbers::pi * i / (kPoints - 1);
-    q.row(i) = (Vec3(0.07 * std::cos(a), 0.07 * std::sin(a), 0.01 * std::sin(3.0 * a)) + offset).transpose();
+    q.row(i) = (Vec3(0.07 * std::cos(a), 0.07 * std::sin(a), 0.01 * std::sin(3.0 * a)) + offset)
+                   .transpose();
   }
   return q;
 }
@@ -106,12 +107,14 @@ TEST_F(TissueTexture, ThePatternRidesOnTheBowel) {
   const Vec3 shift(0.0109, 0.0071, 0.0029);  // 1.56 of the vessels' 7 mm period along x
   const double riding = Changed(Frame(Vec3::Zero(), true, true), Frame(shift, true, true), 20);
   const double plain = Changed(Frame(Vec3::Zero(), false, true), Frame(shift, false, true), 20);
-  EXPECT_LT(riding, plain + 0.005) << "no more change than the shading alone (rounding at the edges)";
+  EXPECT_LT(riding, plain + 0.005)
+      << "no more change than the shading alone (rounding at the edges)";
   // control: the same pattern fixed in the world slides over the moving bowel
   const double fixed = Changed(Frame(Vec3::Zero(), true, false), Frame(shift, true, false), 20);
   EXPECT_GT(fixed, riding + 0.01);
-  std::printf("bowel pixels changed by a rigid shift: %.4f riding, %.4f plain, %.4f fixed in the world\n", riding,
-              plain, fixed);
+  std::printf(
+      "bowel pixels changed by a rigid shift: %.4f riding, %.4f plain, %.4f fixed in the world\n",
+      riding, plain, fixed);
 }
 
 }  // namespace

@@ -36,7 +36,8 @@ void ExpectError(const std::string& text, std::initializer_list<const char*> fra
     ADD_FAILURE() << "no error for:\n" << text;
   } catch (const InputError& e) {
     const std::string message = e.what();
-    for (const char* f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
+    for (const char* f : fragments)
+      EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' not in: " << message;
   }
 }
 
@@ -61,13 +62,15 @@ TEST(Scene, ParsesAMinimalSceneWithDefaults) {
 TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
   SceneLimits limits;
   std::vector<std::pair<bool, double>> calls;  // (settled, height of the middle point)
-  limits.vet = [&](const mechanics::ModelParams& p, bool settled) { calls.emplace_back(settled, p.initial_q(20, 2)); };
+  limits.vet = [&](const mechanics::ModelParams& p, bool settled) {
+    calls.emplace_back(settled, p.initial_q(20, 2));
+  };
   ParseScene("[simulation]\nsettle = 0.2\n" + kIntestine, "test.toml", limits);
   ASSERT_EQ(calls.size(), 2u);
   EXPECT_FALSE(calls[0].first);
-  EXPECT_EQ(calls[0].second, 1.0);      // the straight start
+  EXPECT_EQ(calls[0].second, 1.0);  // the straight start
   EXPECT_TRUE(calls[1].first);
-  EXPECT_LT(calls[1].second, 0.99);     // it fell while settling
+  EXPECT_LT(calls[1].second, 0.99);  // it fell while settling
   // The settle runs without the linearization guard and with backward Euler (scene.cc, Settle);
   // what runs has both back.
   const Scene settled = ParseScene("[simulation]\nsettle = 0.2\n" + kIntestine);
@@ -85,15 +88,17 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
 }
 
 TEST(Scene, ReadsEverySimulationKey) {
-  const Scene s = ParseScene("[simulation]\nrate_hz = 500\nsubsteps = 3\nintegrator = \"implicit\"\n"
-                             "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\nlinearization_guard = false\n"
-                             "implicit_scheme = \"backward_euler\"\ncg_iteration_cap = 3\n" +
-                             kIntestine);
+  const Scene s = ParseScene(
+      "[simulation]\nrate_hz = 500\nsubsteps = 3\nintegrator = \"implicit\"\n"
+      "gravity = [0, -1.62, 0]\nmass_solver = \"cholmod\"\nlinearization_guard = false\n"
+      "implicit_scheme = \"backward_euler\"\ncg_iteration_cap = 3\n" +
+      kIntestine);
   EXPECT_EQ(s.model.rate_hz, 500.0);
   EXPECT_EQ(s.model.cg_iteration_cap, 3);
   EXPECT_EQ(ParseScene(kIntestine).model.cg_iteration_cap, 0);  // the default: the integrator's 240
   EXPECT_EQ(s.model.implicit_scheme, mechanics::ImplicitScheme::kBackwardEuler);
-  EXPECT_EQ(ParseScene(kIntestine).model.implicit_scheme, mechanics::ImplicitScheme::kBdf2);  // the default
+  EXPECT_EQ(ParseScene(kIntestine).model.implicit_scheme,
+            mechanics::ImplicitScheme::kBdf2);  // the default
   EXPECT_FALSE(s.model.linearization_guard);
   EXPECT_TRUE(ParseScene(kIntestine).model.linearization_guard);  // on by default
   EXPECT_EQ(s.model.substeps, 3);
@@ -104,37 +109,54 @@ TEST(Scene, ReadsEverySimulationKey) {
 
 TEST(Scene, MissingKeysAreNamed) {
   ExpectError(Replace(kIntestine, "mass = 0.5\n", ""), {"test.toml", "intestine.mass", "missing"});
-  ExpectError(Replace(kIntestine, "kind = \"straight\"\n", ""), {"intestine.shape.kind", "missing"});
+  ExpectError(Replace(kIntestine, "kind = \"straight\"\n", ""),
+              {"intestine.shape.kind", "missing"});
   ExpectError("[simulation]\nrate_hz = 100\n", {"[intestine]", "missing"});
 }
 
 TEST(Scene, WrongTypesAreNamedWithTheirValue) {
-  ExpectError(Replace(kIntestine, "length = 2.0", "length = \"long\""), {"intestine.length", "long", "expected a number"});
-  ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 4.5"), {"intestine.control_points", "4.5", "integer"});
-  ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, 1.0]"), {"intestine.shape.start", "[x, y, z]"});
-  ExpectError("[simulation]\nintegrator = \"euler\"\n" + kIntestine, {"simulation.integrator", "euler", "rk4"});
-  ExpectError("[simulation]\nlinearization_guard = 1\n" + kIntestine, {"simulation.linearization_guard"});
-  ExpectError("[simulation]\nimplicit_scheme = \"bdf3\"\n" + kIntestine, {"simulation.implicit_scheme", "bdf3", "bdf2"});
+  ExpectError(Replace(kIntestine, "length = 2.0", "length = \"long\""),
+              {"intestine.length", "long", "expected a number"});
+  ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 4.5"),
+              {"intestine.control_points", "4.5", "integer"});
+  ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, 1.0]"),
+              {"intestine.shape.start", "[x, y, z]"});
+  ExpectError("[simulation]\nintegrator = \"euler\"\n" + kIntestine,
+              {"simulation.integrator", "euler", "rk4"});
+  ExpectError("[simulation]\nlinearization_guard = 1\n" + kIntestine,
+              {"simulation.linearization_guard"});
+  ExpectError("[simulation]\nimplicit_scheme = \"bdf3\"\n" + kIntestine,
+              {"simulation.implicit_scheme", "bdf3", "bdf2"});
   // lowered only: a scene may not make its solves dearer than the shipped 240 iterations
-  ExpectError("[simulation]\ncg_iteration_cap = 241\n" + kIntestine, {"simulation.cg_iteration_cap", "241", "1..240"});
-  ExpectError("[simulation]\ncg_iteration_cap = 0\n" + kIntestine, {"simulation.cg_iteration_cap", "0", "1..240"});
+  ExpectError("[simulation]\ncg_iteration_cap = 241\n" + kIntestine,
+              {"simulation.cg_iteration_cap", "241", "1..240"});
+  ExpectError("[simulation]\ncg_iteration_cap = 0\n" + kIntestine,
+              {"simulation.cg_iteration_cap", "0", "1..240"});
 }
 
 TEST(Scene, NonFiniteAndOutOfRangeValuesAreRejected) {
-  ExpectError(Replace(kIntestine, "length = 2.0", "length = nan"), {"intestine.length", "nan", "finite"});
+  ExpectError(Replace(kIntestine, "length = 2.0", "length = nan"),
+              {"intestine.length", "nan", "finite"});
   ExpectError(Replace(kIntestine, "mass = 0.5", "mass = inf"), {"intestine.mass", "finite"});
   ExpectError(Replace(kIntestine, "mass = 0.5", "mass = -1"), {"intestine.mass", "-1", "> 0"});
-  ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, nan, 1.0]"), {"intestine.shape.start[1]", "finite"});
-  ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 3"), {"control_points", "3", "at least 4"});
-  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\npinned = [\"middle\"]"), {"intestine.pinned", "middle"});
-  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\npinned = [1.5]"), {"intestine.pinned", "1.5", "[0, 1]"});
+  ExpectError(Replace(kIntestine, "start = [0.0, 0.0, 1.0]", "start = [0.0, nan, 1.0]"),
+              {"intestine.shape.start[1]", "finite"});
+  ExpectError(Replace(kIntestine, "control_points = 41", "control_points = 3"),
+              {"control_points", "3", "at least 4"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\npinned = [\"middle\"]"),
+              {"intestine.pinned", "middle"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\npinned = [1.5]"),
+              {"intestine.pinned", "1.5", "[0, 1]"});
 }
 
 TEST(Scene, UnknownKeyInKnownTableIsAnError) {
-  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nstiffnes = 3"), {"intestine.stiffnes", "unknown key"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nstiffnes = 3"),
+              {"intestine.stiffnes", "unknown key"});
   // the line of the typo, and the known key it is nearest to
-  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nmas = 3"), {"intestine.mas = 3 (line ", "unknown key; did you mean \"mass\"?"});
-  ExpectError(Replace(kIntestine, "kind = \"straight\"", "kind = \"straight\"\nradius = 1"), {"intestine.shape.radius", "unknown key"});
+  ExpectError(Replace(kIntestine, "mass = 0.5", "mass = 0.5\nmas = 3"),
+              {"intestine.mas = 3 (line ", "unknown key; did you mean \"mass\"?"});
+  ExpectError(Replace(kIntestine, "kind = \"straight\"", "kind = \"straight\"\nradius = 1"),
+              {"intestine.shape.radius", "unknown key"});
 }
 
 TEST(Scene, UnknownTopLevelTableIsAWarning) {
@@ -176,8 +198,10 @@ inside = true
   EXPECT_TRUE(s.model.obstacles[4].inside);
   EXPECT_TRUE(s.warnings.empty());
   ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"torus\"\n", {"obstacle[0].kind", "torus"});
-  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"sphere\"\ncentre = [0,0,0]\nradius = -1\n", {"obstacle[0].radius", "-1"});
-  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"mesh\"\nfile = \"nope.obj\"\n", {"nope.obj", "cannot open"});
+  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"sphere\"\ncentre = [0,0,0]\nradius = -1\n",
+              {"obstacle[0].radius", "-1"});
+  ExpectError(kIntestine + "\n[[obstacle]]\nkind = \"mesh\"\nfile = \"nope.obj\"\n",
+              {"nope.obj", "cannot open"});
 }
 
 TEST(Scene, ContactsAndToolsAreParsed) {
@@ -199,9 +223,12 @@ max_force = 4
   ASSERT_EQ(s.model.tools.size(), 1u);
   EXPECT_EQ(s.model.tools[0].name, "left");
   EXPECT_EQ(s.model.tools[0].max_force, 4.0);
-  ExpectError(kIntestine + "\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n",
-              {"tool[1].name", "share"});
-  ExpectError(bare + "\n[contacts]\nstiffness = 0\n", {"contacts.stiffness", "expected 1..100000 N/m"});
+  ExpectError(
+      kIntestine +
+          "\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n[[tool]]\nname = \"a\"\nport = [0,0,0]\n",
+      {"tool[1].name", "share"});
+  ExpectError(bare + "\n[contacts]\nstiffness = 0\n",
+              {"contacts.stiffness", "expected 1..100000 N/m"});
 }
 
 TEST(Scene, SyntaxErrorsGiveLineAndColumn) {
@@ -214,7 +241,9 @@ TEST(Scene, ShapesPlaceControlPointsAtEqualArcLength) {
   // (kappa = 25 / m). Allow 1e-3.
   for (const char* shape : {"kind = \"helix\"\ncenter = [0, 0, 0.2]\nradius = 0.1\npitch = 0.03",
                             "kind = \"serpentine\"\namplitude = 0.1\nwavelength = 0.4"}) {
-    std::string text = Replace(kIntestine, "kind = \"straight\"\nstart = [0.0, 0.0, 1.0]\ndirection = [1.0, 0.0, 0.0]", shape);
+    std::string text =
+        Replace(kIntestine,
+                "kind = \"straight\"\nstart = [0.0, 0.0, 1.0]\ndirection = [1.0, 0.0, 0.0]", shape);
     text = Replace(text, "control_points = 41", "control_points = 401");
     const Scene s = ParseScene(text);
     const Points& q = s.model.initial_q;
@@ -242,12 +271,15 @@ points = [[0,0,0], [0.1,0,0], [0.2,0,0], [0.3,0,0], [0.3,0.1,0]]
   const Scene s = ParseScene(text);
   EXPECT_EQ(s.model.initial_q.rows(), 5);
   EXPECT_EQ(s.model.initial_q(4, 1), 0.1);
-  ExpectError(Replace(text, "mass = 0.1", "mass = 0.1\ncontrol_points = 7"), {"intestine.shape.points", "5", "7"});
+  ExpectError(Replace(text, "mass = 0.1", "mass = 0.1\ncontrol_points = 7"),
+              {"intestine.shape.points", "5", "7"});
 }
 
 TEST(Scene, AttachmentsArePinnedToTheirCurvePoint) {
-  const Scene s = ParseScene(kIntestine + "\n[[attachment]]\nat = 0.0\nstiffness = 200\n"
-                                          "[[attachment]]\nat = 1.0\npoint = [2, 0, 0.5]\nstiffness = 100\ndamping = 1\nrest_length = 0.1\n");
+  const Scene s = ParseScene(kIntestine +
+                             "\n[[attachment]]\nat = 0.0\nstiffness = 200\n"
+                             "[[attachment]]\nat = 1.0\npoint = [2, 0, 0.5]\nstiffness = "
+                             "100\ndamping = 1\nrest_length = 0.1\n");
   ASSERT_EQ(s.model.attachments.size(), 2u);
   EXPECT_FALSE(s.model.attachments[0].point.has_value());
   EXPECT_EQ(*s.model.attachments[1].point, Vec3(2, 0, 0.5));
@@ -294,7 +326,8 @@ TEST(Scene, AnotherRateKeepsTheSubStepLengthNotTheCount) {
 // [camera]: the laparoscope through its port; without it, no scope (a plain framing camera).
 TEST(Scene, ReadsTheLaparoscope) {
   EXPECT_FALSE(ParseScene(kIntestine).model.scope.has_value());
-  const Scene s = ParseScene(kIntestine + "[camera]\nport = [0, -0.1, 0.3]\nlook_at = [0, 0, 0.1]\n");
+  const Scene s =
+      ParseScene(kIntestine + "[camera]\nport = [0, -0.1, 0.3]\nlook_at = [0, 0, 0.1]\n");
   ASSERT_TRUE(s.model.scope.has_value());
   const mechanics::ScopeParams defaults;
   EXPECT_EQ(s.model.scope->port, Vec3(0.0, -0.1, 0.3));
@@ -303,11 +336,13 @@ TEST(Scene, ReadsTheLaparoscope) {
   EXPECT_EQ(s.model.scope->fov_deg, defaults.fov_deg);
   EXPECT_EQ(s.model.scope->light_range, defaults.light_range);
   EXPECT_TRUE(s.warnings.empty());
-  const Scene oblique = ParseScene(kIntestine +
-                                   "[camera]\nport = [0, -0.1, 0.3]\ndirection = [0, 0, -2]\noptics = 30\n"
-                                   "roll = 90\nfov = 80\ninsertion = 0.08\nlight_range = 0.2\nlight_cone = 45\n"
-                                   "up = [0, 2, 0]\n");
-  EXPECT_NEAR((oblique.model.scope->look_at - Vec3(0.0, -0.1, 0.2)).norm(), 0.0, 1e-12) << "10 cm along";
+  const Scene oblique =
+      ParseScene(kIntestine +
+                 "[camera]\nport = [0, -0.1, 0.3]\ndirection = [0, 0, -2]\noptics = 30\n"
+                 "roll = 90\nfov = 80\ninsertion = 0.08\nlight_range = 0.2\nlight_cone = 45\n"
+                 "up = [0, 2, 0]\n");
+  EXPECT_NEAR((oblique.model.scope->look_at - Vec3(0.0, -0.1, 0.2)).norm(), 0.0, 1e-12)
+      << "10 cm along";
   EXPECT_EQ(oblique.model.scope->optics_deg, 30.0);
   EXPECT_EQ(oblique.model.scope->roll_deg, 90.0);
   EXPECT_EQ(oblique.model.scope->fov_deg, 80.0);
@@ -319,12 +354,14 @@ TEST(Scene, ReadsTheLaparoscope) {
 TEST(Scene, RefusesABadLaparoscope) {
   const std::string port = kIntestine + "[camera]\nport = [0, -0.1, 0.3]\n";
   ExpectError(port, {"camera.look_at", "one of them"});
-  ExpectError(port + "look_at = [0, 0, 0]\ndirection = [0, 0, -1]\n", {"camera.look_at", "not both"});
+  ExpectError(port + "look_at = [0, 0, 0]\ndirection = [0, 0, -1]\n",
+              {"camera.look_at", "not both"});
   ExpectError(port + "look_at = [0, -0.1, 0.3]\n", {"camera.look_at", "1 mm"});
   ExpectError(port + "direction = [0, 0, 0]\n", {"camera.direction", "zero"});
   ExpectError(port + "direction = [0, 0, -1]\n", {"camera.up", "shaft"});
   ExpectError(port + "direction = [0, 1, -0.3]\noptics = 75\n", {"camera.optics", "75", "[0, 60]"});
-  ExpectError(port + "direction = [0, 1, -0.3]\noptics = 30\nup = [0, 1, 0]\n", {"camera.up", "31"});
+  ExpectError(port + "direction = [0, 1, -0.3]\noptics = 30\nup = [0, 1, 0]\n",
+              {"camera.up", "31"});
   ExpectError(port + "direction = [0, 1, -0.3]\nfov = 200\n", {"camera.fov"});
   ExpectError(port + "direction = [0, 1, -0.3]\nlight_range = 0\n", {"camera.light_range"});
   ExpectError(port + "direction = [0, 1, -0.3]\nzoom = 2\n", {"camera.zoom"});

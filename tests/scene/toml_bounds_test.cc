@@ -37,7 +37,8 @@ std::string ErrorOf(const std::string& text) {
 TEST(TomlBounds, ADeepDottedKeyOrHeaderIsRefusedBeforeTheParserWithTheLimit) {
   const std::string key = Repeat("x.", 40000) + "x";
   ASSERT_GT(key.size(), 80000u);
-  const std::string tube = "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n";
+  const std::string tube =
+      "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n";
   for (const std::string& text : {key + " = 1\n", "[" + key + "]\n", "[[" + key + "]]\n",
                                   "a = { " + key + " = 1 }\n", tube + key + " = 1\n"}) {
     try {
@@ -46,8 +47,9 @@ TEST(TomlBounds, ADeepDottedKeyOrHeaderIsRefusedBeforeTheParserWithTheLimit) {
     } catch (const InputError& e) {
       const std::string message = e.what();
       EXPECT_NE(message.find("deep.toml: line "), std::string::npos) << message;
-      EXPECT_NE(message.find(": a dotted key or [table] header nests deeper than the limit of 16 levels"),
-                std::string::npos)
+      EXPECT_NE(
+          message.find(": a dotted key or [table] header nests deeper than the limit of 16 levels"),
+          std::string::npos)
           << message;
     }
   }
@@ -56,14 +58,19 @@ TEST(TomlBounds, ADeepDottedKeyOrHeaderIsRefusedBeforeTheParserWithTheLimit) {
 TEST(TomlBounds, TheLimitsAreExact) {
   EXPECT_EQ(ErrorOf(Repeat("k.", 15) + "k = 1\n"), "");  // 16 parts
   EXPECT_NE(ErrorOf(Repeat("k.", 16) + "k = 1\n").find("limit of 16"), std::string::npos);
-  EXPECT_NE(ErrorOf(std::string("[") + Repeat("k . ", 16) + "k]\n").find("limit of 16"), std::string::npos);  // spaces are allowed
-  EXPECT_NE(ErrorOf("a.\"b\".'c'." + Repeat("k.", 14) + "k = 1").find("limit of 16"), std::string::npos);
-  EXPECT_EQ(ErrorOf("a = " + Repeat("[", 32) + Repeat("]", 32) + "\n"), "");
-  EXPECT_NE(ErrorOf("a = " + Repeat("[", 33) + Repeat("]", 33) + "\n").find("nest deeper than the limit of 32"),
+  EXPECT_NE(ErrorOf(std::string("[") + Repeat("k . ", 16) + "k]\n").find("limit of 16"),
+            std::string::npos);  // spaces are allowed
+  EXPECT_NE(ErrorOf("a.\"b\".'c'." + Repeat("k.", 14) + "k = 1").find("limit of 16"),
             std::string::npos);
-  EXPECT_NE(ErrorOf("a = " + Repeat("{b = ", 33) + "1" + Repeat("}", 33)).find("limit of 32"), std::string::npos);
+  EXPECT_EQ(ErrorOf("a = " + Repeat("[", 32) + Repeat("]", 32) + "\n"), "");
+  EXPECT_NE(ErrorOf("a = " + Repeat("[", 33) + Repeat("]", 33) + "\n")
+                .find("nest deeper than the limit of 32"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("a = " + Repeat("{b = ", 33) + "1" + Repeat("}", 33)).find("limit of 32"),
+            std::string::npos);
   EXPECT_EQ(ErrorOf(std::string(kSceneTomlBounds.max_bytes, '#')), "");
-  EXPECT_NE(ErrorOf(std::string(kSceneTomlBounds.max_bytes + 1, '#')).find("above the limit of 1048576 bytes"),
+  EXPECT_NE(ErrorOf(std::string(kSceneTomlBounds.max_bytes + 1, '#'))
+                .find("above the limit of 1048576 bytes"),
             std::string::npos);
 }
 
@@ -76,17 +83,21 @@ TEST(TomlBounds, DotsInStringsCommentsAndValuesAreNotCounted) {
   EXPECT_EQ(ErrorOf("text = \"\"\"\n" + many + "\n\"\"\"\n"), "");
   EXPECT_EQ(ErrorOf("text = '''\n" + many + "\n'''\n"), "");
   EXPECT_EQ(ErrorOf("text = \"a \\\" " + many + "\"\n"), "");  // an escaped quote does not end it
-  EXPECT_EQ(ErrorOf("\"" + many + "\" = 1\n"), "");             // one quoted part
-  EXPECT_EQ(ErrorOf("v = [" + Repeat("1.5, ", 100) + "2.5e-3]\nt = 1979-05-27T07:32:00.999999Z\n"), "");
+  EXPECT_EQ(ErrorOf("\"" + many + "\" = 1\n"), "");            // one quoted part
+  EXPECT_EQ(ErrorOf("v = [" + Repeat("1.5, ", 100) + "2.5e-3]\nt = 1979-05-27T07:32:00.999999Z\n"),
+            "");
 }
 
 // The scanner must end a string where the parser does: a multi-line string's closing quotes
 // may be followed by two more that belong to it, and what follows is outside the string.
 TEST(TomlBounds, StringEndsAreWhereTheParserSeesThem) {
   const std::string deep = Repeat("k.", 40) + "k = 1";
-  EXPECT_NE(ErrorOf("a = [{s = \"\"\"x\"\"\"\"\", " + deep + "}]\n").find("limit of 16"), std::string::npos);
-  EXPECT_NE(ErrorOf("a = [{s = '''x''''', " + deep + "}]\n").find("limit of 16"), std::string::npos);
-  EXPECT_NE(ErrorOf("s = \"x\\\\\"\n" + deep + "\n").find("line 2"), std::string::npos);  // "x\\" ends there
+  EXPECT_NE(ErrorOf("a = [{s = \"\"\"x\"\"\"\"\", " + deep + "}]\n").find("limit of 16"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("a = [{s = '''x''''', " + deep + "}]\n").find("limit of 16"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("s = \"x\\\\\"\n" + deep + "\n").find("line 2"),
+            std::string::npos);  // "x\\" ends there
   EXPECT_NE(ErrorOf("s = \"unterminated\n" + deep + "\n").find("line 2"), std::string::npos);
 }
 
@@ -116,7 +127,8 @@ TEST(TomlBounds, ALargeSceneFileIsRefusedWithTheLimit) {
     LoadSceneFile(path);
     ADD_FAILURE() << "accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("above the limit of 1048576 bytes"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("above the limit of 1048576 bytes"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,5 +1,5 @@
-#include "script/script_player.h"
 #include "script/tool_script.h"
+#include "script/script_player.h"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +25,9 @@ TEST(ToolScript, InterpolatesBetweenRowsAndHoldsOutside) {
   EXPECT_TRUE(mid.tip.isApprox(Vec3(0.05, 0, 0.25)));
   EXPECT_DOUBLE_EQ(mid.jaw, 0.5);
   // Half way from identity to a half turn about z: a quarter turn.
-  EXPECT_NEAR(mid.orientation.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()))), 0.0, 1e-12);
+  EXPECT_NEAR(mid.orientation.angularDistance(
+                  Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()))),
+              0.0, 1e-12);
   EXPECT_EQ(s.At("left", -1.0).tip, Vec3(0, 0, 0.3));
   EXPECT_EQ(s.At("left", 5.0).tip, Vec3(0.1, 0, 0.2));
   EXPECT_EQ(s.At("right", 0.0).tip, Vec3(0, 0.1, 0.3));
@@ -41,13 +43,22 @@ TEST(ToolScript, MalformedScriptsNameLineAndColumn) {
     return std::string("no error");
   };
   EXPECT_NE(error("t,tool,x,y,z\n").find("header"), std::string::npos);
-  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,a,0,0,nan,1,0,0,0,1\n").find("s.csv:2: z"), std::string::npos);
-  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,a,0,0,0,1,0,0,0,2\n").find("jaw"), std::string::npos);
-  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n1,a,0,0,0,1,0,0,0,1\n0,a,0,0,0,1,0,0,0,1\n").find("back in time"), std::string::npos);
-  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,a,0,0,0,0,0,0,0,1\n").find("quaternion"), std::string::npos);
+  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,a,0,0,nan,1,0,0,0,1\n").find("s.csv:2: z"),
+            std::string::npos);
+  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,a,0,0,0,1,0,0,0,2\n").find("jaw"),
+            std::string::npos);
+  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n1,a,0,0,0,1,0,0,0,1\n0,a,0,0,0,1,0,0,0,1\n")
+                .find("back in time"),
+            std::string::npos);
+  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw\n0,a,0,0,0,0,0,0,0,1\n").find("quaternion"),
+            std::string::npos);
   EXPECT_NE(error("").find("empty"), std::string::npos);
-  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1,centre\n").find("s.csv:2: aim"), std::string::npos);
-  EXPECT_NE(error("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1\n").find("expected 11 columns"), std::string::npos);
+  EXPECT_NE(
+      error("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1,centre\n").find("s.csv:2: aim"),
+      std::string::npos);
+  EXPECT_NE(
+      error("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1\n").find("expected 11 columns"),
+      std::string::npos);
 }
 
 // tube@S aims at one part of the bowel: the point at arc-length fraction S of the centre line
@@ -63,15 +74,19 @@ TEST(ToolScript, ARowAimedAlongTheTubeTakesThatPartOfTheBowel) {
   // 10 cm into the last piece.
   Tube tube{{Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.1, 0.1, 0), Vec3(0.1, 0.4, 0)}, 0.01};
   ScriptPlayer player(s);
-  EXPECT_TRUE(player.At("left", 1.0, tube).tip.isApprox(Vec3(0.1, 0.2, 0.0) + 0.01 * (Vec3(0, 0, 0.3) - Vec3(0.1, 0.2, 0)).normalized()));
+  EXPECT_TRUE(player.At("left", 1.0, tube)
+                  .tip.isApprox(Vec3(0.1, 0.2, 0.0) +
+                                0.01 * (Vec3(0, 0, 0.3) - Vec3(0.1, 0.2, 0)).normalized()));
   // the same part of the bowel when the tube lies elsewhere
   for (Vec3& c : tube.centre_line) c = Vec3(c.y(), -c.x(), 0.05);
   EXPECT_NEAR((AlongTube(tube, 0.6, Vec3(0, 0, 0.3)) - Vec3(0.2, -0.1, 0.05)).norm(), 0.01, 1e-12);
-  EXPECT_TRUE(AlongTube(tube, 1.5, Vec3(0.4, -0.1, 1)).isApprox(Vec3(0.4, -0.1, 0.06)));  // clamped to the end
+  EXPECT_TRUE(AlongTube(tube, 1.5, Vec3(0.4, -0.1, 1))
+                  .isApprox(Vec3(0.4, -0.1, 0.06)));  // clamped to the end
   EXPECT_EQ(AlongTube(Tube{}, 0.5, Vec3(1, 2, 3)), Vec3(1, 2, 3));
   auto error = [](const std::string& aim) {
     try {
-      ToolScript::Parse("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1," + aim + "\n", "s.csv");
+      ToolScript::Parse("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1," + aim + "\n",
+                        "s.csv");
     } catch (const InputError& e) {
       return std::string(e.what());
     }
@@ -96,9 +111,10 @@ TEST(ScriptPlayer, AnAimedRowIsResolvedOnTheTubeWhenItsSegmentBeginsAndThenHeld)
   EXPECT_EQ(player.At("left", 0.0, Tube{}).tip, Vec3(0, 0, 0.3));
   // The second row's segment began at 0: aimed at the tube as it is at the first call that sees it.
   const Vec3 aimed = player.At("left", 0.5, tube).tip * 2.0 - Vec3(0, 0, 0.3);
-  const Vec3 axis(0.02, 0.02, 0.05);  // the nearest point of the centre line
-  EXPECT_NEAR((aimed - axis).norm(), 0.01, 1e-12);                                                       // on the surface
-  EXPECT_NEAR((aimed - axis).normalized().dot((Vec3(0.02, 0, 0.1) - axis).normalized()), 1.0, 1e-12);  // facing the point
+  const Vec3 axis(0.02, 0.02, 0.05);                // the nearest point of the centre line
+  EXPECT_NEAR((aimed - axis).norm(), 0.01, 1e-12);  // on the surface
+  EXPECT_NEAR((aimed - axis).normalized().dot((Vec3(0.02, 0, 0.1) - axis).normalized()), 1.0,
+              1e-12);  // facing the point
   // The tube moves 3 cm down before t = 1: the second row holds, the third (its segment begins
   // at 1) is aimed at the tube where it then is, and holds after it moves again.
   for (Vec3& c : tube.centre_line) c.z() -= 0.03;

@@ -33,7 +33,9 @@ class SessionManagerTest : public ::testing::Test {
         [this](const viscera_proto::session_reply_t& r, int64_t) { replies_.push_back(r); });
   }
 
-  viscera_proto::session_reply_t Ask(viscera_proto::session_request_t r) { return Deliver(Stamp(r)); }
+  viscera_proto::session_reply_t Ask(viscera_proto::session_request_t r) {
+    return Deliver(Stamp(r));
+  }
 
   /// `r` as this test's one client sends it: a new request_id, the next sequence number
   /// (replay protection), stamped now.
@@ -86,6 +88,5 @@ class SessionManagerTest : public ::testing::Test {
   std::vector<viscera_proto::session_reply_t> replies_;
   int64_t request_id_ = 0;
 };
-
 
 }  // namespace viscera::server

@@ -68,7 +68,8 @@ TEST(PeerDirectory, SuggestsFreshPeersWithRoomNeverItself) {
 // forgotten and at most kMaxPeers are kept, a known peer still updates when it is full.
 TEST(PeerDirectory, ForgetsSilentPeersAndIsCapped) {
   PeerDirectory peers("me", 3000);
-  for (size_t i = 0; i < 10 * PeerDirectory::kMaxPeers; ++i) peers.Observe(Heartbeat("p" + std::to_string(i), 0, 4), 0);
+  for (size_t i = 0; i < 10 * PeerDirectory::kMaxPeers; ++i)
+    peers.Observe(Heartbeat("p" + std::to_string(i), 0, 4), 0);
   EXPECT_EQ(peers.size(), PeerDirectory::kMaxPeers);
   peers.Observe(Heartbeat("p0", 4, 4), 1000);  // known: updated (now full)
   EXPECT_EQ(peers.size(), PeerDirectory::kMaxPeers);
@@ -80,10 +81,10 @@ TEST(PeerDirectory, ForgetsSilentPeersAndIsCapped) {
 }
 
 TEST(CapacityEstimate, SessionsThatFitUseTheBudgetOfTheCores) {
-  EXPECT_EQ(SessionsThatFit(2, 0.39), 3);    // 2 x 0.7 / 0.39 = 3.6
-  EXPECT_EQ(SessionsThatFit(1, 0.35), 2);    // exactly 0.7 / 0.35
+  EXPECT_EQ(SessionsThatFit(2, 0.39), 3);  // 2 x 0.7 / 0.39 = 3.6
+  EXPECT_EQ(SessionsThatFit(1, 0.35), 2);  // exactly 0.7 / 0.35
   EXPECT_EQ(SessionsThatFit(8, 0.05), 112);
-  EXPECT_EQ(SessionsThatFit(1, 5.0), 1);     // at least one: the operator can still try
+  EXPECT_EQ(SessionsThatFit(1, 5.0), 1);  // at least one: the operator can still try
   EXPECT_EQ(SessionsThatFit(64, 1e-6), 1024);
   EXPECT_GE(AvailableCores(), 1);
 }
@@ -132,7 +133,10 @@ TEST(CapacityEstimate, AStopAbandonsTheFramesToo) {
   // no stepping time: the minimum steps (as many each time), then the frames
   auto checks = [&](const ServerConfig& c) {
     int asked = 0;
-    EstimateCapacity(c, "push", 0.0, [&] { ++asked; return false; });
+    EstimateCapacity(c, "push", 0.0, [&] {
+      ++asked;
+      return false;
+    });
     return asked;
   };
   ServerConfig mechanics_only = config;
@@ -141,7 +145,8 @@ TEST(CapacityEstimate, AStopAbandonsTheFramesToo) {
   EXPECT_GT(all, stepping + 1) << "the frames must ask too";
   for (const int stop_at : {stepping + 1, all}) {  // before the first frame, before the last
     int asked = 0;
-    EXPECT_THROW(EstimateCapacity(config, "push", 0.0, [&] { return ++asked >= stop_at; }), MeasurementStopped);
+    EXPECT_THROW(EstimateCapacity(config, "push", 0.0, [&] { return ++asked >= stop_at; }),
+                 MeasurementStopped);
     EXPECT_EQ(asked, stop_at);
   }
 }

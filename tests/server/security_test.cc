@@ -14,9 +14,9 @@
 #include <viscera_proto/session_status_t.hpp>
 
 #include "bus/message_auth.h"
+#include "server/scene_budget.h"
 #include "tests/common/eventually.h"
 #include "tests/server/manager_fixture.h"
-#include "server/scene_budget.h"
 
 namespace viscera::server {
 namespace {
@@ -35,11 +35,13 @@ std::string SceneText(const std::string& name) {
 std::string SceneWithMesh(const std::string& file) {
   return "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
          "[intestine.shape]\nkind = \"straight\"\n"
-         "[[obstacle]]\nkind = \"mesh\"\nfile = \"" + file + "\"\nscale = 0.05\n";
+         "[[obstacle]]\nkind = \"mesh\"\nfile = \"" +
+         file + "\"\nscale = 0.05\n";
 }
 
 std::string TempDir(const std::string& name) {
-  const std::string dir = ::testing::TempDir() + "/viscera_security_" + name + "_" + std::to_string(getpid());
+  const std::string dir =
+      ::testing::TempDir() + "/viscera_security_" + name + "_" + std::to_string(getpid());
   std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
   return dir;
 }
@@ -148,15 +150,18 @@ TEST_F(SecurityTest, ASessionWithoutClientTrafficEndsAfterItsLeaseWithItsRecordC
   const auto keep_alive = [&] {
     const R kept = reply_to(create_kept);
     if (kept.result != R::kOk || std::chrono::steady_clock::now() < next_keep_alive) return;
-    manager_->OnRequest(Stamp(WithToken(Request(Q::kKeepAlive, kept.header.session_id), kept)), info);
+    manager_->OnRequest(Stamp(WithToken(Request(Q::kKeepAlive, kept.header.session_id), kept)),
+                        info);
     next_keep_alive = std::chrono::steady_clock::now() + std::chrono::milliseconds(100);
   };
-  ASSERT_TRUE(viscera::testing::Eventually([&] { return !manager_->creating(); }, 60.0, [&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    manager_->Poll();
-    bus_.Drain();
-    keep_alive();
-  }));
+  ASSERT_TRUE(viscera::testing::Eventually([&] { return !manager_->creating(); }, 60.0,
+                                           [&] {
+                                             std::this_thread::sleep_for(
+                                                 std::chrono::milliseconds(5));
+                                             manager_->Poll();
+                                             bus_.Drain();
+                                             keep_alive();
+                                           }));
   bus_.Drain();
   const R idle = reply_to(create_idle);
   const R kept = reply_to(create_kept);
@@ -179,11 +184,13 @@ TEST_F(SecurityTest, ASessionWithoutClientTrafficEndsAfterItsLeaseWithItsRecordC
   EXPECT_EQ(StatusOf(kept.header.session_id).state, viscera_proto::session_status_t::kRunning);
 
   // the record ends with the final status, which says why
-  lcm::LogFile log(config.log_dir + "/session-" + std::to_string(idle.header.session_id) + ".lcmlog", "r");
+  lcm::LogFile log(
+      config.log_dir + "/session-" + std::to_string(idle.header.session_id) + ".lcmlog", "r");
   ASSERT_TRUE(log.good());
   viscera_proto::session_status_t last{};
   int statuses = 0;
-  const std::string status_channel = bus::SessionChannel(bus::kStatusPrefix, idle.header.session_id);
+  const std::string status_channel =
+      bus::SessionChannel(bus::kStatusPrefix, idle.header.session_id);
   for (const lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
     if (e->channel != status_channel) continue;
     ASSERT_EQ(last.decode(e->data, 0, e->datalen), e->datalen);
@@ -265,13 +272,16 @@ TEST_F(SecurityTest, AnOversizeRequestIsAnsweredWithTheLimit) {
   create.scene_toml = std::string(5000, '#');
   create.request_id = 77;
   std::vector<uint8_t> bytes(static_cast<size_t>(create.getEncodedSize()));
-  ASSERT_EQ(create.encode(bytes.data(), 0, static_cast<int>(bytes.size())), static_cast<int>(bytes.size()));
-  manager_->OnDrop(bus::kRequestChannel, bus::DropReason::kOversize, bytes.data(), static_cast<int>(bytes.size()));
+  ASSERT_EQ(create.encode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  manager_->OnDrop(bus::kRequestChannel, bus::DropReason::kOversize, bytes.data(),
+                   static_cast<int>(bytes.size()));
   bus_.Drain();
   ASSERT_FALSE(replies_.empty());
   EXPECT_EQ(replies_.back().request_id, 77);
   EXPECT_EQ(replies_.back().result, R::kRefused);
-  EXPECT_NE(replies_.back().message.find("--max-message-size"), std::string::npos) << replies_.back().message;
+  EXPECT_NE(replies_.back().message.find("--max-message-size"), std::string::npos)
+      << replies_.back().message;
   // truncated bytes: nothing to answer, nothing thrown
   const size_t before = replies_.size();
   manager_->OnDrop(bus::kRequestChannel, bus::DropReason::kOversize, bytes.data(), 40);

@@ -5,8 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <viscera_proto/jpeg_frame_t.hpp>
 
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <thread>
 
@@ -254,15 +254,22 @@ TEST_F(SessionManagerTest, FramesAreDrawnOnlyWhileAViewerRenewsTheFrameLease) {
     const int64_t id = created.header.session_id;
     int64_t received = 0;
     const auto subscription = bus_.Subscribe<viscera_proto::jpeg_frame_t>(
-        bus::SessionChannel(bus::kFramePrefix, id), [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++received; });
+        bus::SessionChannel(bus::kFramePrefix, id),
+        [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++received; });
     const auto pump_for = [&](double seconds) {
-      const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+      const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                            std::chrono::duration<double>(seconds));
       while (Clock::now() < until) bus_.Pump(20);
     };
     pump_for(2.0);  // a session of 20 Hz frames that nobody watches
     const R unwatched = Ask(Request(Q::kStatus, id));
     bus_.Unsubscribe(subscription);
-    Ask([&] { auto r = Request(Q::kDestroy, id); r.header.token = created.header.token; r.header.token_len = 16; return r; }());
+    Ask([&] {
+      auto r = Request(Q::kDestroy, id);
+      r.header.token = created.header.token;
+      r.header.token_len = 16;
+      return r;
+    }());
     return {unwatched.sessions[0].frames, received};
   };
   const auto [drawn_with_lease, received_with_lease] = frames_of(1.0);
@@ -285,8 +292,9 @@ TEST_F(SessionManagerTest, FramesAreDrawnOnlyWhileAViewerRenewsTheFrameLease) {
   ASSERT_EQ(created.result, R::kOk) << created.message;
   const int64_t id = created.header.session_id;
   int64_t received = 0;
-  bus_.Subscribe<viscera_proto::jpeg_frame_t>(bus::SessionChannel(bus::kFramePrefix, id),
-                                              [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++received; });
+  bus_.Subscribe<viscera_proto::jpeg_frame_t>(
+      bus::SessionChannel(bus::kFramePrefix, id),
+      [&](const viscera_proto::jpeg_frame_t&, int64_t) { ++received; });
   const auto give_up = Clock::now() + std::chrono::seconds(30);
   while (received < 5 && Clock::now() < give_up) {  // SCHED_IDLE: slow on a busy machine
     ASSERT_EQ(Ask(Request(Q::kWatchFrames, id)).result, R::kOk);
@@ -354,12 +362,14 @@ TEST_F(SessionManagerTest, AdmissionChargesFramesOnlyToSessionsThatStreamThem) {
   ASSERT_EQ(b.result, R::kOk) << b.message;
   const R framed = create(0.0);  // 0.4 + 0.7 > 0.7
   EXPECT_EQ(framed.result, R::kRefused);
-  EXPECT_NE(framed.message.find("it would cost 0.7 core (25 Hz frames included)"), std::string::npos)
+  EXPECT_NE(framed.message.find("it would cost 0.7 core (25 Hz frames included)"),
+            std::string::npos)
       << framed.message;
   EXPECT_NE(framed.message.find("no frames"), std::string::npos) << framed.message;
   const R third = create(-1.0);  // 0.6: fits
   ASSERT_EQ(third.result, R::kOk) << third.message;
-  EXPECT_EQ(create(-1.0).message, "server srv is full (3 of 3 sessions); no other server with room heard");
+  EXPECT_EQ(create(-1.0).message,
+            "server srv is full (3 of 3 sessions); no other server with room heard");
   destroy(a);
   destroy(b);
   EXPECT_EQ(create(0.0).result, R::kRefused);  // 0.2 + 0.7 > 0.7
@@ -391,7 +401,8 @@ TEST_F(SessionManagerTest, TrafficForOtherServersSessionsIsNotRejected) {
   EXPECT_EQ(manager_->rejected(), 0);
   // a hostile message still is rejected: garbage on the pose channel, a bad request
   const std::vector<uint8_t> garbage(40, 0xab);
-  manager_->OnDrop(channel, bus::DropReason::kMalformed, garbage.data(), static_cast<int>(garbage.size()));
+  manager_->OnDrop(channel, bus::DropReason::kMalformed, garbage.data(),
+                   static_cast<int>(garbage.size()));
   EXPECT_EQ(Ask(Request(42)).result, R::kBadRequest);
   EXPECT_EQ(manager_->rejected(), 2);
   EXPECT_EQ(manager_->not_ours(), 2);
@@ -414,12 +425,15 @@ TEST_F(SessionManagerTest, UnconvergedSolvesAreSummedOverRunningAndEndedSessions
     ASSERT_EQ(created.result, R::kOk) << created.message;
     const int64_t id = created.header.session_id;
     int64_t running = 0;
-    ASSERT_TRUE(viscera::testing::Eventually([&] {
-      const R status = Ask(Request(Q::kStatus, id));
-      running = status.num_sessions == 1 ? status.sessions[0].unconverged_solves : 0;
-      return running > 0;
-    }, 30.0, pump));
-    EXPECT_GE(manager_->unconverged_solves(), ended + running);  // its status may have moved on since
+    ASSERT_TRUE(viscera::testing::Eventually(
+        [&] {
+          const R status = Ask(Request(Q::kStatus, id));
+          running = status.num_sessions == 1 ? status.sessions[0].unconverged_solves : 0;
+          return running > 0;
+        },
+        30.0, pump));
+    EXPECT_GE(manager_->unconverged_solves(),
+              ended + running);  // its status may have moved on since
     auto destroy = Request(Q::kDestroy, id);
     destroy.header.token = created.header.token;
     destroy.header.token_len = 16;

@@ -52,7 +52,8 @@ TEST(Outbox, ANonFiniteForceOrSkeletonIsNeverSent) {
   bus::LcmBus bus("memq://");
   std::vector<force_feedback_t> forces;
   int skeletons = 0;
-  bus.Subscribe<force_feedback_t>("F", [&](const force_feedback_t& f, int64_t) { forces.push_back(f); });
+  bus.Subscribe<force_feedback_t>("F",
+                                  [&](const force_feedback_t& f, int64_t) { forces.push_back(f); });
   bus.Subscribe<skeleton_state_t>("K", [&](const skeleton_state_t&, int64_t) { ++skeletons; });
   {
     Outbox outbox(&bus, nullptr, {"F", "K", "S", "R"}, 0);

@@ -16,8 +16,9 @@
 namespace viscera::session {
 namespace {
 
-const char kScene[] = "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
-                      "[intestine.shape]\nkind = \"straight\"\n";
+const char kScene[] =
+    "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
+    "[intestine.shape]\nkind = \"straight\"\n";
 
 std::string ErrorOf(const std::string& dir, const std::string& name) {
   try {
@@ -43,12 +44,16 @@ TEST(SessionScene, NamesResolveToRegularFilesInsideTheSceneDirectoryOnly) {
 
   EXPECT_EQ(ErrorOf(dir, "good"), "");
   for (const char* link : {"out", "zero", "alias"}) {
-    EXPECT_NE(ErrorOf(dir, link).find("is a symbolic link in the scene directory"), std::string::npos) << link;
+    EXPECT_NE(ErrorOf(dir, link).find("is a symbolic link in the scene directory"),
+              std::string::npos)
+        << link;
   }
   // a FIFO is opened without blocking and refused (it hung the build and the shutdown)
-  EXPECT_NE(ErrorOf(dir, "fifo").find("fifo.toml is not a regular file"), std::string::npos) << ErrorOf(dir, "fifo");
+  EXPECT_NE(ErrorOf(dir, "fifo").find("fifo.toml is not a regular file"), std::string::npos)
+      << ErrorOf(dir, "fifo");
   EXPECT_NE(ErrorOf(dir, "folder").find("not a regular file"), std::string::npos);
-  EXPECT_NE(ErrorOf(dir, "huge").find("above the limit of 1048576 bytes"), std::string::npos) << ErrorOf(dir, "huge");
+  EXPECT_NE(ErrorOf(dir, "huge").find("above the limit of 1048576 bytes"), std::string::npos)
+      << ErrorOf(dir, "huge");
   EXPECT_NE(ErrorOf(dir, "missing").find("unknown scene 'missing'"), std::string::npos);
   std::system(("rm -rf '" + root + "'").c_str());
 }

@@ -70,8 +70,9 @@ TEST(Session, PublishesForceEveryStepForEachTool) {
   int skeletons = 0;
   bus.Subscribe<force_feedback_t>(bus::SessionChannel(bus::kForcePrefix, kId),
                                   [&](const force_feedback_t& f, int64_t) { forces.push_back(f); });
-  bus.Subscribe<session_status_t>(bus::SessionChannel(bus::kStatusPrefix, kId),
-                                  [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
+  bus.Subscribe<session_status_t>(
+      bus::SessionChannel(bus::kStatusPrefix, kId),
+      [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
   bus.Subscribe<viscera_proto::skeleton_state_t>(
       bus::SessionChannel(bus::kSkeletonPrefix, kId),
       [&](const viscera_proto::skeleton_state_t& k, int64_t) {
@@ -83,8 +84,8 @@ TEST(Session, PublishesForceEveryStepForEachTool) {
 
   Session session(Config(), testing::SmallModel(/*num_tools=*/2, /*rate_hz=*/200.0), &bus, nullptr);
   session.Start();
-  ASSERT_TRUE(Eventually([&] { return session.Status().steps >= 100 && statuses.size() >= 3; }, 30.0,
-                         [&] { bus.Pump(2); }));
+  ASSERT_TRUE(Eventually([&] { return session.Status().steps >= 100 && statuses.size() >= 3; },
+                         30.0, [&] { bus.Pump(2); }));
   const session_status_t mid = session.Status();
   const auto snapshot = session.LatestSnapshot();
   session.Stop();
@@ -105,7 +106,7 @@ TEST(Session, PublishesForceEveryStepForEachTool) {
     ASSERT_TRUE(f.tool == 0 || f.tool == 1);
     ++per_tool[f.tool];
     EXPECT_EQ(f.step, per_tool[f.tool]);  // one per step, none skipped, in order
-    EXPECT_EQ(f.pose_seq, -1);  // no pose was ever sent
+    EXPECT_EQ(f.pose_seq, -1);            // no pose was ever sent
     EXPECT_FALSE(f.active);
   }
   EXPECT_EQ(per_tool[0], per_tool[1]);
@@ -121,7 +122,8 @@ TEST(Session, PublishesForceEveryStepForEachTool) {
 TEST(Session, ASessionThatCannotKeepItsDeadlinesReportsEveryMiss) {
   bus::LcmBus bus("memq://");
   {
-    Session cheap(Config(), testing::SmallModel(0, 100.0), &bus, nullptr);  // ~0.1 ms steps, 10 ms period
+    Session cheap(Config(), testing::SmallModel(0, 100.0), &bus,
+                  nullptr);  // ~0.1 ms steps, 10 ms period
     cheap.Start();
     ASSERT_TRUE(Eventually([&] { return cheap.Status().steps >= 50; }, 30.0, [&] { bus.Pump(2); }));
     const session_status_t s = cheap.Status();
@@ -131,8 +133,9 @@ TEST(Session, ASessionThatCannotKeepItsDeadlinesReportsEveryMiss) {
   const scene::Scene scene = scene::ParseScene(testing::OverloadedSceneToml(), "overloaded");
   Session heavy(Config(), std::make_shared<const mechanics::Model>(scene.model), &bus, nullptr);
   heavy.Start();
-  ASSERT_TRUE(Eventually([&] { return heavy.Status().steps >= 100 && heavy.Status().achieved_rate_hz > 0.0; },
-                         60.0, [&] { bus.Pump(2); }));
+  ASSERT_TRUE(Eventually(
+      [&] { return heavy.Status().steps >= 100 && heavy.Status().achieved_rate_hz > 0.0; }, 60.0,
+      [&] { bus.Pump(2); }));
   const session_status_t s = heavy.Status();
   heavy.Stop();
   EXPECT_GT(s.step_cost_p50_us, 1000.0f) << "the scene is meant to cost more than its 1 ms period";
@@ -150,17 +153,23 @@ TEST(Session, ForceFeedbackEchoesThePoseAndTheToolGoesIdleWhenPosesStop) {
   Session session(Config(), testing::SmallModel(1, 100.0, /*idle_timeout=*/0.2), &bus, nullptr);
   session.Start();
   int64_t seq = 0;
-  auto answered = [&] { return std::count_if(forces.begin(), forces.end(), [](const force_feedback_t& f) { return f.active; }); };
+  auto answered = [&] {
+    return std::count_if(forces.begin(), forces.end(),
+                         [](const force_feedback_t& f) { return f.active; });
+  };
   // poses at every pump until 40 steps have answered one, then silence until the tool is idle
-  ASSERT_TRUE(Eventually([&] { return answered() >= 40; }, 30.0, [&] {
-    ASSERT_TRUE(session.inbox().PostPose(0, PoseAt(seq, Vec3(0.0, 0.0, 0.2))));
-    session.CountPose();
-    ++seq;
-    bus.Pump(2);
-  }));
+  ASSERT_TRUE(Eventually([&] { return answered() >= 40; }, 30.0,
+                         [&] {
+                           ASSERT_TRUE(
+                               session.inbox().PostPose(0, PoseAt(seq, Vec3(0.0, 0.0, 0.2))));
+                           session.CountPose();
+                           ++seq;
+                           bus.Pump(2);
+                         }));
   ASSERT_TRUE(Eventually([&] { return !forces.back().active; }, 30.0, [&] { bus.Pump(2); }));
   const size_t idle_at = forces.size();
-  ASSERT_TRUE(Eventually([&] { return forces.size() >= idle_at + 10; }, 30.0, [&] { bus.Pump(2); }));
+  ASSERT_TRUE(
+      Eventually([&] { return forces.size() >= idle_at + 10; }, 30.0, [&] { bus.Pump(2); }));
   session.Stop();
   bus.Drain();
 
@@ -174,7 +183,8 @@ TEST(Session, ForceFeedbackEchoesThePoseAndTheToolGoesIdleWhenPosesStop) {
     }
     // idle stays idle until a new pose (a poster starved past the idle timeout lets the
     // tool go idle before the silence too; each such idle is counted below)
-    if (f.active && idle_seq >= 0) EXPECT_GT(f.pose_seq, idle_seq) << "active again without a new pose";
+    if (f.active && idle_seq >= 0)
+      EXPECT_GT(f.pose_seq, idle_seq) << "active again without a new pose";
     if (f.pose_seq >= 0 && !f.active) idle_seq = f.pose_seq;
   }
   EXPECT_EQ(last_seq, seq - 1);  // the latest pose was used
@@ -190,8 +200,9 @@ TEST(Session, ForceFeedbackEchoesThePoseAndTheToolGoesIdleWhenPosesStop) {
 TEST(Session, PauseStopsSteppingAndResumeGoesOn) {
   bus::LcmBus bus("memq://");
   std::vector<session_status_t> statuses;
-  bus.Subscribe<session_status_t>(bus::SessionChannel(bus::kStatusPrefix, kId),
-                                  [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
+  bus.Subscribe<session_status_t>(
+      bus::SessionChannel(bus::kStatusPrefix, kId),
+      [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
   int64_t skeleton_step = -1;  // the step of the latest skeleton (20 Hz)
   bus.Subscribe<viscera_proto::skeleton_state_t>(
       bus::SessionChannel(bus::kSkeletonPrefix, kId),
@@ -213,7 +224,8 @@ TEST(Session, PauseStopsSteppingAndResumeGoesOn) {
   Command pause;
   pause.kind = Command::Kind::kPause;
   ASSERT_TRUE(session.inbox().PostCommand(pause));
-  ASSERT_TRUE(Eventually([&] { return session.Status().state == session_status_t::kPaused; }, 30.0, pump));
+  ASSERT_TRUE(
+      Eventually([&] { return session.Status().state == session_status_t::kPaused; }, 30.0, pump));
   const int64_t paused_steps = session.Status().steps;
   EXPECT_GE(paused_steps, seen_step) << "paused, with figures from before the last steps";
   EXPECT_EQ(session.Status().achieved_rate_hz, 0.0) << "paused: no rate";
@@ -236,7 +248,8 @@ TEST(Session, ABlowUpIsRecoveredCountedAndReported) {
   scene::Scene scene = scene::ParseScene(testing::UnstableSceneToml(), "unstable");
   Session session(Config(), std::make_shared<const mechanics::Model>(scene.model), &bus, nullptr);
   session.Start();
-  ASSERT_TRUE(Eventually([&] { return session.Status().recoveries > 0; }, 30.0, [&] { bus.Pump(2); }));
+  ASSERT_TRUE(
+      Eventually([&] { return session.Status().recoveries > 0; }, 30.0, [&] { bus.Pump(2); }));
   const session_status_t s = session.Status();
   session.Stop();
   EXPECT_EQ(s.state, session_status_t::kRunning);  // the session lives on
@@ -250,12 +263,14 @@ TEST(Session, ABlowUpIsRecoveredCountedAndReported) {
 TEST(Session, UnconvergedSolvesAreReportedInItsStatus) {
   bus::LcmBus bus("memq://");
   std::vector<session_status_t> statuses;
-  bus.Subscribe<session_status_t>(bus::SessionChannel(bus::kStatusPrefix, kId),
-                                  [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
+  bus.Subscribe<session_status_t>(
+      bus::SessionChannel(bus::kStatusPrefix, kId),
+      [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
   Session session(Config(), testing::UnconvergedModel(), &bus, nullptr);
   session.Start();
   const auto pump = [&] { bus.Pump(2); };
-  ASSERT_TRUE(Eventually([&] { return !statuses.empty() && statuses.back().unconverged_solves > 0; }, 30.0, pump));
+  ASSERT_TRUE(Eventually(
+      [&] { return !statuses.empty() && statuses.back().unconverged_solves > 0; }, 30.0, pump));
   session.Stop();
   bus.Drain();
   ASSERT_EQ(statuses.back().state, session_status_t::kStopped);
@@ -271,17 +286,20 @@ TEST(Session, UnconvergedSolvesAreReportedInItsStatus) {
 TEST(Session, ABlowUpKeepsItsUnconvergedSolvesCounted) {
   bus::LcmBus bus("memq://");
   std::vector<session_status_t> statuses;
-  bus.Subscribe<session_status_t>(bus::SessionChannel(bus::kStatusPrefix, kId),
-                                  [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
+  bus.Subscribe<session_status_t>(
+      bus::SessionChannel(bus::kStatusPrefix, kId),
+      [&](const session_status_t& s, int64_t) { statuses.push_back(s); });
   Session session(Config(), testing::UnconvergedModel(-1e6), &bus, nullptr);
   session.Start();
   const auto pump = [&] { bus.Pump(2); };
-  ASSERT_TRUE(Eventually([&] { return statuses.size() >= 3 && statuses.back().recoveries >= 3; }, 30.0, pump));
+  ASSERT_TRUE(Eventually([&] { return statuses.size() >= 3 && statuses.back().recoveries >= 3; },
+                         30.0, pump));
   session.Stop();
   bus.Drain();
   const session_status_t last = statuses.back();
   EXPECT_GE(last.recoveries, 3);
-  EXPECT_GE(last.unconverged_solves, last.recoveries) << "each step that blew up had unconverged solves";
+  EXPECT_GE(last.unconverged_solves, last.recoveries)
+      << "each step that blew up had unconverged solves";
   for (size_t i = 1; i < statuses.size(); ++i) {
     EXPECT_GE(statuses[i].unconverged_solves, statuses[i - 1].unconverged_solves) << "status " << i;
   }
@@ -329,7 +347,8 @@ TEST(Session, ItsRecordWithToolsJawsIdleAndResetReplaysEveryForceBitForBit) {
   scene_record.scene_toml = testing::ToolSceneToml();
   scene_record.rate_hz = 100.0;
   recorder->Write(bus::SessionChannel(bus::kScenePrefix, kId), scene_record, 1);
-  Session session(Config(), std::make_shared<const mechanics::Model>(scene.model), &bus, std::move(recorder));
+  Session session(Config(), std::make_shared<const mechanics::Model>(scene.model), &bus,
+                  std::move(recorder));
   session.Start();
 
   int64_t seq = 0;
@@ -347,7 +366,8 @@ TEST(Session, ItsRecordWithToolsJawsIdleAndResetReplaysEveryForceBitForBit) {
     });
   };
   auto count = [&](auto pred) { return std::count_if(forces.begin(), forces.end(), pred); };
-  ASSERT_TRUE(Eventually([&] { return session.LatestSnapshot() != nullptr; }, 30.0, [&] { bus.Pump(2); }));
+  ASSERT_TRUE(
+      Eventually([&] { return session.LatestSnapshot() != nullptr; }, 30.0, [&] { bus.Pump(2); }));
   const auto start = session.LatestSnapshot();
   const Vec3 mid = start->q.row(start->q.rows() / 2).transpose();  // on the tube's axis
 
@@ -355,18 +375,22 @@ TEST(Session, ItsRecordWithToolsJawsIdleAndResetReplaysEveryForceBitForBit) {
   const size_t arrived = forces.size();
   ASSERT_TRUE(drive(mid + Vec3(0, 0, 0.05), 1.0, [&] { return forces.size() >= arrived + 5; }));
   ASSERT_TRUE(drive(mid - Vec3(0, 0, 0.005), 1.0, [&] {
-    return count([](const force_feedback_t& f) { return f.active && std::abs(f.force[2]) > 1e-3; }) >= 20;
+    return count([](const force_feedback_t& f) {
+             return f.active && std::abs(f.force[2]) > 1e-3;
+           }) >= 20;
   }));
   // close the jaws on the tube and lift it
   ASSERT_TRUE(drive(mid, 0.0, [&] { return !forces.empty() && forces.back().grasping; }))
-      << "never grasped; last force: tip " << forces.back().tip[0] << " " << forces.back().tip[1] << " "
-      << forces.back().tip[2] << ", active " << int{forces.back().active} << ", mid " << mid.transpose();
+      << "never grasped; last force: tip " << forces.back().tip[0] << " " << forces.back().tip[1]
+      << " " << forces.back().tip[2] << ", active " << int{forces.back().active} << ", mid "
+      << mid.transpose();
   const size_t grasped_at = forces.size();
   ASSERT_TRUE(drive(mid + Vec3(0, 0, 0.03), 0.0, [&] { return forces.size() >= grasped_at + 20; }));
   // silence: the tool goes idle (0.2 s)
   ASSERT_TRUE(Eventually([&] { return !forces.back().active; }, 30.0, [&] { bus.Pump(2); }));
   const size_t idle_at = forces.size();
-  ASSERT_TRUE(Eventually([&] { return forces.size() >= idle_at + 10; }, 30.0, [&] { bus.Pump(2); }));
+  ASSERT_TRUE(
+      Eventually([&] { return forces.size() >= idle_at + 10; }, 30.0, [&] { bus.Pump(2); }));
   // a reset, then poses again
   ASSERT_TRUE(session.inbox().PostCommand(Command{Command::Kind::kReset}));
   const size_t reset_at = forces.size();
@@ -382,19 +406,20 @@ TEST(Session, ItsRecordWithToolsJawsIdleAndResetReplaysEveryForceBitForBit) {
 
   int64_t observed = 0;
   double last_t = -1.0;
-  const ReplayResult r = ReplayRecord(path, [&](const mechanics::Model&, const mechanics::State& s) {
-    ++observed;
-    EXPECT_GE(s.t, last_t);
-    last_t = s.t;
-  });
+  const ReplayResult r =
+      ReplayRecord(path, [&](const mechanics::Model&, const mechanics::State& s) {
+        ++observed;
+        EXPECT_GE(s.t, last_t);
+        last_t = s.t;
+      });
   EXPECT_EQ(observed, r.steps + r.resets);
   EXPECT_EQ(r.session_id, kId);
   EXPECT_EQ(r.steps, status.steps);
   EXPECT_EQ(r.resets, 1);
   EXPECT_GE(r.skeletons_compared, 10);
-  EXPECT_EQ(r.max_deviation, 0.0);  // bit for bit
+  EXPECT_EQ(r.max_deviation, 0.0);                                    // bit for bit
   EXPECT_EQ(r.forces_compared, static_cast<int64_t>(forces.size()));  // every one published
-  EXPECT_EQ(r.forces_compared, r.steps);                               // one tool
+  EXPECT_EQ(r.forces_compared, r.steps);                              // one tool
   EXPECT_EQ(r.force_mismatches, 0) << r.first_force_mismatch;
   EXPECT_EQ(r.final_state.steps, status.steps);
 

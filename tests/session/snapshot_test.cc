@@ -46,7 +46,7 @@ TEST(SnapshotExchange, OneReaderHoldingASnapshotLeavesThreeBuffersInUse) {
     exchange.Publish(state);
     buffers.insert(exchange.Latest().get());
     if (k % 7 == 0) held = exchange.Latest();  // the reader takes a new one now and then
-    EXPECT_EQ(held->step, k - k % 7);           // and what it holds never changes
+    EXPECT_EQ(held->step, k - k % 7);          // and what it holds never changes
   }
   EXPECT_EQ(buffers.size(), 3u);
 }
@@ -71,7 +71,8 @@ TEST(SnapshotExchange, AReaderThreadSeesWholeSnapshotsInOrder) {
   });
   // publish until the reader has looked many times (it may start late), at least 20000 times
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  for (int k = 0; k < 20000 || (seen.load() < 1000 && std::chrono::steady_clock::now() < give_up); ++k) {
+  for (int k = 0; k < 20000 || (seen.load() < 1000 && std::chrono::steady_clock::now() < give_up);
+       ++k) {
     state.steps = k;
     state.q.setConstant(k);
     exchange.Publish(state);

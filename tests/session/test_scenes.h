@@ -15,7 +15,8 @@ inline std::string SmallSceneToml(double rate_hz = 100.0) {
          "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\ncontrol_points = 21\n"
          "stretch_stiffness = 100.0\nbend_stiffness = 1.0e-4\ncontinuous_stretch = 0.5\n"
          "damping = 1.0\nspring_damping = 2.0\npinned = [\"start\", \"end\"]\n"
-         "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, 0.0]\n";
+         "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, "
+         "0.0]\n";
 }
 
 /// The small scene with one tool, as a scene file declares it ([[tool]]), so that a record
@@ -32,7 +33,8 @@ inline std::string OverloadedSceneToml() {
          "gravity = [0.0, 0.0, -9.81]\n"
          "[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.12\ncontrol_points = 101\n"
          "stretch_stiffness = 10.0\nbend_stiffness = 1.0e-4\npinned = [\"start\", \"end\"]\n"
-         "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, 0.0]\n";
+         "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.1]\ndirection = [1.0, 0.0, "
+         "0.0]\n";
 }
 
 /// A scene whose explicit integrator is far beyond its stability limit: it blows up within
@@ -48,7 +50,8 @@ inline std::string UnstableSceneToml() {
 /// A 0.5 m tube coiled tighter than its diameter (its turns press on each other from the start:
 /// self pairs in every implicit solve), falling under `gravity_z` (m/s²) onto a floor.
 inline std::string CoiledSceneToml(double gravity_z = -9.81) {
-  return "[simulation]\nrate_hz = 100\nintegrator = \"implicit\"\ngravity = [0.0, 0.0, " + std::to_string(gravity_z) +
+  return "[simulation]\nrate_hz = 100\nintegrator = \"implicit\"\ngravity = [0.0, 0.0, " +
+         std::to_string(gravity_z) +
          "]\n[intestine]\nlength = 0.5\nradius = 0.0125\nmass = 0.125\ncontrol_points = 40\n"
          "stretch_stiffness = 100.0\nbend_stiffness = 1.0e-4\ncontinuous_stretch = 0.5\n"
          "damping = 0.5\nspring_damping = 2.0\n"
@@ -69,7 +72,8 @@ inline std::string UnconvergedSceneToml(double gravity_z = -9.81) {
 }
 
 inline std::shared_ptr<const mechanics::Model> UnconvergedModel(double gravity_z = -9.81) {
-  return std::make_shared<const mechanics::Model>(scene::ParseScene(UnconvergedSceneToml(gravity_z), "coiled").model);
+  return std::make_shared<const mechanics::Model>(
+      scene::ParseScene(UnconvergedSceneToml(gravity_z), "coiled").model);
 }
 
 /// The small scene's model with `num_tools` tools (added in code: the [[tool]] scene key

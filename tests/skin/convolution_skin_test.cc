@@ -17,7 +17,7 @@ namespace {
 constexpr double kR = 0.0125;  // tube radius (m)
 
 struct RadiusError {
-  double max_tube = 0.0;  // max |d - R| / R over tube (non-cap) vertices
+  double max_tube = 0.0;                // max |d - R| / R over tube (non-cap) vertices
   double cap_min = 1e9, cap_max = 0.0;  // cap vertices' distance to the curve / R
 };
 
@@ -59,12 +59,14 @@ TEST(ConvolutionSkinTest, EveryVertexAtTheIntendedRadius) {
     EXPECT_GT(e.cap_min, 0.7);
     EXPECT_LT(e.cap_max, 1.0 + 2e-4);
   }
-  for (const Points& q : {testing::Helix(80, 6 * kR, 4 * kR, 2.0), testing::FlatSpiral(120, 1.5, 4 * kR, 2.4 * kR)}) {
+  for (const Points& q :
+       {testing::Helix(80, 6 * kR, 4 * kR, 2.0), testing::FlatSpiral(120, 1.5, 4 * kR, 2.4 * kR)}) {
     ConvolutionSkin skin(kR, ConvolutionOptions{});
     const Mesh mesh = BuildOnce(&skin, q);
     const RadiusError e = MeasureRadius(skin, mesh, q);
     RecordProperty("max_tube_error", std::to_string(e.max_tube));
-    std::printf("max |d - R| / R = %.4f, caps in [%.3f, %.3f] R\n", e.max_tube, e.cap_min, e.cap_max);
+    std::printf("max |d - R| / R = %.4f, caps in [%.3f, %.3f] R\n", e.max_tube, e.cap_min,
+                e.cap_max);
     EXPECT_LT(e.max_tube, 0.04);
     EXPECT_GT(e.cap_min, 0.7);
     EXPECT_LT(e.cap_max, 1.03);
@@ -96,7 +98,8 @@ TEST(ConvolutionSkinTest, ClosedOutwardManifoldWithVolumePiR2L) {
   EXPECT_EQ(testing::SelfIntersections(bent_mesh), 0);  // the packed turns do not touch
   EXPECT_EQ(testing::BadVertexFans(bent_mesh), 0);
   const double spiral_length = spline::CatmullRom(150).Length(spiral);
-  const double bent_expected = polygon * std::numbers::pi * kR * kR * (spiral_length + 4.0 / 3.0 * h);
+  const double bent_expected =
+      polygon * std::numbers::pi * kR * kR * (spiral_length + 4.0 / 3.0 * h);
   EXPECT_NEAR(SignedVolume(bent_mesh), bent_expected, 0.02 * bent_expected);
 }
 
@@ -162,7 +165,8 @@ TEST(ConvolutionSkinTest, WarmStartBeatsColdStart) {
   const long long cold_first = skin.stats().field_evaluations;
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> jitter(-0.05 * kR, 0.05 * kR);
-  for (int i = 0; i < q.rows(); ++i) q.row(i) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+  for (int i = 0; i < q.rows(); ++i)
+    q.row(i) += Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
   Mesh warm_mesh, cold_mesh;
   skin.Build(q, &warm_mesh);
   const long long warm = skin.stats().field_evaluations;
@@ -201,7 +205,9 @@ TEST(ConvolutionSkinTest, AdaptiveSubdivisionRefinesBends) {
   double longest = 0.0;
   for (int i = 0; i + 1 < rays.num_rings(); ++i) {
     for (int j = 0; j < rays.sides(); ++j) {
-      longest = std::max(longest, (mesh.positions[rays.TubeVertex(i + 1, j)] - mesh.positions[rays.TubeVertex(i, j)]).norm());
+      longest = std::max(longest, (mesh.positions[rays.TubeVertex(i + 1, j)] -
+                                   mesh.positions[rays.TubeVertex(i, j)])
+                                      .norm());
     }
   }
   EXPECT_LT(longest, 1.1 * target);
@@ -239,7 +245,8 @@ TEST(ConvolutionSkinTest, CoilWithTouchingTurnsKeepsRoundSections) {
     double worst = 0.0;
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       if (skin.rays().IsCap(v)) continue;
-      worst = std::max(worst, std::abs((mesh.positions[v] - skin.rays().origins()[v]).norm() / r - 1.0));
+      worst = std::max(worst,
+                       std::abs((mesh.positions[v] - skin.rays().origins()[v]).norm() / r - 1.0));
     }
     return worst;
   };
@@ -274,7 +281,8 @@ TEST(ConvolutionSkinTest, TightBendsDoNotFoldRings) {
     guarded.Build(q, &a);
     unguarded.Build(q, &b);
     EXPECT_EQ(testing::BackwardRingSteps(guarded.rays(), a), 0) << "bend radius " << factor << " R";
-    EXPECT_GT(testing::BackwardRingSteps(unguarded.rays(), b), 0) << "bend radius " << factor << " R";
+    EXPECT_GT(testing::BackwardRingSteps(unguarded.rays(), b), 0)
+        << "bend radius " << factor << " R";
     EXPECT_TRUE(CheckTopology(a).closed_oriented_manifold());
     EXPECT_EQ(testing::BadVertexFans(a), 0);
   }
@@ -310,7 +318,8 @@ TEST(ConvolutionSkinKnownFailure, TightBendsDoNotCrossThemselves) {
   const double r = 0.0125;
   for (double factor : {0.5, 0.4}) {
     ConvolutionSkin guarded(r, ConvolutionOptions{});
-    EXPECT_EQ(testing::CrossingsOnABend(&guarded, testing::LBend(60, 6 * r, factor * r), factor), 0);
+    EXPECT_EQ(testing::CrossingsOnABend(&guarded, testing::LBend(60, 6 * r, factor * r), factor),
+              0);
   }
 }
 

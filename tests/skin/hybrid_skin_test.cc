@@ -40,8 +40,9 @@ TEST(HybridSkinTest, ClosedWithoutCracksAndExactOutsideTheBand) {
   Mesh mesh;
   hybrid.Build(q, &mesh);
   const TopologyReport r = CheckTopology(mesh);
-  EXPECT_TRUE(r.closed_oriented_manifold()) << r.boundary_edges << " boundary, " << r.nonmanifold_edges
-                                            << " non-manifold, " << r.misoriented_edges << " misoriented";
+  EXPECT_TRUE(r.closed_oriented_manifold())
+      << r.boundary_edges << " boundary, " << r.nonmanifold_edges << " non-manifold, "
+      << r.misoriented_edges << " misoriented";
   EXPECT_EQ(r.components, 1);
   EXPECT_GT(SignedVolume(mesh), 0.0);
   EXPECT_EQ(testing::SelfIntersections(mesh), 0);  // where the two skins meet, too
@@ -91,14 +92,16 @@ TEST(HybridSkinTest, MovingFocusDoesNotPop) {
     hybrid.SetFocus(focus + Vec3(step, 0.0, 0.0), 0.06);
     hybrid.Build(q, &b);
     double worst = 0.0;
-    for (int v = 0; v < a.num_vertices(); ++v) worst = std::max(worst, (a.positions[v] - b.positions[v]).norm());
+    for (int v = 0; v < a.num_vertices(); ++v)
+      worst = std::max(worst, (a.positions[v] - b.positions[v]).norm());
     return worst;
   };
   const double bound = 1.5 / transition * step * 0.25 * kR + 3e-4 * kR;
   const double smooth = max_move(transition);
   const double hard = max_move(1e-9);
-  std::printf("max vertex move for a 1 mm focus move: smooth %.2e m (bound %.2e), hard switch %.2e m\n", smooth,
-              bound, hard);
+  std::printf(
+      "max vertex move for a 1 mm focus move: smooth %.2e m (bound %.2e), hard switch %.2e m\n",
+      smooth, bound, hard);
   EXPECT_LT(smooth, bound);
   EXPECT_GT(hard, 5.0 * bound);
 }

@@ -80,8 +80,9 @@ TEST(ImplicitSkinTest, ClosedOutwardManifoldWithVolumePiR2L) {
   ImplicitSkin skin(kR, ImplicitOptions{});
   const Mesh mesh = BuildOnce(&skin, testing::Straight(20, 0.5));
   const TopologyReport r = CheckTopology(mesh);
-  EXPECT_TRUE(r.closed_oriented_manifold()) << r.boundary_edges << " boundary, " << r.nonmanifold_edges
-                                            << " non-manifold, " << r.misoriented_edges << " misoriented";
+  EXPECT_TRUE(r.closed_oriented_manifold())
+      << r.boundary_edges << " boundary, " << r.nonmanifold_edges << " non-manifold, "
+      << r.misoriented_edges << " misoriented";
   EXPECT_EQ(r.components, 1);
   const Mesh longer = BuildOnce(&skin, testing::Straight(40, 1.0));
   EXPECT_TRUE(CheckTopology(longer).closed_oriented_manifold());
@@ -109,7 +110,8 @@ TEST(ImplicitSkinTest, BlendingGraphKeepsNonConsecutivePartsApart) {
     *min_abs_y = 1e9;
     for (const Vec3& p : mesh.positions) {
       if (p.x() < 3 * kR || p.x() > arm - 3 * kR) continue;
-      const double d = std::min(std::hypot(p.y() - 0.5 * gap, p.z()), std::hypot(p.y() + 0.5 * gap, p.z()));
+      const double d =
+          std::min(std::hypot(p.y() - 0.5 * gap, p.z()), std::hypot(p.y() + 0.5 * gap, p.z()));
       worst = std::max(worst, std::abs(d / kR - 1.0));
       *min_abs_y = std::min(*min_abs_y, std::abs(p.y()));
     }

@@ -55,7 +55,8 @@ TEST(MarchingCubesTest, SphereVolumeAndRadius) {
   Mesh m;
   mc.Run(field, 2.0, 0.05, {Vec3(radius, 0.0, 0.0)}, 1000000, &m);
   EXPECT_TRUE(CheckTopology(m).closed_oriented_manifold());
-  for (const Vec3& p : m.positions) EXPECT_NEAR((p - Vec3(0.01, 0.02, 0.03)).norm(), radius, 0.01 * radius);
+  for (const Vec3& p : m.positions)
+    EXPECT_NEAR((p - Vec3(0.01, 0.02, 0.03)).norm(), radius, 0.01 * radius);
   const double exact = 4.0 / 3.0 * 3.141592653589793 * radius * radius * radius;
   EXPECT_NEAR(SignedVolume(m), exact, 0.01 * exact);
 }
@@ -72,7 +73,8 @@ class RandomGrid final : public ScalarField {
  public:
   RandomGrid(double cell, unsigned seed) : cell_(cell), seed_(seed) {}
   double Value(const Vec3& p) const override {
-    const int i = static_cast<int>(std::lround(p.x() / cell_)), j = static_cast<int>(std::lround(p.y() / cell_)),
+    const int i = static_cast<int>(std::lround(p.x() / cell_)),
+              j = static_cast<int>(std::lround(p.y() / cell_)),
               k = static_cast<int>(std::lround(p.z() / cell_));
     if (std::min({i, j, k}) <= 0 || std::max({i, j, k}) >= 8) return -1.0;
     unsigned h = seed_ ^ (i * 73856093u) ^ (j * 19349663u) ^ (k * 83492791u);
@@ -114,10 +116,12 @@ namespace {
 // Directed boundary edges of one cube case's triangles, as pairs of edge midpoints in the
 // cube's local coordinates; also checks that the interior edges pair up with opposite
 // directions.
-std::vector<std::pair<Vec3, Vec3>> CaseBoundary(const MarchingCubesTable& table, int config, bool* interior_ok) {
+std::vector<std::pair<Vec3, Vec3>> CaseBoundary(const MarchingCubesTable& table, int config,
+                                                bool* interior_ok) {
   auto mid = [](int edge) {
     const std::array<int, 2> c = MarchingCubesTable::EdgeCorners(edge);
-    return Vec3(0.5 * (Vec3((c[0] & 1), (c[0] >> 1) & 1, (c[0] >> 2) & 1) + Vec3((c[1] & 1), (c[1] >> 1) & 1, (c[1] >> 2) & 1)));
+    return Vec3(0.5 * (Vec3((c[0] & 1), (c[0] >> 1) & 1, (c[0] >> 2) & 1) +
+                       Vec3((c[1] & 1), (c[1] >> 1) & 1, (c[1] >> 2) & 1)));
   };
   std::map<std::pair<int, int>, int> directed;
   const std::array<int8_t, 37>& t = table.Case(config);
@@ -128,7 +132,8 @@ std::vector<std::pair<Vec3, Vec3>> CaseBoundary(const MarchingCubesTable& table,
   *interior_ok = true;
   for (const auto& [edge, count] : directed) {
     if (count != 1) *interior_ok = false;
-    const int reverse = directed.count({edge.second, edge.first}) ? directed.at({edge.second, edge.first}) : 0;
+    const int reverse =
+        directed.count({edge.second, edge.first}) ? directed.at({edge.second, edge.first}) : 0;
     if (reverse == 0) boundary.emplace_back(mid(edge.first), mid(edge.second));
     if (reverse > 1) *interior_ok = false;
   }
@@ -141,7 +146,9 @@ std::vector<std::pair<Vec3, Vec3>> CaseBoundary(const MarchingCubesTable& table,
 // and every patch's boundary lies on the cube's faces.
 TEST(MarchingCubesTest, GeneratedTableIsCrackFreeAcrossEveryFace) {
   const MarchingCubesTable table;
-  auto on_face = [](const Vec3& p, int axis, double side) { return std::abs(p[axis] - side) < 1e-12; };
+  auto on_face = [](const Vec3& p, int axis, double side) {
+    return std::abs(p[axis] - side) < 1e-12;
+  };
   for (int a = 0; a < 256; ++a) {
     bool ok = true;
     const auto boundary_a = CaseBoundary(table, a, &ok);
@@ -149,7 +156,8 @@ TEST(MarchingCubesTest, GeneratedTableIsCrackFreeAcrossEveryFace) {
     for (const auto& [p, q] : boundary_a) {
       bool some_face = false;
       for (int axis = 0; axis < 3; ++axis) {
-        for (double side : {0.0, 1.0}) some_face |= on_face(p, axis, side) && on_face(q, axis, side);
+        for (double side : {0.0, 1.0})
+          some_face |= on_face(p, axis, side) && on_face(q, axis, side);
       }
       EXPECT_TRUE(some_face) << "case " << a << ": boundary edge inside the cube";
     }
@@ -177,7 +185,8 @@ TEST(MarchingCubesTest, GeneratedTableIsCrackFreeAcrossEveryFace) {
         ASSERT_EQ(from_a.size(), from_b.size()) << "cases " << a << " / " << b << " axis " << axis;
         for (const auto& e : from_a) {
           bool found = false;
-          for (const auto& f : from_b) found |= (e.first - f.first).norm() < 1e-12 && (e.second - f.second).norm() < 1e-12;
+          for (const auto& f : from_b)
+            found |= (e.first - f.first).norm() < 1e-12 && (e.second - f.second).norm() < 1e-12;
           EXPECT_TRUE(found) << "cases " << a << " / " << b << " axis " << axis;
         }
       }

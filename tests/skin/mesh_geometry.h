@@ -22,7 +22,8 @@ namespace viscera::skin::testing {
 namespace internal {
 
 /// Does the segment p-q cross triangle a, b, c (Möller–Trumbore, strictly inside both)?
-inline bool SegmentCrossesTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+inline bool SegmentCrossesTriangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                                   const Vec3& c) {
   const Vec3 d = q - p, e1 = b - a, e2 = c - a;
   const Vec3 h = d.cross(e2);
   const double det = e1.dot(h);
@@ -90,10 +91,13 @@ inline int SelfIntersections(const Mesh& mesh, int neighbourhood = 2) {
   };
   // grid of cells about the mean edge length; each triangle goes into every cell its box touches
   double edge = 0.0;
-  for (const Eigen::Vector3i& t : mesh.triangles) edge += (mesh.positions[t[0]] - mesh.positions[t[1]]).norm();
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    edge += (mesh.positions[t[0]] - mesh.positions[t[1]]).norm();
   const double cell = std::max(2.0 * edge / nf, 1e-9);
   std::unordered_map<int64_t, std::vector<int>> grid;
-  auto key = [](int64_t i, int64_t j, int64_t k) { return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791); };
+  auto key = [](int64_t i, int64_t j, int64_t k) {
+    return (i * 73856093) ^ (j * 19349663) ^ (k * 83492791);
+  };
   std::vector<std::array<Vec3, 3>> corners(static_cast<size_t>(nf));
   std::vector<std::array<int64_t, 6>> boxes(static_cast<size_t>(nf));
   for (int f = 0; f < nf; ++f) {
@@ -119,36 +123,46 @@ inline int SelfIntersections(const Mesh& mesh, int neighbourhood = 2) {
         if (f == g || crossing.count({f, g})) continue;
         const auto& bf = boxes[static_cast<size_t>(f)];
         const auto& bg = boxes[static_cast<size_t>(g)];
-        if (bf[3] < bg[0] || bg[3] < bf[0] || bf[4] < bg[1] || bg[4] < bf[1] || bf[5] < bg[2] || bg[5] < bf[2]) continue;
-        if (neighbours(mesh.triangles[static_cast<size_t>(f)], mesh.triangles[static_cast<size_t>(g)])) continue;
-        if (internal::TrianglesCross(corners[static_cast<size_t>(f)], corners[static_cast<size_t>(g)])) crossing.insert({f, g});
+        if (bf[3] < bg[0] || bg[3] < bf[0] || bf[4] < bg[1] || bg[4] < bf[1] || bf[5] < bg[2] ||
+            bg[5] < bf[2])
+          continue;
+        if (neighbours(mesh.triangles[static_cast<size_t>(f)],
+                       mesh.triangles[static_cast<size_t>(g)]))
+          continue;
+        if (internal::TrianglesCross(corners[static_cast<size_t>(f)],
+                                     corners[static_cast<size_t>(g)]))
+          crossing.insert({f, g});
       }
     }
   }
   return static_cast<int>(crossing.size());
 }
 
-/// Builds `skin` on the skeleton `q` (a bend of radius bend_factor R) and prints how many triangle pairs cross, within 2- and 8-edge neighbourhoods (the known-failure
-/// tests report how far from passing they are). @return the 2-edge count.
+/// Builds `skin` on the skeleton `q` (a bend of radius bend_factor R) and prints how many triangle
+/// pairs cross, within 2- and 8-edge neighbourhoods (the known-failure tests report how far from
+/// passing they are). @return the 2-edge count.
 template <typename SkinType>
 int CrossingsOnABend(SkinType* skin, const Points& q, double bend_factor) {
   skin->Bind(static_cast<int>(q.rows()));
   Mesh mesh;
   skin->Build(q, &mesh);
   const int near = SelfIntersections(mesh), far = SelfIntersections(mesh, 8);
-  std::printf("bend radius %.1f R: %d crossing pairs (2-edge neighbourhood), %d (8-edge)\n", bend_factor, near, far);
+  std::printf("bend radius %.1f R: %d crossing pairs (2-edge neighbourhood), %d (8-edge)\n",
+              bend_factor, near, far);
   return near;
 }
 
 /// Number of vertices whose triangles do not form exactly one closed, consistently oriented
 /// fan: the edges opposite the vertex must chain into one cycle.
 inline int BadVertexFans(const Mesh& mesh) {
-  std::vector<std::map<int, int>> next(static_cast<size_t>(mesh.num_vertices()));  // opposite edge a -> b
+  std::vector<std::map<int, int>> next(
+      static_cast<size_t>(mesh.num_vertices()));  // opposite edge a -> b
   std::vector<bool> bad(static_cast<size_t>(mesh.num_vertices()), false);
   for (const Eigen::Vector3i& t : mesh.triangles) {
     for (int i = 0; i < 3; ++i) {
       auto& fan = next[static_cast<size_t>(t[i])];
-      if (!fan.emplace(t[(i + 1) % 3], t[(i + 2) % 3]).second) bad[static_cast<size_t>(t[i])] = true;
+      if (!fan.emplace(t[(i + 1) % 3], t[(i + 2) % 3]).second)
+        bad[static_cast<size_t>(t[i])] = true;
     }
   }
   int count = 0;

@@ -38,7 +38,8 @@ TEST(MeshTest, GeometricChecksCatchCrossingsAndPinchedVertices) {
     const int base = m.num_vertices();
     for (int v = 0; v < 4; ++v) m.positions.push_back(Tetrahedron().positions[v] + offset);
     for (Eigen::Vector3i t : Tetrahedron().triangles) {
-      for (int i = 0; i < 3; ++i) t[i] = share_vertex && t[i] == 0 ? 3 : t[i] + base;  // 2nd's corner 0 = 1st's 3
+      for (int i = 0; i < 3; ++i)
+        t[i] = share_vertex && t[i] == 0 ? 3 : t[i] + base;  // 2nd's corner 0 = 1st's 3
       m.triangles.push_back(t);
     }
     return m;

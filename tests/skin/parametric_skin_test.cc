@@ -21,8 +21,10 @@ int InvertedTubeFacets(const ParametricSkin& skin, const Mesh& mesh) {
   int inverted = 0;
   for (const Eigen::Vector3i& t : mesh.triangles) {
     if (rays.IsCap(t[0]) || rays.IsCap(t[1]) || rays.IsCap(t[2])) continue;
-    const Vec3 n = (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
-    const Vec3 outward = rays.directions()[t[0]] + rays.directions()[t[1]] + rays.directions()[t[2]];
+    const Vec3 n = (mesh.positions[t[1]] - mesh.positions[t[0]])
+                       .cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Vec3 outward =
+        rays.directions()[t[0]] + rays.directions()[t[1]] + rays.directions()[t[2]];
     if (n.dot(outward) <= 0.0) ++inverted;
   }
   return inverted;
@@ -54,7 +56,8 @@ TEST(ParametricSkinTest, EveryVertexAtTheIntendedRadius) {
       const double expected = ParametricRadius(0.9 * kR, 1.1 * kR, x - std::floor(x));
       EXPECT_NEAR((mesh.positions[v] - rays.origins()[v]).norm(), expected, 1e-12 * kR);
       if (rays.IsCap(v)) continue;
-      EXPECT_NEAR((mesh.positions[v] - rays.origins()[v]).dot(curve.Tangent(q, s).normalized()), 0.0, 1e-9 * kR);
+      EXPECT_NEAR((mesh.positions[v] - rays.origins()[v]).dot(curve.Tangent(q, s).normalized()),
+                  0.0, 1e-9 * kR);
       const double d = testing::DistanceToPolyline(dense, mesh.positions[v]);
       EXPECT_GE(d, 0.89 * kR);
       EXPECT_LE(d, 1.1 * kR + 1e-9);
@@ -83,7 +86,8 @@ TEST(ParametricSkinTest, ClosedOutwardWithExpectedVolume) {
   const double mean_r2 = r_min * r_min + r_min * dr + 0.375 * dr * dr;
   const double polygon = 32.0 / (2.0 * std::numbers::pi) * std::sin(2.0 * std::numbers::pi / 32.0);
   const double r_max = 1.1 * kR;
-  const double expected = polygon * (std::numbers::pi * mean_r2 * length + 4.0 / 3.0 * std::numbers::pi * std::pow(r_max, 3));
+  const double expected = polygon * (std::numbers::pi * mean_r2 * length +
+                                     4.0 / 3.0 * std::numbers::pi * std::pow(r_max, 3));
   EXPECT_NEAR(SignedVolume(mesh), expected, 0.01 * expected);
 }
 
@@ -110,10 +114,12 @@ TEST(ParametricSkinTest, NoSelfIntersectingRingsWhileKappaRmaxBelowOne) {
       for (int i = 0; i <= 4000; ++i) kappa = std::max(kappa, curve.Curvature(q, i / 4000.0));
       const int inverted = InvertedTubeFacets(skin, mesh);
       if (kappa * r_max < 0.95) {
-        EXPECT_EQ(inverted, 0) << "bend radius " << factor << " Rmax, kappa Rmax = " << kappa * r_max;
+        EXPECT_EQ(inverted, 0) << "bend radius " << factor
+                               << " Rmax, kappa Rmax = " << kappa * r_max;
       }
       if (factor < 1.0) {
-        EXPECT_GT(inverted, 0) << "bend radius " << factor << " Rmax, kappa Rmax = " << kappa * r_max;
+        EXPECT_GT(inverted, 0) << "bend radius " << factor
+                               << " Rmax, kappa Rmax = " << kappa * r_max;
       } else {
         EXPECT_LT(kappa * r_max, 0.95) << "the test skeleton should stay below the bound";
       }
@@ -169,7 +175,8 @@ TEST(ParametricSkinKnownFailure, PreventFoldsRemovesSelfIntersections) {
     ParametricOptions options;
     options.prevent_folds = true;
     ParametricSkin guarded(kR, options);
-    EXPECT_EQ(testing::CrossingsOnABend(&guarded, testing::LBend(60, 6 * kR, factor * kR), factor), 0);
+    EXPECT_EQ(testing::CrossingsOnABend(&guarded, testing::LBend(60, 6 * kR, factor * kR), factor),
+              0);
   }
 }
 

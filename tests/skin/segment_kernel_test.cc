@@ -25,7 +25,8 @@ TEST(SegmentKernelTest, ClosedFormMatchesQuadrature) {
     }
     return sum * seg.length / n / 3.0;
   };
-  for (const Vec3& p : {Vec3(0.3, 0.4, 0.2), Vec3(1.0, 1.5, 0.0), Vec3(-0.4, -0.9, 0.6), Vec3(0.2, -0.1, 0.9)}) {
+  for (const Vec3& p :
+       {Vec3(0.3, 0.4, 0.2), Vec3(1.0, 1.5, 0.0), Vec3(-0.4, -0.9, 0.6), Vec3(0.2, -0.1, 0.9)}) {
     const double exact = quadrature(p);
     EXPECT_NEAR(SegmentField(seg, p, 0.0), exact, 1e-9 * exact);
   }
@@ -34,7 +35,8 @@ TEST(SegmentKernelTest, ClosedFormMatchesQuadrature) {
   line.start = Vec3(-0.01, 0.0, 0.0);
   line.direction = Vec3::UnitX();
   line.length = 0.025;
-  EXPECT_NEAR(StraightIsoValue(r, -0.01, 0.015), SegmentField(line, Vec3(0.0, r, 0.0), 0.0), 1e-12 / (r * r));
+  EXPECT_NEAR(StraightIsoValue(r, -0.01, 0.015), SegmentField(line, Vec3(0.0, r, 0.0), 0.0),
+              1e-12 / (r * r));
 }
 
 }  // namespace

@@ -20,7 +20,8 @@ Points SettledFall() {
   std::ifstream in(std::string(VISCERA_SOURCE_DIR) + "/scenes/fall.toml");
   std::stringstream text;
   text << in.rdbuf();
-  const mechanics::Model model(scene::ParseScene(text.str(), std::string(VISCERA_SOURCE_DIR) + "/scenes/fall.toml").model);
+  const mechanics::Model model(
+      scene::ParseScene(text.str(), std::string(VISCERA_SOURCE_DIR) + "/scenes/fall.toml").model);
   mechanics::State state = mechanics::InitialState(model);
   mechanics::Workspace workspace(model);
   const int steps = static_cast<int>(std::lround(4.0 * model.params().rate_hz));
@@ -64,7 +65,8 @@ TEST(SimulatedSkins, TheSettledPileGivesClosedSkinsWithTheTubesVolume) {
 // When this starts passing, ctest reports a failure: drop the KnownFailure name then.
 TEST(SimulatedSkinsKnownFailure, TheSettledPilesSkinsDoNotCrossThemselves) {
   const PileSkins pile;
-  for (const char* name : kSkinNames) EXPECT_EQ(testing::SelfIntersections(pile.Build(name)), 0) << name;
+  for (const char* name : kSkinNames)
+    EXPECT_EQ(testing::SelfIntersections(pile.Build(name)), 0) << name;
 }
 
 }  // namespace

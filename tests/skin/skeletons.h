@@ -46,7 +46,8 @@ inline Points Straight(int n, double length) {
 inline Points Helix(int n, double radius, double pitch, double turns) {
   return ResampleByArcLength(
       [&](double t) {
-        return Vec3(radius * std::cos(t), radius * std::sin(t), pitch * t / (2.0 * std::numbers::pi));
+        return Vec3(radius * std::cos(t), radius * std::sin(t),
+                    pitch * t / (2.0 * std::numbers::pi));
       },
       0.0, 2.0 * std::numbers::pi * turns, n);
 }
@@ -70,7 +71,9 @@ inline Points Hairpin(int n, double arm, double gap) {
 }
 
 /// A U-bend: arms of length `arm` and a half circle of radius `bend_radius`.
-inline Points UBend(int n, double arm, double bend_radius) { return Hairpin(n, arm, 2.0 * bend_radius); }
+inline Points UBend(int n, double arm, double bend_radius) {
+  return Hairpin(n, arm, 2.0 * bend_radius);
+}
 
 /// A right-angle bend in z = 0: `arm` along +x, a quarter circle of radius `bend_radius`,
 /// `arm` along +y. Unlike a U-bend, its arms never come near each other, so a skin of it
@@ -111,11 +114,13 @@ inline Points FlatSpiral(int n, double length, double r0, double spacing) {
 
 /// Closest distance from p to the polyline through `curve` (#M by 3 dense samples), and the
 /// index of the closest piece.
-inline double DistanceToPolyline(const std::vector<Vec3>& curve, const Vec3& p, int* piece = nullptr) {
+inline double DistanceToPolyline(const std::vector<Vec3>& curve, const Vec3& p,
+                                 int* piece = nullptr) {
   double best = 1e300;
   for (size_t i = 0; i + 1 < curve.size(); ++i) {
     const Vec3 d = curve[i + 1] - curve[i];
-    const double t = std::clamp((p - curve[i]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
+    const double t =
+        std::clamp((p - curve[i]).dot(d) / std::max(d.squaredNorm(), 1e-300), 0.0, 1.0);
     const double dist = (curve[i] + t * d - p).norm();
     if (dist < best) {
       best = dist;

@@ -35,7 +35,9 @@ TEST(SkinTest, EverySkinByNameBuildsAndExports) {
     const Vec3* before = mesh.positions.data();
     skin->Build(q, &mesh);
     EXPECT_EQ(mesh.positions.data(), before) << name << ": the rebuild reallocated";
-    const std::string path = (std::filesystem::temp_directory_path() / (std::string("viscera_") + name + ".obj")).string();
+    const std::string path =
+        (std::filesystem::temp_directory_path() / (std::string("viscera_") + name + ".obj"))
+            .string();
     WriteMesh(path, mesh);
     EXPECT_EQ(ReadObj(path).num_triangles(), mesh.num_triangles());
   }
@@ -46,7 +48,8 @@ TEST(SkinTest, RejectsBadSnapshotsAndOptions) {
   for (const char* name : {"parametric", "implicit", "convolution", "hybrid"}) {
     auto skin = MakeSkin(name, options);
     Mesh mesh;
-    EXPECT_THROW(skin->Build(testing::Straight(10, 1.0), &mesh), InputError) << name << ": before Bind";
+    EXPECT_THROW(skin->Build(testing::Straight(10, 1.0), &mesh), InputError)
+        << name << ": before Bind";
     skin->Bind(10);
     EXPECT_THROW(skin->Build(testing::Straight(12, 1.0), &mesh), InputError) << name;
     Points bad = testing::Straight(10, 1.0);

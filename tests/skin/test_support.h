@@ -25,7 +25,8 @@ inline int BackwardRingSteps(const TubeRays& rays, const Mesh& mesh) {
   for (int i = 0; i + 1 < rays.num_rings(); ++i) {
     const Vec3 step = rays.ring_centers()[i + 1] - rays.ring_centers()[i];
     for (int j = 0; j < rays.sides(); ++j) {
-      if ((mesh.positions[rays.TubeVertex(i + 1, j)] - mesh.positions[rays.TubeVertex(i, j)]).dot(step) <= 0.0) {
+      if ((mesh.positions[rays.TubeVertex(i + 1, j)] - mesh.positions[rays.TubeVertex(i, j)])
+              .dot(step) <= 0.0) {
         ++backward;
       }
     }

@@ -24,9 +24,7 @@ Points Line(int n, const Vec3& start, const Vec3& step) {
   return q;
 }
 
-TEST(CatmullRom, RejectsFewerThanFourPoints) {
-  EXPECT_THROW(CatmullRom(3), InputError);
-}
+TEST(CatmullRom, RejectsFewerThanFourPoints) { EXPECT_THROW(CatmullRom(3), InputError); }
 
 TEST(CatmullRom, BasisIsPartitionOfUnity) {
   for (int n : {4, 5, 9, 50}) {
@@ -55,7 +53,8 @@ TEST(CatmullRom, InterpolatesControlPointsAndIsContinuous) {
   auto eval = [&](int j, double u, bool derivative) {
     const SegmentBasis b = curve.Basis(j, u);
     Vec3 p = Vec3::Zero();
-    for (int a = 0; a < 4; ++a) p += (derivative ? b.dw[a] : b.w[a]) * q.row(b.first + a).transpose();
+    for (int a = 0; a < 4; ++a)
+      p += (derivative ? b.dw[a] : b.w[a]) * q.row(b.first + a).transpose();
     return p;
   };
   for (int j = 1; j < curve.num_segments(); ++j) {

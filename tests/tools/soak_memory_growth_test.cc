@@ -18,7 +18,8 @@ namespace {
 using Outcome = GrowthVerdict::Outcome;
 
 // `cycles` samples, `per_second` cycles a second, RSS in kB by cycle number.
-std::vector<RssSample> Series(int64_t cycles, double per_second, const std::function<int64_t(int64_t)>& rss_kb) {
+std::vector<RssSample> Series(int64_t cycles, double per_second,
+                              const std::function<int64_t(int64_t)>& rss_kb) {
   std::vector<RssSample> series;
   for (int64_t c = 1; c <= cycles; ++c) series.push_back({c, c / per_second, rss_kb(c)});
   return series;
@@ -43,7 +44,9 @@ constexpr int64_t kWarmCycles = 6 * kCadencePeriod;  // six blow-ups, as the ser
 constexpr double kBoundMb = 16.0;
 
 GrowthPolicy Policy(double run_seconds) {
-  return {.warm_cycles = kWarmCycles, .warm_seconds = run_seconds / 4, .judged_cycles = 2 * kCadencePeriod,
+  return {.warm_cycles = kWarmCycles,
+          .warm_seconds = run_seconds / 4,
+          .judged_cycles = 2 * kCadencePeriod,
           .bound_mb = kBoundMb};
 }
 
@@ -102,21 +105,31 @@ TEST(SoakMemoryGrowth, TheFirstQuarterStillHoldsTheBaselineBackOnAFastMachine) {
 
 TEST(SoakMemoryGrowth, SteadyGrowthAfterWarmUpFails) {
   // a MB a cycle after warm-up (one leaked per session): 40 cycles judged make 40 MB
-  const auto leak = [](int64_t c) { return WarmingUp(c) + Noise(c) + (c > kWarmCycles ? (c - kWarmCycles) * 1024 : 0); };
+  const auto leak = [](int64_t c) {
+    return WarmingUp(c) + Noise(c) + (c > kWarmCycles ? (c - kWarmCycles) * 1024 : 0);
+  };
   const GrowthVerdict v = JudgeGrowth(Series(100, 2.5, leak), Policy(40));
   EXPECT_EQ(v.outcome, Outcome::kGrew) << v.message;
   EXPECT_NEAR(v.growth_mb, 40.0, 0.5);
   // the smallest leak the shortest judged window (20 cycles) is sure to catch: bound / 20 cycles
-  const auto small_leak = [](int64_t c) { return WarmingUp(c) + (c > kWarmCycles ? (c - kWarmCycles) * 820 : 0); };
+  const auto small_leak = [](int64_t c) {
+    return WarmingUp(c) + (c > kWarmCycles ? (c - kWarmCycles) * 820 : 0);
+  };
   EXPECT_EQ(JudgeGrowth(Series(80, 2.5, small_leak), Policy(40)).outcome, Outcome::kGrew);
-  const auto smaller_leak = [](int64_t c) { return WarmingUp(c) + (c > kWarmCycles ? (c - kWarmCycles) * 810 : 0); };
+  const auto smaller_leak = [](int64_t c) {
+    return WarmingUp(c) + (c > kWarmCycles ? (c - kWarmCycles) * 810 : 0);
+  };
   EXPECT_EQ(JudgeGrowth(Series(80, 2.5, smaller_leak), Policy(40)).outcome, Outcome::kFlat);
 }
 
 TEST(SoakMemoryGrowth, TheBoundIsInclusive) {
-  const auto at_bound = [](int64_t c) { return c < 70 ? int64_t{100 * 1024} : int64_t{116 * 1024}; };
+  const auto at_bound = [](int64_t c) {
+    return c < 70 ? int64_t{100 * 1024} : int64_t{116 * 1024};
+  };
   EXPECT_EQ(JudgeGrowth(Series(90, 1.0, at_bound), Policy(40)).outcome, Outcome::kFlat);
-  const auto past_bound = [](int64_t c) { return c < 70 ? int64_t{100 * 1024} : int64_t{116 * 1024 + 1}; };
+  const auto past_bound = [](int64_t c) {
+    return c < 70 ? int64_t{100 * 1024} : int64_t{116 * 1024 + 1};
+  };
   EXPECT_EQ(JudgeGrowth(Series(90, 1.0, past_bound), Policy(40)).outcome, Outcome::kGrew);
 }
 
@@ -126,7 +139,8 @@ TEST(SoakMemoryGrowth, NoBaselineBeforeTheWarmCyclesGivesNoVerdict) {
   EXPECT_EQ(v.outcome, Outcome::kTooShort);
   EXPECT_EQ(v.baseline.cycle, 0);
   EXPECT_EQ(v.message,
-            "too short to judge: no baseline yet (it needs cycle >= 60 and 10.0 s; the run reached cycle 45 at 40.9 s)");
+            "too short to judge: no baseline yet (it needs cycle >= 60 and 10.0 s; the run reached "
+            "cycle 45 at 40.9 s)");
   EXPECT_EQ(JudgeGrowth({}, Policy(40)).outcome, Outcome::kTooShort);
 }
 

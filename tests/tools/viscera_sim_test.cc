@@ -6,17 +6,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <sstream>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
-
 
 namespace {
 
@@ -50,8 +49,9 @@ std::string FreeFallScene() {
 
 TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   const std::string trace = testing::TempDir() + "fall.jsonl";
-  const Result r = Shell(std::string(VISCERA_SIM) + " " + FreeFallScene() +
-                         " --duration 0.5 --trace " + trace + " --trace-every 7 --json 2>/dev/null");
+  const Result r =
+      Shell(std::string(VISCERA_SIM) + " " + FreeFallScene() + " --duration 0.5 --trace " + trace +
+            " --trace-every 7 --json 2>/dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const nlohmann::json summary = nlohmann::json::parse(r.out);
   EXPECT_EQ(summary["steps"], 50);
@@ -73,8 +73,9 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
     ASSERT_EQ(f["q"].size(), 250u);
     ASSERT_EQ(f["qd"].size(), 250u);
     const auto& e = f["energy"];
-    const double sum = e["kinetic"].get<double>() + e["gravity"].get<double>() + e["stretch"].get<double>() +
-                       e["bend"].get<double>() + e["continuous"].get<double>() + e["attachment"].get<double>();
+    const double sum = e["kinetic"].get<double>() + e["gravity"].get<double>() +
+                       e["stretch"].get<double>() + e["bend"].get<double>() +
+                       e["continuous"].get<double>() + e["attachment"].get<double>();
     EXPECT_NEAR(e["total"].get<double>(), sum, 1e-9);
     EXPECT_NEAR(f["length"].get<double>(), 4.0, 0.04);  // springs keep it within 1 %
     EXPECT_GE(f["step_us"].get<double>(), 0.0);
@@ -102,21 +103,24 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
   const double z0 = summary["centre_of_mass_start"][2], z1 = summary["centre_of_mass_end"][2];
   EXPECT_NEAR(z0 - z1, drop, 1e-9);
   // Damping only removes energy.
-  EXPECT_LT(summary["final_energy"]["total"].get<double>(), summary["initial_energy"].get<double>());
+  EXPECT_LT(summary["final_energy"]["total"].get<double>(),
+            summary["initial_energy"].get<double>());
 }
 
 // attached.toml's overstretched mesentery: the first steps at 100 Hz turn segments too far for
 // one linearization (docs/mechanics.md), and the summary says how many sub-steps were halved.
 TEST(VisceraSim, ReportsTheSubStepsTheLinearizationGuardHalved) {
-  const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("attached.toml") + " --duration 0.05 --json 2>/dev/null");
+  const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("attached.toml") +
+                         " --duration 0.05 --json 2>/dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_GT(nlohmann::json::parse(r.out)["halved_substeps"].get<int>(), 0);
 }
 
 TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   const std::string trace = testing::TempDir() + "clearing.jsonl";
-  const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("cavity.toml") + " --duration 6 --tool-script " +
-                         Scene("clearing.csv") + " --trace " + trace + " --json 2>/dev/null");
+  const Result r =
+      Shell(std::string(VISCERA_SIM) + " " + Scene("cavity.toml") + " --duration 6 --tool-script " +
+            Scene("clearing.csv") + " --trace " + trace + " --json 2>/dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const nlohmann::json summary = nlohmann::json::parse(r.out);
   EXPECT_EQ(summary["nonfinite_resets"], 0);
@@ -133,7 +137,8 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   const nlohmann::json& grasp = frames[150];
   ASSERT_GE(grasp["grasp_s"]["right"].get<double>(), 0.0) << "not grasping at 1.5 s";
   EXPECT_LT(grasp["grasp_s"]["left"].get<double>(), 0.0) << "the left tool never grasps";
-  const Eigen::Vector3d tip(grasp["tool_tip"]["right"][0], grasp["tool_tip"]["right"][1], grasp["tool_tip"]["right"][2]);
+  const Eigen::Vector3d tip(grasp["tool_tip"]["right"][0], grasp["tool_tip"]["right"][1],
+                            grasp["tool_tip"]["right"][2]);
   const double radius = grasp["sphere_radius"];
   size_t grasped = 0;
   double best = 1e9;
@@ -142,7 +147,8 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
     if (d < best) best = d, grasped = k;
   }
   // the sphere under the tip is the one the trace says is held
-  EXPECT_NEAR(static_cast<double>(grasped) / (grasp["spheres"].size() - 1.0), grasp["grasp_s"]["right"].get<double>(), 0.02);
+  EXPECT_NEAR(static_cast<double>(grasped) / (grasp["spheres"].size() - 1.0),
+              grasp["grasp_s"]["right"].get<double>(), 0.02);
   EXPECT_LT(best, 1.2 * radius) << "the tip is at the tube";
   const Eigen::Vector3d moved = sphere(frames.back(), grasped) - sphere(grasp, grasped);
   EXPECT_GT(std::hypot(moved.x(), moved.y()), 0.04) << "the loop was not moved aside";
@@ -153,7 +159,8 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
   double peak = 0.0, jump = 0.0;
   Eigen::Vector3d last = Eigen::Vector3d::Zero();
   for (const auto& f : frames) {
-    const Eigen::Vector3d force(f["tool_force"]["right"][0], f["tool_force"]["right"][1], f["tool_force"]["right"][2]);
+    const Eigen::Vector3d force(f["tool_force"]["right"][0], f["tool_force"]["right"][1],
+                                f["tool_force"]["right"][2]);
     peak = std::max(peak, force.norm());
     jump = std::max(jump, (force - last).norm());
     last = force;
@@ -167,8 +174,8 @@ TEST(VisceraSim, ClearingGestureMovesALoopAsideWithSmoothBoundedForce) {
 TEST(VisceraSim, ExportsEachSkinOfTheLastFrameAsAClosedMesh) {
   for (const char* skin : {"parametric", "implicit", "convolution", "hybrid"}) {
     const std::string mesh = testing::TempDir() + "pile_" + skin + ".obj";
-    const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fallopian.toml") + " --duration 0.2 --skin " + skin +
-                           " --export-mesh " + mesh + " 2>&1");
+    const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fallopian.toml") +
+                           " --duration 0.2 --skin " + skin + " --export-mesh " + mesh + " 2>&1");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     std::ifstream in(mesh);
     int vertices = 0, faces = 0;
@@ -206,8 +213,9 @@ TEST(VisceraSim, RendersDecodableFramesOfTheRun) {
   for (const char* skin : {"parametric", "convolution"}) {
     const std::string dir = testing::TempDir() + "frames_" + skin;
     std::filesystem::remove_all(dir);
-    const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.1 --skin " + skin +
-                           " --render " + dir + " --render-every 2 --frame-size 160x120 --json 2>&1");
+    const Result r =
+        Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.1 --skin " +
+              skin + " --render " + dir + " --render-every 2 --frame-size 160x120 --json 2>&1");
     ASSERT_EQ(r.exit_code, 0) << r.out;
     EXPECT_EQ(nlohmann::json::parse(r.out.substr(r.out.find('{')))["rendered_frames"], 6) << r.out;
     for (int k = 0; k < 6; ++k) {
@@ -225,15 +233,17 @@ TEST(VisceraSim, RendersDecodableFramesOfTheRun) {
   }
   // an explicit camera looking away from the coil sees less of it than the default one
   const std::string dir = testing::TempDir() + "frames_away";
-  const Result away = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.01 --render " + dir +
-                            " --frame-size 160x120 --camera 0 0 0.2 0 1 0.6 2>&1");
+  const Result away =
+      Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.01 --render " +
+            dir + " --frame-size 160x120 --camera 0 0 0.2 0 1 0.6 2>&1");
   ASSERT_EQ(away.exit_code, 0) << away.out;
   const cv::Mat image = cv::imread(dir + "/frame_000000.jpg", cv::IMREAD_COLOR);
   ASSERT_FALSE(image.empty());
-  const cv::Mat first = cv::imread(testing::TempDir() + "frames_parametric/frame_000000.jpg", cv::IMREAD_COLOR);
+  const cv::Mat first =
+      cv::imread(testing::TempDir() + "frames_parametric/frame_000000.jpg", cv::IMREAD_COLOR);
   EXPECT_GT(cv::norm(image, first, cv::NORM_L1) / image.total(), 10.0);
-  const Result bad = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") + " --duration 0.01 --render " + dir +
-                           " --frame-size 160by120 2>&1");
+  const Result bad = Shell(std::string(VISCERA_SIM) + " " + Scene("fall.toml") +
+                           " --duration 0.01 --render " + dir + " --frame-size 160by120 2>&1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("160by120"), std::string::npos) << bad.out;
 }
@@ -250,10 +260,12 @@ TEST(VisceraSim, BadSceneGivesAClearErrorAndExitCode) {
 
 TEST(VisceraSim, WarnsWhenRk4IsBeyondItsStabilityLimit) {
   const std::string scene = testing::TempDir() + "stiff.toml";
-  std::ofstream(scene) << "[simulation]\nintegrator = \"rk4\"\nsubsteps = 1\n"
-                          "[intestine]\nlength = 1\nradius = 0.01\nmass = 0.2\ncontrol_points = 50\n"
-                          "stretch_stiffness = 500\n[intestine.shape]\nkind = \"straight\"\n";
-  const Result r = Shell(std::string(VISCERA_SIM) + " " + scene + " --duration 0.01 2>&1 >/dev/null");
+  std::ofstream(scene)
+      << "[simulation]\nintegrator = \"rk4\"\nsubsteps = 1\n"
+         "[intestine]\nlength = 1\nradius = 0.01\nmass = 0.2\ncontrol_points = 50\n"
+         "stretch_stiffness = 500\n[intestine.shape]\nkind = \"straight\"\n";
+  const Result r =
+      Shell(std::string(VISCERA_SIM) + " " + scene + " --duration 0.01 2>&1 >/dev/null");
   EXPECT_NE(r.out.find("stability limit"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("substeps >="), std::string::npos) << r.out;
 }
@@ -286,7 +298,8 @@ TEST(VisceraStateDigest, RerunsAgreeAndAOneBitChangeShows) {
   // The scene's meshes are found next to it: copied along.
   const std::filesystem::path dir = std::filesystem::path(testing::TempDir()) / "digest_nudged";
   std::filesystem::create_directories(dir);
-  std::filesystem::copy_file(Scene("liver.obj"), dir / "liver.obj", std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::copy_file(Scene("liver.obj"), dir / "liver.obj",
+                             std::filesystem::copy_options::overwrite_existing);
   const std::string path = (dir / "cavity.toml").string();
   {
     std::ofstream out(path);

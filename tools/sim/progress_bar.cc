@@ -8,7 +8,8 @@
 
 namespace viscera::tools {
 
-ProgressBar::ProgressBar(int64_t total) : total_(total > 0 ? total : 1), enabled_(isatty(STDERR_FILENO)) {}
+ProgressBar::ProgressBar(int64_t total)
+    : total_(total > 0 ? total : 1), enabled_(isatty(STDERR_FILENO)) {}
 
 ProgressBar::~ProgressBar() {
   if (enabled_) std::fprintf(stderr, "\r\033[K");

@@ -20,12 +20,15 @@ class ScriptedRun {
   /// @pre model outlives the run. @throws InputError for a script the model cannot play.
   ScriptedRun(const mechanics::Model& model, const std::string& tool_script)
       : model_(model), state_(mechanics::InitialState(model)), workspace_(model) {
-    if (!tool_script.empty()) scripted_.emplace(model, script::ToolScript::Load(tool_script), tool_script);
+    if (!tool_script.empty())
+      scripted_.emplace(model, script::ToolScript::Load(tool_script), tool_script);
     if (interactions() != nullptr) interactions()->BeginSubstep(TargetsAt(0.0), 0.0, &state_);
   }
 
   /// The tools' targets for the next step (the script at the step's end).
-  std::span<const mechanics::ToolTarget> NextTargets() { return TargetsAt(state_.t + model_.step_size()); }
+  std::span<const mechanics::ToolTarget> NextTargets() {
+    return TargetsAt(state_.t + model_.step_size());
+  }
   void Step(std::span<const mechanics::ToolTarget> targets) {
     mechanics::Step(model_, {{}, targets}, &state_, &workspace_);
   }

@@ -43,7 +43,8 @@ void AddState(const mechanics::State& s, Digest* d) {
   d->Matrix(s.q);
   d->Matrix(s.qd);
   for (const mechanics::ToolState& tool : s.tools) {
-    for (const Vec3* v : {&tool.tip, &tool.tip_velocity, &tool.force, &tool.torque, &tool.tissue_force}) {
+    for (const Vec3* v :
+         {&tool.tip, &tool.tip_velocity, &tool.force, &tool.torque, &tool.tissue_force}) {
       d->Bytes(v->data(), 3 * sizeof(double));
     }
     d->Value(tool.grasping);
@@ -69,7 +70,8 @@ int main(int argc, char** argv) {
   app.add_option("--duration", duration, "simulated seconds")->required();
   app.add_option("--rate", rate_hz, "step rate (Hz), the scene's sub-step length kept");
   app.add_option("--tool-script", tool_script, "tool script CSV");
-  app.add_option("--every", every, "print the running digest every N steps")->check(CLI::PositiveNumber);
+  app.add_option("--every", every, "print the running digest every N steps")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
   scene::Scene scene = scene::LoadSceneFile(scene_path);

@@ -44,8 +44,8 @@ void TraceWriter::Points(const char* key, const viscera::Points& p) {
 }
 
 void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& state,
-                        const mechanics::Interactions* interactions, double length, const mechanics::Energies& e,
-                        double step_us) {
+                        const mechanics::Interactions* interactions, double length,
+                        const mechanics::Energies& e, double step_us) {
   line_.clear();
   line_ += "{\"t\":";
   Number(&line_, state.t);
@@ -74,20 +74,23 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
   if (interactions) {
     const auto& spheres = interactions->chain().spheres();
     centres_.resize(static_cast<Eigen::Index>(spheres.size()), 3);
-    for (size_t k = 0; k < spheres.size(); ++k) centres_.row(static_cast<Eigen::Index>(k)) = spheres[k].centre.transpose();
+    for (size_t k = 0; k < spheres.size(); ++k)
+      centres_.row(static_cast<Eigen::Index>(k)) = spheres[k].centre.transpose();
     Points("spheres", centres_);
     line_ += ",\"sphere_radius\":";
     Number(&line_, interactions->chain().radius());
     const mechanics::ContactStats& c = state.contacts;
-    line_ += ",\"contacts\":{\"self\":" + std::to_string(c.self) + ",\"environment\":" +
-             std::to_string(c.environment) + ",\"tool\":" + std::to_string(c.tool) + "},\"min_clearance\":";
+    line_ += ",\"contacts\":{\"self\":" + std::to_string(c.self) +
+             ",\"environment\":" + std::to_string(c.environment) +
+             ",\"tool\":" + std::to_string(c.tool) + "},\"min_clearance\":";
     if (std::isnan(c.min_clearance)) {
       line_ += "null";
     } else {
       Number(&line_, c.min_clearance);
     }
     line_ += ",\"deepest\":\"" + std::string(c.deepest) + '"';
-    // per tool: the force on the hand, where its tip is, which part of the bowel it holds (-1: none)
+    // per tool: the force on the hand, where its tip is, which part of the bowel it holds (-1:
+    // none)
     const auto per_tool = [&](const char* key, const auto& write) {
       line_ += ",\"" + std::string(key) + "\":{";
       for (size_t t = 0; t < state.tools.size(); ++t) {
@@ -107,7 +110,9 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
     };
     per_tool("tool_force", [&](const mechanics::ToolState& ts) { vector(ts.force); });
     per_tool("tool_tip", [&](const mechanics::ToolState& ts) { vector(ts.tip); });
-    per_tool("grasp_s", [&](const mechanics::ToolState& ts) { Number(&line_, ts.grasping ? ts.grasp_s : -1.0); });
+    per_tool("grasp_s", [&](const mechanics::ToolState& ts) {
+      Number(&line_, ts.grasping ? ts.grasp_s : -1.0);
+    });
   }
   line_ += "}\n";
   std::fwrite(line_.data(), 1, line_.size(), file_);

@@ -23,8 +23,9 @@ class TraceWriter {
   TraceWriter& operator=(const TraceWriter&) = delete;
 
   /// `interactions` may be null (no contacts and no tools).
-  void Write(const mechanics::Model& model, const mechanics::State& state, const mechanics::Interactions* interactions,
-             double length, const mechanics::Energies& energy, double step_us);
+  void Write(const mechanics::Model& model, const mechanics::State& state,
+             const mechanics::Interactions* interactions, double length,
+             const mechanics::Energies& energy, double step_us);
   int frames() const { return frames_; }
 
  private:

@@ -8,10 +8,11 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
-#include <span>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <vector>
 
+#include "assessment/report.h"
 #include "common/check.h"
 #include "common/clock.h"
 #include "common/quantile.h"
@@ -19,17 +20,16 @@
 #include "mechanics/mass_matrix.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
-#include "assessment/report.h"
 #include "render/frame_renderer.h"
 #include "render/jpeg_sequence.h"
 #include "render/port_scope.h"
 #include "scene/scene.h"
-#include "skin/skin.h"
 #include "session/replay.h"
 #include "sim/progress_bar.h"
 #include "sim/scripted_run.h"
 #include "sim/sim_assessment.h"
 #include "sim/trace_writer.h"
+#include "skin/skin.h"
 
 namespace viscera::tools {
 namespace {
@@ -50,17 +50,18 @@ struct Options {
   std::string export_mesh;
   std::vector<double> focus;  // hybrid skin: focus centre (m); default the skeleton's centre
   double focus_radius = 0.1;
-  std::string render_dir;     // JPEG frames of the run go here
-  int render_every = 0;       // steps between frames; 0: about 25 frames per simulated second
-  std::vector<double> camera; // eye x y z, look-at x y z (m); default frames the skeleton
+  std::string render_dir;      // JPEG frames of the run go here
+  int render_every = 0;        // steps between frames; 0: about 25 frames per simulated second
+  std::vector<double> camera;  // eye x y z, look-at x y z (m); default frames the skeleton
   std::string frame_size = "640x480";
   int jpeg_quality = 85;
-  std::string report;         // the assessment as JSON goes here
+  std::string report;  // the assessment as JSON goes here
 };
 
 // The run's laparoscope: --camera, else the scene's [camera] scope or the framing of the starting
 // pose (as viscerad shows a session whose client set no camera) for a frame of --frame-size.
-render::Laparoscope RunScope(const Options& opt, const mechanics::ModelParams& params, const Points& q0) {
+render::Laparoscope RunScope(const Options& opt, const mechanics::ModelParams& params,
+                             const Points& q0) {
   int width = 0, height = 0;
   render::ParseFrameSize(opt.frame_size, &width, &height);
   ThrowUnless(opt.camera.empty() || opt.camera.size() == 6, "--camera takes ex ey ez cx cy cz");
@@ -74,8 +75,8 @@ render::Laparoscope RunScope(const Options& opt, const mechanics::ModelParams& p
 assessment::View ViewOf(const render::Laparoscope& scope, const Options& opt) {
   int width = 0, height = 0;
   render::ParseFrameSize(opt.frame_size, &width, &height);
-  return {scope.eye.cast<double>(), scope.target.cast<double>(), scope.up.cast<double>(), scope.fov_y_degrees,
-          static_cast<double>(width) / height};
+  return {scope.eye.cast<double>(), scope.target.cast<double>(), scope.up.cast<double>(),
+          scope.fov_y_degrees, static_cast<double>(width) / height};
 }
 
 // Prints the assessment (text) or adds it to the JSON summary, and writes --report.
@@ -89,14 +90,17 @@ void EmitAssessment(const Options& opt, const SimAssessment& a, const assessment
   if (summary != nullptr) {
     (*summary)["assessment"] = assessment::ToJson(report);
     (*summary)["exposure_series"] = a.exposure_series();
-    (*summary)["exposure_cost_us"] = {{"mean", a.exposure_mean_us()}, {"max", a.exposure_max_us()},
+    (*summary)["exposure_cost_us"] = {{"mean", a.exposure_mean_us()},
+                                      {"max", a.exposure_max_us()},
                                       {"capsules_tested_max", a.max_capsules_tested()}};
     return;
   }
   std::printf("%s", assessment::FormatReport(report).c_str());
   if (!report.targets.empty()) {
-    std::printf("exposure cost    mean %.1f us, max %.1f us per evaluation (all targets; at most %d capsules after the cull)\n",
-                a.exposure_mean_us(), a.exposure_max_us(), a.max_capsules_tested());
+    std::printf(
+        "exposure cost    mean %.1f us, max %.1f us per evaluation (all targets; at most %d "
+        "capsules after the cull)\n",
+        a.exposure_mean_us(), a.exposure_max_us(), a.max_capsules_tested());
   }
 }
 
@@ -116,7 +120,8 @@ class FrameWriter {
   void Write(const State& state) {
     renderer_->Render(state, scope_);
     sequence_.Write(renderer_->Encode());
-    render_ms_ += renderer_->timings().skin_ms + renderer_->timings().render_ms + renderer_->timings().encode_ms;
+    render_ms_ += renderer_->timings().skin_ms + renderer_->timings().render_ms +
+                  renderer_->timings().encode_ms;
   }
   int frames() const { return sequence_.frames(); }
   double mean_ms() const { return frames() > 0 ? render_ms_ / frames() : 0.0; }
@@ -144,7 +149,8 @@ void ExportMesh(const Options& opt, const mechanics::Model& model, const Points&
   skin::Mesh mesh;
   s->Build(q, &mesh);
   skin::WriteMesh(opt.export_mesh, mesh);
-  std::cerr << "mesh: " << opt.skin << " skin, " << s->stats().triangles << " triangles -> " << opt.export_mesh << std::endl;
+  std::cerr << "mesh: " << opt.skin << " skin, " << s->stats().triangles << " triangles -> "
+            << opt.export_mesh << std::endl;
 }
 
 Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
@@ -159,18 +165,27 @@ int Replay(const Options& opt) {
   if (!opt.trace.empty()) trace = std::make_unique<TraceWriter>(opt.trace);
   int64_t step = 0;
   std::unique_ptr<SimAssessment> assessed;  // made at the first step: the record holds the model
-  const session::ReplayResult r = session::ReplayRecord(opt.replay, [&](const mechanics::Model& model, const mechanics::State& state) {
-    if (!assessed) assessed = std::make_unique<SimAssessment>(model, ViewOf(RunScope(opt, model.params(), state.q), opt));
-    assessed->AddStep(state);
-    if (trace && step++ % opt.trace_every == 0) {
-      trace->Write(model, state, nullptr, model.curve().Length(state.q), mechanics::ComputeEnergies(model, state.q, state.qd), 0.0);
-    }
-  });
-  nlohmann::json summary = {{"record", opt.replay},        {"session", r.session_id},
-                            {"scene", r.scene},            {"rate_hz", r.rate_hz},
-                            {"steps", r.steps},            {"resets", r.resets},
-                            {"recoveries", r.recoveries},  {"skeletons_compared", r.skeletons_compared},
-                            {"max_deviation", r.max_deviation}, {"forces_compared", r.forces_compared},
+  const session::ReplayResult r = session::ReplayRecord(
+      opt.replay, [&](const mechanics::Model& model, const mechanics::State& state) {
+        if (!assessed)
+          assessed = std::make_unique<SimAssessment>(
+              model, ViewOf(RunScope(opt, model.params(), state.q), opt));
+        assessed->AddStep(state);
+        if (trace && step++ % opt.trace_every == 0) {
+          trace->Write(model, state, nullptr, model.curve().Length(state.q),
+                       mechanics::ComputeEnergies(model, state.q, state.qd), 0.0);
+        }
+      });
+  nlohmann::json summary = {{"record", opt.replay},
+                            {"session", r.session_id},
+                            {"scene", r.scene},
+                            {"rate_hz", r.rate_hz},
+                            {"steps", r.steps},
+                            {"resets", r.resets},
+                            {"recoveries", r.recoveries},
+                            {"skeletons_compared", r.skeletons_compared},
+                            {"max_deviation", r.max_deviation},
+                            {"forces_compared", r.forces_compared},
                             {"force_mismatches", r.force_mismatches},
                             {"first_force_mismatch", r.first_force_mismatch},
                             {"frames", trace ? trace->frames() : 0}};
@@ -182,14 +197,16 @@ int Replay(const Options& opt) {
   if (opt.json) {
     std::cout << summary.dump(2) << "\n";
   } else {
-    std::printf("replayed         %s: session %lld, scene %s, %lld steps at %g Hz\n", opt.replay.c_str(),
-                static_cast<long long>(r.session_id), r.scene.c_str(), static_cast<long long>(r.steps), r.rate_hz);
+    std::printf("replayed         %s: session %lld, scene %s, %lld steps at %g Hz\n",
+                opt.replay.c_str(), static_cast<long long>(r.session_id), r.scene.c_str(),
+                static_cast<long long>(r.steps), r.rate_hz);
     std::printf("reproduced       %lld recorded skeleton states, largest deviation %.3g m%s\n",
                 static_cast<long long>(r.skeletons_compared), r.max_deviation,
                 r.max_deviation == 0.0 ? " (exact)" : "");
-    std::printf("force messages   %lld compared, %lld differ%s%s\n", static_cast<long long>(r.forces_compared),
-                static_cast<long long>(r.force_mismatches), r.force_mismatches == 0 ? " (exact)" : ": first at ",
-                r.first_force_mismatch.c_str());
+    std::printf(
+        "force messages   %lld compared, %lld differ%s%s\n",
+        static_cast<long long>(r.forces_compared), static_cast<long long>(r.force_mismatches),
+        r.force_mismatches == 0 ? " (exact)" : ": first at ", r.first_force_mismatch.c_str());
   }
   return 0;
 }
@@ -197,10 +214,12 @@ int Replay(const Options& opt) {
 int Run(const Options& opt) {
   scene::Scene scene = scene::LoadSceneFile(opt.scene);
   if (opt.rate_hz != 0.0) {
-    ThrowUnless(std::isfinite(opt.rate_hz) && opt.rate_hz > 0.0, "--rate ", opt.rate_hz, ": must be > 0");
+    ThrowUnless(std::isfinite(opt.rate_hz) && opt.rate_hz > 0.0, "--rate ", opt.rate_hz,
+                ": must be > 0");
     scene::ChangeRate(&scene.model, opt.rate_hz);
   }
-  for (const std::string& w : scene.warnings) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
+  for (const std::string& w : scene.warnings)
+    std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
   const mechanics::Model model = [&] {
     try {
       return mechanics::Model(scene.model);
@@ -208,8 +227,10 @@ int Run(const Options& opt) {
       Fail(opt.scene, ": ", e.what());
     }
   }();
-  for (const std::string& w : model.warnings()) std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
-  ThrowUnless(opt.duration > 0.0 && std::isfinite(opt.duration), "--duration ", opt.duration, ": must be > 0");
+  for (const std::string& w : model.warnings())
+    std::cerr << "warning: " << opt.scene << ": " << w << std::endl;
+  ThrowUnless(opt.duration > 0.0 && std::isfinite(opt.duration), "--duration ", opt.duration,
+              ": must be > 0");
   ThrowUnless(opt.trace_every >= 1, "--trace-every ", opt.trace_every, ": must be >= 1");
 
   ScriptedRun run(model, opt.tool_script);
@@ -218,17 +239,20 @@ int Run(const Options& opt) {
   if (model.params().integrator == mechanics::IntegratorKind::kRk4) {
     const mechanics::StabilityEstimate est = mechanics::EstimateStability(model, state);
     if (!est.stable()) {
-      std::cerr << "warning: RK4 step beyond its stability limit: h * omega_max = " << est.h_times_rate
-                << " > " << mechanics::kRk4StabilityLimit << " (h = " << model.substep_size()
-                << " s, omega_max = " << est.rate_max << " 1/s); set [simulation] substeps >= "
-                << est.stable_substeps << " or integrator = \"implicit\"\n";
+      std::cerr << "warning: RK4 step beyond its stability limit: h * omega_max = "
+                << est.h_times_rate << " > " << mechanics::kRk4StabilityLimit
+                << " (h = " << model.substep_size() << " s, omega_max = " << est.rate_max
+                << " 1/s); set [simulation] substeps >= " << est.stable_substeps
+                << " or integrator = \"implicit\"\n";
     }
   }
 
   std::unique_ptr<TraceWriter> trace;
   if (!opt.trace.empty()) trace = std::make_unique<TraceWriter>(opt.trace);
   const spline::CatmullRom& curve = model.curve();
-  auto energies = [&] { return mechanics::ComputeEnergies(model, state.q, state.qd, interactions); };
+  auto energies = [&] {
+    return mechanics::ComputeEnergies(model, state.q, state.qd, interactions);
+  };
   auto record = [&](double step_us) {
     if (trace) trace->Write(model, state, interactions, curve.Length(state.q), energies(), step_us);
   };
@@ -241,10 +265,13 @@ int Run(const Options& opt) {
   assessed.AddStep(state);
   const int64_t steps = run.StepsFor(opt.duration);
   std::unique_ptr<FrameWriter> frames;
-  const int render_every = opt.render_every > 0 ? opt.render_every
-                                                : std::max(1, static_cast<int>(std::lround(model.params().rate_hz / 25.0)));
+  const int render_every =
+      opt.render_every > 0
+          ? opt.render_every
+          : std::max(1, static_cast<int>(std::lround(model.params().rate_hz / 25.0)));
   if (!opt.render_dir.empty()) {
-    ThrowUnless(opt.render_every >= 0, "--render-every ", opt.render_every, ": must be >= 1 (0: about 25 per second)");
+    ThrowUnless(opt.render_every >= 0, "--render-every ", opt.render_every,
+                ": must be >= 1 (0: about 25 per second)");
     frames = std::make_unique<FrameWriter>(opt, model, scope);
     frames->Write(state);
   }
@@ -259,8 +286,10 @@ int Run(const Options& opt) {
     run.Step(targets);
     const double us = (ThreadCpuNanos() - begin) * 1e-3;
     cost_us.push_back(us);
-    if (!std::isnan(state.contacts.min_clearance)) min_clearance = std::min(min_clearance, state.contacts.min_clearance);
-    for (size_t t = 0; t < state.tools.size(); ++t) max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
+    if (!std::isnan(state.contacts.min_clearance))
+      min_clearance = std::min(min_clearance, state.contacts.min_clearance);
+    for (size_t t = 0; t < state.tools.size(); ++t)
+      max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
     assessed.AddStep(state);
     if (k % opt.trace_every == 0 || k == steps) record(us);
     if (frames && k % render_every == 0) frames->Write(state);
@@ -276,23 +305,38 @@ int Run(const Options& opt) {
   nlohmann::json summary = {
       {"scene", opt.scene},
       {"control_points", model.num_points()},
-      {"integrator", model.params().integrator == mechanics::IntegratorKind::kRk4 ? "rk4" : "implicit"},
+      {"integrator",
+       model.params().integrator == mechanics::IntegratorKind::kRk4 ? "rk4" : "implicit"},
       {"rate_hz", model.params().rate_hz},
       {"substeps", model.params().substeps},
       {"frames", trace ? trace->frames() : 0},
       {"steps", steps},
       {"simulated_seconds", simulated},
-      {"step_cost_us", {{"mean", total_us / steps}, {"p99", Quantile(cost_us, 0.99)}, {"max", *std::max_element(cost_us.begin(), cost_us.end())}}},
+      {"step_cost_us",
+       {{"mean", total_us / steps},
+        {"p99", Quantile(cost_us, 0.99)},
+        {"max", *std::max_element(cost_us.begin(), cost_us.end())}}},
       {"realtime_factor", simulated / (total_us * 1e-6)},
       {"initial_energy", e0.total()},
-      {"final_energy", {{"kinetic", e.kinetic}, {"gravity", e.gravity}, {"stretch", e.stretch}, {"bend", e.bend}, {"continuous", e.continuous}, {"attachment", e.attachment}, {"total", e.total()}}},
+      {"final_energy",
+       {{"kinetic", e.kinetic},
+        {"gravity", e.gravity},
+        {"stretch", e.stretch},
+        {"bend", e.bend},
+        {"continuous", e.continuous},
+        {"attachment", e.attachment},
+        {"total", e.total()}}},
       {"rest_length", model.params().length},
       {"final_length", curve.Length(state.q)},
       {"centre_of_mass_start", {com0.x(), com0.y(), com0.z()}},
       {"centre_of_mass_end", {com.x(), com.y(), com.z()}},
       {"nonfinite_resets", state.nonfinite_resets},
-      {"contacts", {{"self", state.contacts.self}, {"environment", state.contacts.environment}, {"tool", state.contacts.tool}}},
-      {"min_clearance", std::isfinite(min_clearance) ? nlohmann::json(min_clearance) : nlohmann::json(nullptr)},
+      {"contacts",
+       {{"self", state.contacts.self},
+        {"environment", state.contacts.environment},
+        {"tool", state.contacts.tool}}},
+      {"min_clearance",
+       std::isfinite(min_clearance) ? nlohmann::json(min_clearance) : nlohmann::json(nullptr)},
       {"sphere_radius", interactions ? interactions->chain().radius() : 0.0},
       {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
   };
@@ -317,8 +361,9 @@ int Run(const Options& opt) {
     std::cout << summary.dump(2) << "\n";
     return 0;
   }
-  std::printf("scene            %s (%d control points, %s, %g Hz x %d sub-steps)\n", opt.scene.c_str(),
-              model.num_points(), summary["integrator"].get<std::string>().c_str(), model.params().rate_hz,
+  std::printf("scene            %s (%d control points, %s, %g Hz x %d sub-steps)\n",
+              opt.scene.c_str(), model.num_points(),
+              summary["integrator"].get<std::string>().c_str(), model.params().rate_hz,
               model.params().substeps);
   std::printf("simulated        %.3f s in %lld steps, %d trace frames%s%s\n", simulated,
               static_cast<long long>(steps), trace ? trace->frames() : 0, trace ? " -> " : "",
@@ -329,32 +374,42 @@ int Run(const Options& opt) {
   if (!interactions && model.pins().empty() && model.attachments().empty()) {
     // A free body: its centre of mass falls like a point with viscous friction gamma.
     const double gamma = model.params().damping, g = model.params().gravity.z(), t = simulated;
-    const double expected = gamma > 0.0 ? g / gamma * (t - (1.0 - std::exp(-gamma * t)) / gamma) : 0.5 * g * t * t;
+    const double expected =
+        gamma > 0.0 ? g / gamma * (t - (1.0 - std::exp(-gamma * t)) / gamma) : 0.5 * g * t * t;
     std::printf(" (point under gravity and viscous friction: %.4f m)", com0.z() + expected);
   }
   std::printf("\n");
   std::printf("length           rest %.4f m, final %.4f m (%+.2f %%)\n", model.params().length,
               curve.Length(state.q), 100.0 * (curve.Length(state.q) / model.params().length - 1.0));
-  std::printf("energy           %.4f J -> %.4f J (kinetic %.4f, gravity %.4f, stretch %.4f, bend %.4f, continuous %.4f)\n",
-              e0.total(), e.total(), e.kinetic, e.gravity, e.stretch, e.bend, e.continuous);
+  std::printf(
+      "energy           %.4f J -> %.4f J (kinetic %.4f, gravity %.4f, stretch %.4f, bend %.4f, "
+      "continuous %.4f)\n",
+      e0.total(), e.total(), e.kinetic, e.gravity, e.stretch, e.bend, e.continuous);
   if (interactions) {
-    std::printf("contacts         self %d, environment %d, tool %d; deepest penetration over the run %.2f mm (%.0f %% of the radius)\n",
-                state.contacts.self, state.contacts.environment, state.contacts.tool,
-                std::isfinite(min_clearance) ? std::max(0.0, -min_clearance) * 1e3 : 0.0,
-                std::isfinite(min_clearance) ? 100.0 * std::max(0.0, -min_clearance) / interactions->chain().radius() : 0.0);
+    std::printf(
+        "contacts         self %d, environment %d, tool %d; deepest penetration over the run %.2f "
+        "mm (%.0f %% of the radius)\n",
+        state.contacts.self, state.contacts.environment, state.contacts.tool,
+        std::isfinite(min_clearance) ? std::max(0.0, -min_clearance) * 1e3 : 0.0,
+        std::isfinite(min_clearance)
+            ? 100.0 * std::max(0.0, -min_clearance) / interactions->chain().radius()
+            : 0.0);
   }
   for (size_t t = 0; t < state.tools.size(); ++t) {
     const Vec3& f = state.tools[t].force;
-    std::printf("tool %-11s force [%.3f, %.3f, %.3f] N, max over the run %.3f N%s\n", model.params().tools[t].name.c_str(),
-                f.x(), f.y(), f.z(), max_tool_force[t], state.tools[t].grasping ? ", grasping" : "");
+    std::printf("tool %-11s force [%.3f, %.3f, %.3f] N, max over the run %.3f N%s\n",
+                model.params().tools[t].name.c_str(), f.x(), f.y(), f.z(), max_tool_force[t],
+                state.tools[t].grasping ? ", grasping" : "");
   }
   if (frames) {
-    std::printf("frames           %d (%s skin, %s, every %d steps, %.1f ms each) -> %s\n", frames->frames(),
-                opt.skin.c_str(), opt.frame_size.c_str(), render_every, frames->mean_ms(), opt.render_dir.c_str());
+    std::printf("frames           %d (%s skin, %s, every %d steps, %.1f ms each) -> %s\n",
+                frames->frames(), opt.skin.c_str(), opt.frame_size.c_str(), render_every,
+                frames->mean_ms(), opt.render_dir.c_str());
   }
   EmitAssessment(opt, assessed, report, nullptr);
   if (state.nonfinite_resets > 0) {
-    std::printf("WARNING          %lld non-finite steps were reset\n", static_cast<long long>(state.nonfinite_resets));
+    std::printf("WARNING          %lld non-finite steps were reset\n",
+                static_cast<long long>(state.nonfinite_resets));
   }
   return 0;
 }
@@ -366,23 +421,32 @@ int main(int argc, char** argv) {
   viscera::tools::Options opt;
   CLI::App app{"viscera-sim: run a viscera scene offline and report what happened"};
   app.add_option("scene", opt.scene, "scene file (TOML); not with --replay");
-  app.add_option("--replay", opt.replay, "replay a viscerad session record (LCM log) instead of a scene");
+  app.add_option("--replay", opt.replay,
+                 "replay a viscerad session record (LCM log) instead of a scene");
   app.add_option("--duration", opt.duration, "simulated seconds")->capture_default_str();
-  app.add_option("--rate", opt.rate_hz, "mechanics rate (Hz) instead of the scene's; sub-steps keep the scene's length");
+  app.add_option("--rate", opt.rate_hz,
+                 "mechanics rate (Hz) instead of the scene's; sub-steps keep the scene's length");
   app.add_option("--trace", opt.trace, "write a JSON Lines trace to this file");
   app.add_option("--trace-every", opt.trace_every, "record every N-th step")->capture_default_str();
   app.add_flag("--json", opt.json, "print the final summary as JSON");
-  app.add_option("--tool-script", opt.tool_script, "CSV of tool targets: t,tool,x,y,z,qw,qx,qy,qz,jaw");
-  app.add_option("--skin", opt.skin, "skin for --export-mesh and --render: parametric, implicit, convolution or hybrid")
+  app.add_option("--tool-script", opt.tool_script,
+                 "CSV of tool targets: t,tool,x,y,z,qw,qx,qy,qz,jaw");
+  app.add_option("--skin", opt.skin,
+                 "skin for --export-mesh and --render: parametric, implicit, convolution or hybrid")
       ->capture_default_str();
-  app.add_option("--export-mesh", opt.export_mesh, "write the last frame's skin mesh (.obj or .ply)");
+  app.add_option("--export-mesh", opt.export_mesh,
+                 "write the last frame's skin mesh (.obj or .ply)");
   app.add_option("--focus", opt.focus, "hybrid skin focus centre x y z (m)")->expected(3);
-  app.add_option("--focus-radius", opt.focus_radius, "hybrid skin focus radius (m)")->capture_default_str();
+  app.add_option("--focus-radius", opt.focus_radius, "hybrid skin focus radius (m)")
+      ->capture_default_str();
   app.add_option("--render", opt.render_dir, "write JPEG frames of the run to this directory");
-  app.add_option("--render-every", opt.render_every, "steps between frames (default: about 25 per simulated second)");
-  app.add_option("--camera", opt.camera, "laparoscope eye x y z and look-at x y z (m)")->expected(6);
+  app.add_option("--render-every", opt.render_every,
+                 "steps between frames (default: about 25 per simulated second)");
+  app.add_option("--camera", opt.camera, "laparoscope eye x y z and look-at x y z (m)")
+      ->expected(6);
   app.add_option("--frame-size", opt.frame_size, "frame size WIDTHxHEIGHT")->capture_default_str();
-  app.add_option("--report", opt.report, "write the assessment (docs/assessment.md) as JSON to this file");
+  app.add_option("--report", opt.report,
+                 "write the assessment (docs/assessment.md) as JSON to this file");
   app.add_option("--jpeg-quality", opt.jpeg_quality, "JPEG quality 1..100")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {

@@ -37,8 +37,9 @@ session_reply_t Ask(client::SessionClient& client, session_request_t request) {
 
 }  // namespace
 
-Created CreateSession(client::SessionClient& client, const std::string& server_id, const std::string& scene_name,
-                      const std::string& scene_toml, double frame_rate_hz) {
+Created CreateSession(client::SessionClient& client, const std::string& server_id,
+                      const std::string& scene_name, const std::string& scene_toml,
+                      double frame_rate_hz) {
   session_request_t r = client::MakeRequest(session_request_t::kCreate, 0);
   r.server_id = server_id;
   r.scene_name = scene_name;
@@ -104,7 +105,8 @@ int SendMalformed(bus::LcmBus& bus, int64_t session_id, uint32_t seed) {
   return sent;
 }
 
-std::string SendOversize(client::SessionClient& client, const std::string& server_id, int max_bytes) {
+std::string SendOversize(client::SessionClient& client, const std::string& server_id,
+                         int max_bytes) {
   session_request_t r = client::MakeRequest(session_request_t::kCreate, 0);
   r.server_id = server_id;
   r.scene_toml = std::string(static_cast<size_t>(max_bytes) + 1000, '#');
@@ -114,14 +116,15 @@ std::string SendOversize(client::SessionClient& client, const std::string& serve
 
 int SendMalformedScenes(client::SessionClient& client, const std::string& server_id) {
   const std::string tube =
-      "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n[intestine.shape]\nkind = \"straight\"\n";
+      "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = "
+      "21\n[intestine.shape]\nkind = \"straight\"\n";
   const std::vector<std::string> scenes = {
-      "[intestine\nlength = ",                                                      // not TOML
-      "[intestine]\nlength = -1\n",                                                 // bad value
-      tube + "[[obstacle]]\nkind = \"mesh\"\nfile = \"/dev/zero\"\n",               // a device
-      tube + "[[obstacle]]\nkind = \"mesh\"\nfile = \"../../etc/passwd\"\n",        // out of the dir
-      std::string(tube).replace(tube.find("= 21"), 4, "= 100000000"),              // over budget
-      tube + "[simulation]\nsettle = 1e9\n",                                         // endless settle
+      "[intestine\nlength = ",                                                // not TOML
+      "[intestine]\nlength = -1\n",                                           // bad value
+      tube + "[[obstacle]]\nkind = \"mesh\"\nfile = \"/dev/zero\"\n",         // a device
+      tube + "[[obstacle]]\nkind = \"mesh\"\nfile = \"../../etc/passwd\"\n",  // out of the dir
+      std::string(tube).replace(tube.find("= 21"), 4, "= 100000000"),         // over budget
+      tube + "[simulation]\nsettle = 1e9\n",                                  // endless settle
   };
   int refused = 0;
   for (const std::string& scene : scenes) {
@@ -138,10 +141,10 @@ std::string UnstableScene() {
          "amplitude = 0.05\nwavelength = 0.2\n";
 }
 
-pid_t StartDriver(const std::string& viscera, const std::string& url, int64_t id, const std::vector<uint8_t>& token,
-                  const std::string& script) {
-  std::vector<std::string> args = {viscera, "drive", std::to_string(id), "--script", script,
-                                   "--lcm-url", url, "--pose-rate", "500"};
+pid_t StartDriver(const std::string& viscera, const std::string& url, int64_t id,
+                  const std::vector<uint8_t>& token, const std::string& script) {
+  std::vector<std::string> args = {viscera,     "drive", std::to_string(id), "--script", script,
+                                   "--lcm-url", url,     "--pose-rate",      "500"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

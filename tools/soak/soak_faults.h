@@ -20,8 +20,9 @@ struct Created {
 };
 
 /// Creates a session of `scene_name` (or inline `scene_toml`) on `server_id`.
-Created CreateSession(client::SessionClient& client, const std::string& server_id, const std::string& scene_name,
-                      const std::string& scene_toml, double frame_rate_hz);
+Created CreateSession(client::SessionClient& client, const std::string& server_id,
+                      const std::string& scene_name, const std::string& scene_toml,
+                      double frame_rate_hz);
 
 /// Destroys a session. @return true when the server said kOk.
 bool DestroySession(client::SessionClient& client, const Created& session);
@@ -34,7 +35,8 @@ void FloodPoses(bus::LcmBus& bus, const Created& session, int count);
 int SendMalformed(bus::LcmBus& bus, int64_t session_id, uint32_t seed);
 
 /// A create whose datagram exceeds `max_bytes`: @return the server's reply message ("" if none).
-std::string SendOversize(client::SessionClient& client, const std::string& server_id, int max_bytes);
+std::string SendOversize(client::SessionClient& client, const std::string& server_id,
+                         int max_bytes);
 
 /// Creates with broken or hostile inline scenes. @return how many were refused with a reason.
 int SendMalformedScenes(client::SessionClient& client, const std::string& server_id);
@@ -43,8 +45,8 @@ int SendMalformedScenes(client::SessionClient& client, const std::string& server
 std::string UnstableScene();
 
 /// Starts `viscera drive ID --gesture ...` as a child process (the client to kill).
-pid_t StartDriver(const std::string& viscera, const std::string& url, int64_t id, const std::vector<uint8_t>& token,
-                  const std::string& script);
+pid_t StartDriver(const std::string& viscera, const std::string& url, int64_t id,
+                  const std::vector<uint8_t>& token, const std::string& script);
 
 /// RSS (kB) and thread count of a process, from /proc/PID/status (-1 if gone).
 struct ProcessFigures {

@@ -2,8 +2,8 @@
 /// produce (docs/reliability.md), and checks that it holds: memory and threads flat, a witness
 /// session at its rate, every record complete and replaying bit for bit, a clean exit.
 /// Loopback only: run it inside tests/e2e/in_netns.sh (CI does; ctest soak.short).
-#include <signal.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 
@@ -56,19 +56,23 @@ struct Options {
 // A tube with one grasper: inline, so every cycle also exercises the inline scene path.
 constexpr char kToolScene[] =
     "[simulation]\nrate_hz = 100\nintegrator = \"implicit\"\n"
-    "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\nstretch_stiffness = 100.0\n"
+    "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = "
+    "21\nstretch_stiffness = 100.0\n"
     "bend_stiffness = 1.0e-4\ndamping = 2.0\nspring_damping = 2.0\npinned = [\"start\", \"end\"]\n"
-    "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.0125]\ndirection = [1.0, 0.0, 0.0]\n"
+    "[intestine.shape]\nkind = \"straight\"\nstart = [-0.2, 0.0, 0.0125]\ndirection = [1.0, 0.0, "
+    "0.0]\n"
     "[[obstacle]]\nkind = \"plane\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n"
     "[[tool]]\nname = \"grasper\"\nport = [0.0, 0.0, 0.3]\n";
 
 void Sleep(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
 
 pid_t StartServer(const Options& o, const std::string& records) {
-  std::vector<std::string> args = {o.viscerad, "--server-id", "soak", "--lcm-url", o.url, "--scene-dir", o.scene_dir,
-                                   "--log-dir", records, "--max-sessions", "8", "--max-creates-per-minute", "100000",
-                                   "--session-lease", "30",
-                                   "--max-message-size", "65536"};
+  std::vector<std::string> args = {
+      o.viscerad, "--server-id",     "soak",      "--lcm-url",
+      o.url,      "--scene-dir",     o.scene_dir, "--log-dir",
+      records,    "--max-sessions",  "8",         "--max-creates-per-minute",
+      "100000",   "--session-lease", "30",        "--max-message-size",
+      "65536"};
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -83,7 +87,8 @@ pid_t StartServer(const Options& o, const std::string& records) {
 }
 
 std::optional<session_status_t> StatusOf(viscera::client::SessionClient& client, int64_t id) {
-  const auto replies = client.Request(viscera::client::MakeRequest(session_request_t::kStatus, id), 2.0);
+  const auto replies =
+      client.Request(viscera::client::MakeRequest(session_request_t::kStatus, id), 2.0);
   if (replies.empty() || replies.front().num_sessions < 1) return std::nullopt;
   return replies.front().sessions[0];
 }
@@ -95,7 +100,8 @@ int8_t LastRecordedState(const std::string& path) {
   for (const lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
     if (std::string(e->channel).rfind(viscera::bus::kStatusPrefix, 0) != 0) continue;
     session_status_t s;
-    if (viscera::bus::ArrayCountsFit<session_status_t>(static_cast<const uint8_t*>(e->data), e->datalen) &&
+    if (viscera::bus::ArrayCountsFit<session_status_t>(static_cast<const uint8_t*>(e->data),
+                                                       e->datalen) &&
         s.decode(e->data, 0, e->datalen) == e->datalen) {
       state = s.state;
     }
@@ -132,10 +138,9 @@ int Run(const Options& o) {
   }
   viscera::client::KeepAlive keep_witness(&client, witness.id, witness.token, 1.0);
 
-  int64_t cycles = 0, created = 0, destroyed = 0, drivers_killed = 0, poses_flooded = 0, malformed = 0,
-          oversize_answered = 0, scenes_refused = 0, blowups = 0, blowups_recovered = 0, rate_samples = 0,
-          creates_unanswered = 0,
-          rate_ok = 0;
+  int64_t cycles = 0, created = 0, destroyed = 0, drivers_killed = 0, poses_flooded = 0,
+          malformed = 0, oversize_answered = 0, scenes_refused = 0, blowups = 0,
+          blowups_recovered = 0, rate_samples = 0, creates_unanswered = 0, rate_ok = 0;
   double min_rate = 1e9;
   viscera::soak::ProcessFigures peak{0, 0};
   std::vector<Created> live;
@@ -154,7 +159,8 @@ int Run(const Options& o) {
   rss_csv << "cycle,seconds,rss_kb\n";
   const auto start = Clock::now();
   const auto end = start + std::chrono::duration<double>(o.seconds);
-  const auto cap = start + std::chrono::duration<double>(o.max_seconds > 0 ? o.max_seconds : 3 * o.seconds);
+  const auto cap =
+      start + std::chrono::duration<double>(o.max_seconds > 0 ? o.max_seconds : 3 * o.seconds);
   const auto can_judge = [&] {
     return viscera::soak::JudgeGrowth(rss_samples, memory_policy).outcome !=
            viscera::soak::GrowthVerdict::Outcome::kTooShort;
@@ -176,15 +182,19 @@ int Run(const Options& o) {
     } else {
       ++creates_unanswered;
     }
-    malformed += viscera::soak::SendMalformed(client.bus(), s.id != 0 ? s.id : witness.id, static_cast<uint32_t>(cycles));
+    malformed += viscera::soak::SendMalformed(client.bus(), s.id != 0 ? s.id : witness.id,
+                                              static_cast<uint32_t>(cycles));
     if (!viscera::soak::SendOversize(client, "soak", 65536).empty()) ++oversize_answered;
-    if (viscera::soak::HostileScenes(cycles)) scenes_refused += viscera::soak::SendMalformedScenes(client, "soak");
+    if (viscera::soak::HostileScenes(cycles))
+      scenes_refused += viscera::soak::SendMalformedScenes(client, "soak");
     if (viscera::soak::BlowUp(cycles)) {
-      const Created bad = viscera::soak::CreateSession(client, "soak", "", viscera::soak::UnstableScene(), -1.0);
+      const Created bad =
+          viscera::soak::CreateSession(client, "soak", "", viscera::soak::UnstableScene(), -1.0);
       if (bad.id != 0) {
         ++blowups;
         // it blows up within its first steps; a busy machine may take a while to run them
-        for (const auto give_up = Clock::now() + std::chrono::seconds(5); Clock::now() < give_up; Sleep(0.1)) {
+        for (const auto give_up = Clock::now() + std::chrono::seconds(5); Clock::now() < give_up;
+             Sleep(0.1)) {
           const auto st = StatusOf(client, bad.id);
           if (st && st->recoveries > 0 && st->state == session_status_t::kRunning) {
             ++blowups_recovered;
@@ -221,10 +231,12 @@ int Run(const Options& o) {
   // render threads end after their frame: poll until the threads are back to idle
   auto after = viscera::soak::Figures(server);
   for (const auto give_up = Clock::now() + std::chrono::seconds(10);
-       after.threads > idle.threads && Clock::now() < give_up; after = viscera::soak::Figures(server)) {
+       after.threads > idle.threads && Clock::now() < give_up;
+       after = viscera::soak::Figures(server)) {
     Sleep(0.1);
   }
-  const auto left = client.Request(viscera::client::MakeRequest(session_request_t::kList, 0), 2.0, true);
+  const auto left =
+      client.Request(viscera::client::MakeRequest(session_request_t::kList, 0), 2.0, true);
   const int sessions_left = left.empty() ? -1 : left.front().num_sessions;
   std::string thread_names;
   for (const auto& task : fs::directory_iterator("/proc/" + std::to_string(server) + "/task")) {
@@ -257,41 +269,63 @@ int Run(const Options& o) {
   // Mesa starts one shader-cache thread ("disk$0") with the first frame and keeps it
   const bool threads_ok = after.threads >= 0 && after.threads <= idle.threads + 1;
   const bool rate_kept = rate_samples > 0 && rate_ok >= (rate_samples * 95 + 99) / 100;
-  const bool records_ok = viscera::soak::RecordsAccountedFor(records_total, created + blowups + 1, creates_unanswered) &&
-                          records_exact == records_total &&
-                          records_stopped == records_total;
+  const bool records_ok = viscera::soak::RecordsAccountedFor(records_total, created + blowups + 1,
+                                                             creates_unanswered) &&
+                          records_exact == records_total && records_stopped == records_total;
   // a reply may be lost on a loaded machine (UDP): most oversize creates must be answered
-  const bool faults_ok = drivers_killed > 0 && oversize_answered * 10 >= cycles * 9 && blowups_recovered == blowups;
+  const bool faults_ok =
+      drivers_killed > 0 && oversize_answered * 10 >= cycles * 9 && blowups_recovered == blowups;
   report["seconds"] = o.seconds;
   report["seconds_soaked"] = soaked_seconds;
   report["cycles"] = cycles;
   report["sessions_created"] = created + blowups + 1;
   report["creates_unanswered"] = creates_unanswered;
   report["sessions_destroyed"] = destroyed;
-  report["faults"] = {{"clients_killed", drivers_killed}, {"poses_flooded", poses_flooded},
-                      {"malformed_datagrams", malformed}, {"oversize_answered", oversize_answered},
-                      {"hostile_scenes_refused", scenes_refused}, {"blowups", blowups},
-                      {"blowups_recovered", blowups_recovered}};
-  report["rss_kb"] = {{"idle", idle.rss_kb}, {"baseline", memory.baseline.rss_kb}, {"last_cycle", memory.last.rss_kb},
-                      {"end_loaded", loaded.rss_kb}, {"peak", peak.rss_kb}, {"after", after.rss_kb},
+  report["faults"] = {
+      {"clients_killed", drivers_killed},         {"poses_flooded", poses_flooded},
+      {"malformed_datagrams", malformed},         {"oversize_answered", oversize_answered},
+      {"hostile_scenes_refused", scenes_refused}, {"blowups", blowups},
+      {"blowups_recovered", blowups_recovered}};
+  report["rss_kb"] = {{"idle", idle.rss_kb},
+                      {"baseline", memory.baseline.rss_kb},
+                      {"last_cycle", memory.last.rss_kb},
+                      {"end_loaded", loaded.rss_kb},
+                      {"peak", peak.rss_kb},
+                      {"after", after.rss_kb},
                       {"every_10_cycles", rss_series}};
-  report["memory"] = {{"verdict", memory.message}, {"warm_cycles", memory_policy.warm_cycles},
-                      {"warm_seconds", memory_policy.warm_seconds}, {"baseline_cycle", memory.baseline.cycle},
-                      {"baseline_seconds", memory.baseline.seconds}, {"last_cycle", memory.last.cycle},
-                      {"judged_cycles", memory.judged_cycles}, {"judged_cycles_needed", memory_policy.judged_cycles},
-                      {"growth_mb", memory.growth_mb}, {"bound_mb", o.rss_bound_mb}};
-  report["threads"] = {{"idle", idle.threads}, {"peak", peak.threads}, {"after", after.threads},
-                       {"after_names", thread_names}, {"sessions_left", sessions_left}};
-  report["witness"] = {{"samples", rate_samples}, {"at_rate", rate_ok}, {"min_rate_hz", min_rate},
+  report["memory"] = {{"verdict", memory.message},
+                      {"warm_cycles", memory_policy.warm_cycles},
+                      {"warm_seconds", memory_policy.warm_seconds},
+                      {"baseline_cycle", memory.baseline.cycle},
+                      {"baseline_seconds", memory.baseline.seconds},
+                      {"last_cycle", memory.last.cycle},
+                      {"judged_cycles", memory.judged_cycles},
+                      {"judged_cycles_needed", memory_policy.judged_cycles},
+                      {"growth_mb", memory.growth_mb},
+                      {"bound_mb", o.rss_bound_mb}};
+  report["threads"] = {{"idle", idle.threads},
+                       {"peak", peak.threads},
+                       {"after", after.threads},
+                       {"after_names", thread_names},
+                       {"sessions_left", sessions_left}};
+  report["witness"] = {{"samples", rate_samples},
+                       {"at_rate", rate_ok},
+                       {"min_rate_hz", min_rate},
                        {"min_fraction", o.min_rate_fraction}};
-  report["records"] = {{"total", records_total}, {"replay_exact", records_exact}, {"final_status_stopped", records_stopped},
+  report["records"] = {{"total", records_total},
+                       {"replay_exact", records_exact},
+                       {"final_status_stopped", records_stopped},
                        {"error", record_error}};
   report["clean_exit"] = clean_exit;
   const bool ok = memory_ok && threads_ok && rate_kept && records_ok && faults_ok && clean_exit;
   report["ok"] = ok;
   report["failed"] = nlohmann::ordered_json::array();
-  for (const auto& [name, good] : {std::pair{"memory", memory_ok}, {"threads", threads_ok}, {"witness_rate", rate_kept},
-                                   {"records", records_ok}, {"faults", faults_ok}, {"clean_exit", clean_exit}}) {
+  for (const auto& [name, good] : {std::pair{"memory", memory_ok},
+                                   {"threads", threads_ok},
+                                   {"witness_rate", rate_kept},
+                                   {"records", records_ok},
+                                   {"faults", faults_ok},
+                                   {"clean_exit", clean_exit}}) {
     if (!good) report["failed"].push_back(name);
   }
   std::printf("%s\n", report.dump(2).c_str());
@@ -301,7 +335,9 @@ int Run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"viscera-soak: a viscerad under faults for a while; memory, threads, rates and records checked"};
+  CLI::App app{
+      "viscera-soak: a viscerad under faults for a while; memory, threads, rates and records "
+      "checked"};
   Options o;
   app.add_option("--viscerad", o.viscerad, "viscerad binary")->required();
   app.add_option("--viscera", o.viscera, "viscera client binary")->required();
@@ -310,18 +346,22 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", o.url, "LCM URL (loopback only)")->capture_default_str();
   app.add_option("--seconds", o.seconds, "How long to soak")->capture_default_str();
   app.add_option("--max-seconds", o.max_seconds,
-                 "Soak on past --seconds, up to this long, until the memory check has enough cycles (0: 3 x --seconds)")
+                 "Soak on past --seconds, up to this long, until the memory check has enough "
+                 "cycles (0: 3 x --seconds)")
       ->capture_default_str();
-  app.add_option("--rss-bound-mb", o.rss_bound_mb, "Largest RSS growth allowed after warm-up (MB)")->capture_default_str();
+  app.add_option("--rss-bound-mb", o.rss_bound_mb, "Largest RSS growth allowed after warm-up (MB)")
+      ->capture_default_str();
   app.add_option("--warm-periods", o.warm_periods,
-                 "The RSS baseline waits this many cadences of 10 cycles, each with every kind of fault (and the first "
+                 "The RSS baseline waits this many cadences of 10 cycles, each with every kind of "
+                 "fault (and the first "
                  "quarter)")
       ->capture_default_str();
   app.add_option("--judged-periods", o.judged_periods,
                  "Cadences of 10 cycles after the RSS baseline the memory check needs")
       ->capture_default_str();
   app.add_option("--min-rate-fraction", o.min_rate_fraction,
-                 "A witness status sample is at rate when achieved >= this x configured (95 % of samples must be)")
+                 "A witness status sample is at rate when achieved >= this x configured (95 % of "
+                 "samples must be)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
