@@ -33,6 +33,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       solver_(&common_),
       solve_work_(&common_),
       solve_one_work_(&common_) {
+  gravity_floor_share_ = stick_slip_ ? kStickSlipGravityFloor : 1.0;
   scratch_.Resize(n_);
   jac_.Resize(n_);
   force_.setZero(n_, 3);
@@ -222,9 +223,10 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   // b's, or of gravity's impulse over the sub-step when b is smaller: in a resting pile the
   // forces nearly cancel (the cavity's median b is 0.2 % of gravity's impulse, in this norm), and
   // a fraction of b asked for velocities exact to a tenth of a micrometre per second (settled fall:
-  // 10.7 iterations per sub-step, 3.4 with the floor; docs/contacts.md).
+  // 10.7 iterations per sub-step, 3.4 with the floor; docs/contacts.md). (h W)^T M^-1 (h W) is
+  // m (h g)^2.
   const double gravity_reference =
-      gravity_floor_ ? h * h * weight_scale_ : 0.0;  // (h W)^T M^-1 (h W) = m (h g)^2
+      gravity_floor_ ? gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_ : 0.0;
   const double reference =
       std::max(b.dot(dv), gravity_reference);        // b^T P^-1 b: dv is the band's answer
   cg_q_ = cg_correction_ - cg_previous_correction_;  // cg_q_ is free until the first product
