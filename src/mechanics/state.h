@@ -49,6 +49,11 @@ struct State {
   /// The implicit integrator's stick-slip friction: one anchor per contact that friction held in
   /// the last sub-step, sorted by key (empty with the regularized law).
   std::vector<FrictionAnchor> friction;
+  /// The implicit integrator's conjugate-gradient warm start (3N each): the last coupled
+  /// sub-step's correction (exact answer minus the band's) and the one before, which the next
+  /// extrapolates; zero after an uncoupled sub-step.
+  VecX cg_correction;
+  VecX cg_previous_correction;
 };
 
 /// The model's starting pose at rest, t = 0.
@@ -58,12 +63,22 @@ inline State InitialState(const Model& model) {
   s.qd = Points::Zero(model.num_points(), 3);
   s.last_dq = Points::Zero(model.num_points(), 3);
   s.last_dqd = Points::Zero(model.num_points(), 3);
+  s.cg_correction = VecX::Zero(3 * model.num_points());
+  s.cg_previous_correction = VecX::Zero(3 * model.num_points());
   s.tools.resize(model.params().tools.size());
   for (size_t i = 0; i < s.tools.size(); ++i) {
     s.tools[i].tip = model.params().tools[i].port;
     s.tools[i].target.active = false;  // idle until a device or script gives a target
   }
   return s;
+}
+
+/// Drops what a state carries for the solver of the model it ran with (CG's warm start), so that
+/// its next step starts it afresh, as a new workspace would: for a state that goes on under
+/// another model (a scene's settling tightens the mesentery stage by stage).
+inline void ForgetSolverMemory(State* s) {
+  s->cg_correction.setZero();
+  s->cg_previous_correction.setZero();
 }
 
 }  // namespace viscera::mechanics
