@@ -102,7 +102,8 @@ std::vector<Case> Cases() {
 }
 
 // After each implicit sub-step: the step's integrator and interactions, and the step's time.
-using Observer = std::function<void(ImplicitEulerIntegrator&, Interactions&, double t)>;
+using Observer =
+    std::function<void(ImplicitEulerIntegrator&, Interactions&, const State&, double t)>;
 
 // Steps the case as mechanics::Step does (step.cc), calling `observe` after every sub-step, then
 // runs it again through Step and demands the same end state, bit for bit.
@@ -133,7 +134,7 @@ void Run(const Case& c, const Observer& observe) {
       interactions.BeginSubstep(k == 0 ? inputs.tools : std::span<const mechanics::ToolTarget>{}, h,
                                 state);
       integrator.Advance(inputs.loads, h, state);
-      observe(integrator, interactions, state->t + model.step_size());
+      observe(integrator, interactions, *state, state->t + model.step_size());
     }
     state->substeps = substeps;
     ++state->steps;
@@ -229,11 +230,12 @@ IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const
   return run;
 }
 
-void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interactions, Sweep* s) {
+void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interactions,
+                  const State& state, Sweep* s) {
   ++s->substeps;
   const Eigen::Index n = integrator.last_rhs().size();  // the step starts with no correction
   s->extrapolated = s->next_extrapolated.size() == n ? s->next_extrapolated : VecX::Zero(n);
-  s->next_extrapolated = 2.0 * integrator.cg_correction() - integrator.cg_previous_correction();
+  s->next_extrapolated = 2.0 * state.cg_correction - state.cg_previous_correction;
   const int pairs = interactions.coupled_pairs();
   if (pairs == 0) {
     s->last_blocks.clear();
@@ -478,8 +480,9 @@ int Main(int argc, char** argv) {
       continue;
     Sweep sweep;
     size_t next_snapshot = 0;
-    Run(c, [&](ImplicitEulerIntegrator& integrator, Interactions& interactions, double t) {
-      ObserveSweep(integrator, interactions, &sweep);
+    Run(c, [&](ImplicitEulerIntegrator& integrator, Interactions& interactions, const State& state,
+               double t) {
+      ObserveSweep(integrator, interactions, state, &sweep);
       while (next_snapshot < c.snapshots.size() && t >= c.snapshots[next_snapshot].second - 1e-9) {
         Snapshot(c.snapshots[next_snapshot++].first, integrator, interactions, sweep.extrapolated);
       }

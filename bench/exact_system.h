@@ -111,8 +111,8 @@ int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator,
               int max_iterations, VecX* x);
 
 /// The start of the last sub-step's CG: the band's answer plus the correction extrapolated from
-/// the two sub-steps before, `extrapolated` (read from the integrator after the sub-step before:
-/// 2 cg_correction() - cg_previous_correction()).
+/// the two sub-steps before, `extrapolated` (read from the state after the sub-step before:
+/// 2 State::cg_correction - State::cg_previous_correction).
 VecX CgWarmStart(const BandPreconditioner& band, const VecX& b, const VecX& extrapolated);
 
 }  // namespace viscera::bench

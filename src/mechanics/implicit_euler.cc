@@ -48,8 +48,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   // m |g|^2 = |total weight| |g|: the generalized weight W satisfies M^-1 W = g at every point.
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
-  for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_, &cg_correction_, &cg_previous_correction_})
-    v->setZero(3 * n_);
+  for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_}) v->setZero(3 * n_);
   num_tools_ = static_cast<int>(model.params().tools.size());
   tip_B_.setZero(3 * n_, 3 * num_tools_);
   tip_Y_.setZero(3 * n_, 3 * num_tools_);
@@ -213,7 +212,8 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   }
 }
 
-bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv) {
+bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv,
+                                            State* state) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
@@ -228,11 +228,19 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   const double gravity_reference =
       gravity_floor_ ? gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_ : 0.0;
   const double reference =
-      std::max(b.dot(dv), gravity_reference);        // b^T P^-1 b: dv is the band's answer
-  cg_q_ = cg_correction_ - cg_previous_correction_;  // cg_q_ is free until the first product
-  cg_previous_correction_ = cg_correction_;
-  cg_correction_ += cg_q_;
-  dv += cg_correction_;
+      std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
+  // The warm start is the state's (State::cg_correction): a step from a copied state starts from
+  // the same guess whatever this integrator solved before.
+  VecX& correction = state->cg_correction;
+  VecX& previous = state->cg_previous_correction;
+  if (correction.size() != b.size() || previous.size() != b.size()) {
+    correction.setZero(b.size());  // a state not made by InitialState: allocates, once
+    previous.setZero(b.size());
+  }
+  cg_q_ = correction - previous;  // cg_q_ is free until the first product
+  previous = correction;
+  correction += cg_q_;
+  dv += correction;
   MultiplyExact(dv, &cg_q_);
   cg_r_ = b - cg_q_;
   cg_z_ = cg_r_;
@@ -251,7 +259,7 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
     if (!(pq > 0.0)) break;  // A is positive definite; guard against round-off at convergence
     const double alpha = rz / pq;
     dv += alpha * cg_p_;
-    cg_correction_ += alpha * cg_p_;
+    correction += alpha * cg_p_;
     cg_r_ -= alpha * cg_q_;
     cg_z_ = cg_r_;
     ApplyBandInverse(cg_z_.data());
@@ -402,10 +410,10 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   bool converged = true;
   if (coupled) {
     interactions_->WeighCommonModes(-w.stiffness, -w.h_eff);
-    converged = RefineExactly(b_, h, dv);
+    converged = RefineExactly(b_, h, dv, state);
   } else {
-    cg_correction_.setZero();
-    cg_previous_correction_.setZero();
+    state->cg_correction.setZero();
+    state->cg_previous_correction.setZero();
   }
   if (!converged) {
     // A solve that did not converge: the sub-step again as two halves (each nearer the

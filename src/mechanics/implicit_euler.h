@@ -130,14 +130,12 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
   /// the common modes (as Interactions last weighed them: after Advance, with (ĥ^2, ĥ)).
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
-  /// The last sub-step's CG: its stop (on r^T M^-1 r, M the preconditioner) and its correction
-  /// (exact answer minus the band's) with the one before. The next coupled sub-step starts from
-  /// the band's answer plus 2 cg_correction() - cg_previous_correction() (both 0 after an
-  /// uncoupled sub-step). Read by bench_direct_coupling to rerun that CG with other
+  /// The last sub-step's CG stop (on r^T M^-1 r, M the preconditioner). Its correction (exact
+  /// answer minus the band's) and the one before are the state's (State::cg_correction,
+  /// cg_previous_correction): the next coupled sub-step starts from the band's answer plus twice
+  /// the one minus the other. Read by bench_direct_coupling to rerun that CG with other
   /// preconditioners.
   double last_cg_stop() const { return last_cg_stop_; }
-  const VecX& cg_correction() const { return cg_correction_; }
-  const VecX& cg_previous_correction() const { return cg_previous_correction_; }
 
  private:
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
@@ -160,8 +158,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
   void ApplyCorrections(double* x);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
-  // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended).
-  bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv);
+  // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended). Starts from, and
+  // updates, the state's warm start.
+  bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv, State* state);
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
@@ -223,9 +222,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   Eigen::LDLT<MatX> schur_ldlt_;
   VecX pin_rhs_, pin_lambda_;
   VecX b_, cg_r_, cg_z_, cg_p_,
-      cg_q_;                     // CG: right-hand side, residual, preconditioned, direction, A p
-  VecX cg_correction_;           // exact answer minus the band's, last sub-step (warm start)
-  VecX cg_previous_correction_;  // the one before: the warm start extrapolates the two
+      cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
   // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
   // band system), their Delassus matrix and impulses.
   std::vector<ImpactLimiter::Contact> impact_set_;

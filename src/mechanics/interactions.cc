@@ -130,9 +130,27 @@ void Interactions::Configure(const Points& q, bool place) {
   end_gathered_ = false;
 }
 
-void Interactions::UpdateCandidates(double margin) {
-  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin))
+void Interactions::UpdateCandidates(double margin, State* state) {
+  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin)) {
     geometry_valid_ = false;
+    // The state's list keeps the workspace's capacity: it grows only when the search's did.
+    const collision::VerletMemory& memory = candidates_.memory();
+    state->broad_phase.candidates.reserve(memory.candidates.capacity());
+    state->broad_phase = memory;
+  }
+}
+
+void Interactions::FollowState(const State& state) {
+  if (candidates_.Restore(state.broad_phase)) geometry_valid_ = false;
+  for (size_t t = 0; t < state.tools.size() && t < grasping_.size(); ++t) {
+    const ToolState& ts = state.tools[t];
+    if (held_sphere_[t] != ts.held_sphere) geometry_valid_ = false;  // Held() changes
+    held_sphere_[t] = ts.held_sphere;
+    grasping_[t] = ts.grasping;
+    grasp_offset_[t] = ts.grasp_offset;
+    grasp_scale_[t] = ts.grasp_scale;
+    if (ts.grasping) grasp_at_[t] = model_.MakeCurvePoint(ts.grasp_s);
+  }
 }
 
 void Interactions::EnsureGeometry() {
@@ -500,11 +518,16 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const State& state = *state_in;
   const int base = model_.params().substeps;
   const double h = model_.step_size();
-  Configure(state.q, true);  // usually as EndStep left it: nothing to redo
+  FollowState(state);        // usually as EndStep left it: nothing to take
+  Configure(state.q, true);  // nor to redo
+  // The step's impulse on each hand starts from nothing (a blown-up step's NaN stays in it).
+  std::fill(hand_impulse_.begin(), hand_impulse_.end(), Vec3::Zero());
+  std::fill(hand_time_.begin(), hand_time_.end(), 0.0);
+  std::fill(hand_saturated_.begin(), hand_saturated_.end(), 0);
   GatherVelocities(state.qd);
-  if (tips_in_solve_) SyncTools(state);
+  SyncTools(state);
   const double margin = CandidateMargin(state, h);
-  UpdateCandidates(margin);
+  UpdateCandidates(margin, state_in);
   EnsureGeometry();
   LimitImpacts(h, &state_in->qd, nullptr);
   GatherVelocities(state.qd);
@@ -545,7 +568,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     GatherVelocities(state->qd);
   }
   const double margin = CandidateMargin(*state, h);
-  if (!candidates_fresh_) UpdateCandidates(margin);
+  if (!candidates_fresh_) UpdateCandidates(margin, state);
   candidates_fresh_ = false;
   if (!state->tools.empty()) {
     // Tools move against the candidates of their current pose; then find those of the new one.
@@ -557,7 +580,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
       }
     }
     substep_ = std::min(substep_ + 1, substeps_ - 1);
-    UpdateCandidates(margin);
+    UpdateCandidates(margin, state);
     RefreshToolGeometry();
   }
   LimitImpacts(h, &state->qd, nullptr);
@@ -565,7 +588,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 
-void Interactions::ReleaseHeldSpheres() {
+void Interactions::ReleaseHeldSpheres(State* state) {
   for (size_t t = 0; t < held_sphere_.size(); ++t) {
     if (held_sphere_[t] < 0 || grasping_[t]) continue;
     bool inside = false;
@@ -574,6 +597,7 @@ void Interactions::ReleaseHeldSpheres() {
     }
     if (!inside) {
       held_sphere_[t] = -1;
+      state->tools[t].held_sphere = -1;
       geometry_valid_ = false;  // its spheres are contacts again
     }
   }
@@ -582,9 +606,10 @@ void Interactions::ReleaseHeldSpheres() {
 void Interactions::EndStep(State* state) {
   // Re-placed here rather than at the next step's start: the geometry found for the statistics
   // is then the next step's too.
+  FollowState(*state);  // as the sub-steps left it, unless the step reset the state
   Configure(state->q, true);
   if (tips_in_solve_) SyncTools(*state);
-  ReleaseHeldSpheres();
+  ReleaseHeldSpheres(state);
   EnsureGeometry();
   ContactStats stats;
   const auto& list = candidates();
@@ -620,9 +645,6 @@ void Interactions::EndStep(State* state) {
       f = hand_impulse_[t] / hand_time_[t];
       saturated = hand_saturated_[t];
     }
-    hand_impulse_[t].setZero();
-    hand_time_[t] = 0.0;
-    hand_saturated_[t] = 0;
     ts.clamped = saturated || f.norm() > tp.max_force;
     if (ts.clamped) f *= tp.max_force / f.norm();
     ts.force = f;

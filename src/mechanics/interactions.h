@@ -213,7 +213,11 @@ class Interactions {
   Penalty SelfPenalty(const collision::PairSeparation& separation) const;
   bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
-  void ReleaseHeldSpheres();
+  void ReleaseHeldSpheres(State* state);
+  // Takes what the state carries from the last step (the grasps, the broad phase's list), so
+  // that a step continues the state it is given, not this workspace's last one (a restored
+  // state, another workspace's). Nothing changes for the state this workspace last stepped.
+  void FollowState(const State& state);
   // The Coulomb coefficient of a kind of pair.
   double Friction(collision::ContactKind kind) const;
   // Stick-slip friction on an active pair (UseFriction's anchors): adds its tangential force to
@@ -230,8 +234,9 @@ class Interactions {
   // curve. Nothing is redone for the configuration the chain already has; the geometry is
   // invalidated otherwise.
   void Configure(const Points& q, bool place);
-  // Finds the candidates for `margin`, keeping the geometry unless the list changed.
-  void UpdateCandidates(double margin);
+  // Finds the candidates for `margin`, keeping the geometry unless the list changed; a new list
+  // goes to state->broad_phase.
+  void UpdateCandidates(double margin, State* state);
   // Every candidate's geometry at the current configuration, computed once: RequiredSubsteps,
   // the tools' advance, the force evaluations and EndStep all read it (and EndStep's serves the
   // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
@@ -288,6 +293,9 @@ class Interactions {
   double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
+  // The grasps, as the state's tools hold them (ToolState::grasping, grasp_s, grasp_offset,
+  // grasp_scale, held_sphere): taken from it by FollowState, given back by UpdateGrasp and
+  // ReleaseHeldSpheres.
   std::vector<bool> grasping_;
   std::vector<CurvePoint> grasp_at_;
   // A grasp engages at the jaws' current offset from the tube, which then shrinks (the tube is

@@ -22,7 +22,11 @@ void Interactions::SyncTools(const State& state) {
   for (size_t t = 0; t < state.tools.size() && t < capsules_.size(); ++t) {
     const ToolState& ts = state.tools[t];
     tool_velocity_[t] = ts.initialized ? ts.tip_velocity : Vec3::Zero();
-    if (!ts.initialized) continue;
+    if (!ts.initialized) {
+      moved = moved || capsules_[t].present;  // a state from before the tool's first target
+      capsules_[t].present = false;
+      continue;
+    }
     const ToolParams& tp = model_.params().tools[t];
     moved = moved || !capsules_[t].present || capsules_[t].tip != ts.tip;
     capsules_[t] = {true, tp.port, ts.tip, tp.radius};

@@ -208,8 +208,12 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
       grasp_offset_[index] = ts->tip - Model::Evaluate(grasp_at_[index], q);
     }
   }
+  // The state holds the grasp (FollowState takes it back at the next step's start).
   ts->grasping = grasping_[index];
   ts->grasp_s = grasping_[index] ? grasp_at_[index].s : 0.0;
+  ts->grasp_offset = grasp_offset_[index];
+  ts->grasp_scale = grasp_scale_[index];
+  ts->held_sphere = held_sphere_[index];
 }
 
 }  // namespace viscera::mechanics

@@ -1,10 +1,15 @@
 #pragma once
 /// The mutable state of one simulation: plain, copyable, snapshot-able (the MuJoCo mjData
-/// habit, minus the scratch, which lives in Workspace).
+/// habit, minus the scratch, which lives in Workspace). It is the whole state: everything a step
+/// reads from the steps before (the grasps, the solver's warm start, the broad phase's list) is
+/// here, so that a step from a copy is bit for bit the same whatever its Workspace did before
+/// (a restore after a blow-up, a reset, a fresh workspace; docs/mechanics.md, "State is the
+/// whole state").
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include "collision/verlet_list.h"
 #include "mechanics/model.h"
 
 namespace viscera::mechanics {
@@ -49,6 +54,14 @@ struct State {
   /// The implicit integrator's stick-slip friction: one anchor per contact that friction held in
   /// the last sub-step, sorted by key (empty with the regularized law).
   std::vector<FrictionAnchor> friction;
+  /// The implicit integrator's conjugate-gradient warm start (3N each): the last coupled
+  /// sub-step's correction (exact answer minus the band's) and the one before, which the next
+  /// extrapolates; zero after an uncoupled sub-step.
+  VecX cg_correction;
+  VecX cg_previous_correction;
+  /// The broad phase's contact candidates (a Verlet list) and where each body was searched: the
+  /// next step keeps them while nothing moved far, and sums its contacts in their order.
+  collision::VerletMemory broad_phase;
 };
 
 /// The model's starting pose at rest, t = 0.
@@ -58,12 +71,24 @@ inline State InitialState(const Model& model) {
   s.qd = Points::Zero(model.num_points(), 3);
   s.last_dq = Points::Zero(model.num_points(), 3);
   s.last_dqd = Points::Zero(model.num_points(), 3);
+  s.cg_correction = VecX::Zero(3 * model.num_points());
+  s.cg_previous_correction = VecX::Zero(3 * model.num_points());
   s.tools.resize(model.params().tools.size());
   for (size_t i = 0; i < s.tools.size(); ++i) {
     s.tools[i].tip = model.params().tools[i].port;
     s.tools[i].target.active = false;  // idle until a device or script gives a target
   }
   return s;
+}
+
+/// Drops what a state carries for the solver and the broad phase of the model it ran with (CG's
+/// warm start, the Verlet list), so that its next step starts them afresh, as a new workspace
+/// would: for a state that goes on under another model (a scene's settling tightens the
+/// mesentery stage by stage).
+inline void ForgetSolverMemory(State* s) {
+  s->cg_correction.setZero();
+  s->cg_previous_correction.setZero();
+  s->broad_phase = collision::VerletMemory{};
 }
 
 }  // namespace viscera::mechanics

@@ -1,5 +1,7 @@
 #include "mechanics/step.h"
 
+#include <utility>
+
 namespace viscera::mechanics {
 
 void Step(const Model& model, const StepInputs& inputs, State* state, Workspace* workspace) {
@@ -17,13 +19,15 @@ void Step(const Model& model, const StepInputs& inputs, State* state, Workspace*
   ++state->steps;
   state->t = state->steps * model.step_size();  // no drift from summing h
   if (!state->q.allFinite() || !state->qd.allFinite()) {
-    state->q = model.params().initial_q;  // same size: no allocation
-    state->qd.setZero();
-    state->last_h = 0.0;                      // nothing for a BDF2 step to build on
-    const State start = InitialState(model);  // allocates, but only on this error path
-    state->tools = start.tools;
-    state->friction.clear();
-    ++state->nonfinite_resets;
+    // The whole state back to the start (its grasps, warm start and broad phase too: nothing of
+    // the blown-up step carries on); the time and the run's counters go on.
+    State start = InitialState(model);  // allocates, but only on this error path
+    start.t = state->t;
+    start.steps = state->steps;
+    start.substeps = state->substeps;
+    start.nonfinite_resets = state->nonfinite_resets + 1;
+    start.unconverged_solves = state->unconverged_solves;
+    *state = std::move(start);
   }
   if (interactions) interactions->EndStep(state);
 }

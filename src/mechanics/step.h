@@ -38,8 +38,10 @@ class Workspace {
 
 /// Advances state by one step (1 / rate_hz seconds). Each sub-step re-places the sphere chain,
 /// moves the tools and finds contacts before the integrator runs. A step whose result is not
-/// finite resets q, qd and the tools to the model's start (t continues) and counts it in
-/// state->nonfinite_resets, so a session survives a blow-up instead of propagating NaN.
+/// finite resets the state to the model's start (t and the counters continue) and counts it in
+/// state->nonfinite_resets, so a session survives a blow-up instead of propagating NaN. The step
+/// reads nothing of the workspace's past: from the same state, it is the same whatever the
+/// workspace stepped before (State holds all that carries over).
 void Step(const Model& model, const StepInputs& inputs, State* state, Workspace* workspace);
 
 }  // namespace viscera::mechanics

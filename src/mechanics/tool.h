@@ -48,7 +48,14 @@ struct ToolState {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   double jaw = 1.0;
   bool grasping = false;
-  double grasp_s = 0.0;         ///< curve parameter held while grasping
+  double grasp_s = 0.0;  ///< curve parameter held while grasping
+  /// The grasp spring's rest offset from the held point to the jaws: the jaws' offset when they
+  /// closed, shrinking as the tube is drawn in (m).
+  Vec3 grasp_offset = Vec3::Zero();
+  double grasp_scale = 0.0;  ///< the grasp spring's share: 1 held, fading to 0 after a release
+  /// The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours are
+  /// between the jaws, no contact of the shaft, until they are out of it after a release.
+  int held_sphere = -1;
   double coupling_scale = 1.0;  ///< 1 while active, fades to 0 when idle
   /// Force on the user's hand (N): pressing down into tissue gives an upward force. Clamped.
   Vec3 force = Vec3::Zero();

@@ -391,6 +391,7 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
       p->mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
     const mechanics::Model model(*p);
     mechanics::Workspace workspace(model);
+    mechanics::ForgetSolverMemory(&state);  // each stage's model starts its solver anew
     // stage k < kTighten gets 1 / (1.5 kTighten) of the time, the last one the remaining third
     const int begin = stage * total_steps * 2 / (3 * kTighten);
     const int end =

@@ -4,7 +4,9 @@
 /// a state (tube or tool forces) that is not finite or runs away (points beyond kMaxDistance or
 /// faster than kMaxSpeed) is replaced by the last good state, which is saved every kGoodEvery
 /// steps. The state's counters (steps, nonfinite_resets, unconverged_solves) carry on through a
-/// restore and a Reset: they count the whole run, never go back.
+/// restore and a Reset: they count the whole run, never go back. Assigning the state restores
+/// everything: mechanics::State holds all a step carries over (grasps, CG's warm start, the
+/// broad phase's list), so the workspace follows it from the next step on.
 /// Same model, same sequence of Advance / Reset calls -> the same states, bit for bit.
 #include <cstdint>
 #include <span>
