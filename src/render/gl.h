@@ -5,5 +5,6 @@
 #ifndef GL_GLEXT_PROTOTYPES
 #define GL_GLEXT_PROTOTYPES 1
 #endif
+#include <GL/osmesa.h>  // includes GL/gl.h, which glext.h needs first
+
 #include <GL/glext.h>
-#include <GL/osmesa.h>  // includes GL/gl.h
