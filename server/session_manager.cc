@@ -13,12 +13,10 @@
 #include "bus/message_auth.h"
 #include "common/check.h"
 #include "common/clock.h"
-#include "server/frame_schedule.h"
 #include "server/idle_priority.h"
-#include "server/record_disk.h"
+#include "server/request_checks.h"
 #include "server/scene_budget.h"
 #include "session/session_scene.h"
-#include "skin/skin.h"
 
 namespace viscera::server {
 
@@ -34,7 +32,6 @@ constexpr size_t kReplayEntriesPerClass = 1 << 15;
 constexpr std::chrono::milliseconds kBuildStopWait{500};
 
 constexpr size_t kTokenBytes = 16;
-constexpr double kMaxPosition = 10.0;  // m: no operating room is larger
 
 // Session ids stay below 2^53 so that JSON numbers (doubles) carry them exactly.
 int64_t NewSessionId() {
@@ -64,61 +61,7 @@ uint64_t ReadBe(const uint8_t* p, int bytes) {
   return v;
 }
 
-// Tokens and MACs never reach a record (docs/security.md): a record may be shared.
-void Scrub(viscera_proto::header_t* header) {
-  header->token.clear();
-  header->token_len = 0;
-  header->mac.clear();
-  header->mac_len = 0;
-}
-
 }  // namespace
-
-std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools) {
-  if (pose.tool < 0 || pose.tool >= num_tools) {
-    return Cat("tool ", pose.tool, " does not exist (the scene has ", num_tools, ")");
-  }
-  for (const double x : pose.position) {
-    if (!std::isfinite(x) || std::abs(x) > kMaxPosition) {
-      return Cat("position (", pose.position[0], ", ", pose.position[1], ", ", pose.position[2],
-                 ") m: not finite or beyond ", kMaxPosition, " m");
-    }
-  }
-  double norm2 = 0.0;
-  for (const double c : pose.orientation) norm2 += c * c;
-  if (!std::isfinite(norm2) || norm2 < 0.25 || norm2 > 4.0) {
-    return Cat("orientation quaternion of norm ", std::sqrt(norm2), ": not a rotation");
-  }
-  if (!std::isfinite(pose.jaw) || pose.jaw < 0.0 || pose.jaw > 1.0) {
-    return Cat("jaw ", pose.jaw, ": must be within [0, 1]");
-  }
-  return "";
-}
-
-std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg_quality,
-                                 const std::string& skin_name, const ServerConfig& limits) {
-  // every stream holds a frame buffer and a render thread: the server caps their size
-  const auto side_ok = [](int side, int max) {
-    return side == 0 || (side >= kMinFrameSide && side <= max);
-  };
-  if (!side_ok(width, limits.max_frame_width) || !side_ok(height, limits.max_frame_height)) {
-    return Cat("frame size ", width, "x", height,
-               ": each side must be 0 (server default) or within ", kMinFrameSide, "..",
-               limits.max_frame_width, "x", limits.max_frame_height, " pixels");
-  }
-  if (!std::isfinite(rate_hz) || rate_hz > limits.max_frame_rate_hz ||
-      (rate_hz > 0.0 && rate_hz < kMinFrameRateHz)) {
-    return Cat("frame rate ", rate_hz, " Hz: must be within ", kMinFrameRateHz, "..",
-               limits.max_frame_rate_hz, " Hz (0 = server default, < 0 = no frames)");
-  }
-  if (jpeg_quality < 0 || jpeg_quality > 100) {
-    return Cat("JPEG quality ", jpeg_quality, ": must be within 1..100 (0 = server default)");
-  }
-  if (!skin_name.empty() && !skin::IsSkinName(skin_name)) {
-    return Cat("unknown skin '", skin_name, "' (expected ", skin::kSkinNameList, ")");
-  }
-  return "";
-}
 
 SessionManager::SessionManager(const ServerConfig& config, bus::LcmBus* bus, bus::LcmBus* frame_bus)
     : config_(config),
@@ -142,23 +85,6 @@ void SessionManager::SetMaxSessions(int max_sessions) {
 void SessionManager::SetCapacity(const CapacityEstimate& estimate) {
   SetMaxSessions(estimate.max_sessions);
   capacity_ = estimate;
-}
-
-double SessionManager::CoresCharged() const {
-  double sum = 0.0;
-  for (const auto& [id, running] : sessions_) sum += running.cores;
-  for (const PendingCreate& p : pending_) sum += p.cores;
-  return sum;
-}
-
-std::string SessionManager::FullMessage() const {
-  const std::string full = Cat("server ", config_.server_id, " is full (", sessions_.size(), " of ",
-                               config_.max_sessions, " sessions)");
-  const std::optional<bus::ServerLoad> other =
-      peers_ != nullptr ? peers_->Suggest(MonotonicNanos()) : std::nullopt;
-  if (!other) return Cat(full, "; no other server with room heard");
-  return Cat(full, "; server ", other->server_id, " has room (", other->sessions, " of ",
-             other->max_sessions, " sessions): viscera create --server ", other->server_id);
 }
 
 void SessionManager::StopAll() {
@@ -195,47 +121,6 @@ int64_t SessionManager::unconverged_solves() const {
 session::Session* SessionManager::Find(int64_t id) {
   const auto it = sessions_.find(id);
   return it == sessions_.end() ? nullptr : it->second.session.get();
-}
-
-void SessionManager::Reject(session::Session* session, const std::string& why) {
-  ++rejected_;
-  if (session != nullptr) session->CountRejected(why);
-}
-
-std::string SessionManager::CheckReplay(const viscera_proto::header_t& header,
-                                        const std::string& channel, session::Session* session) {
-  const int64_t now = bus::WallMicros();
-  bus::ReplayGuard& guard = channel == bus::kRequestChannel ? replay_ : replay_poses_;
-  const bus::ReplayGuard::Verdict verdict =
-      guard.Check(header.sender, channel, header.seq, header.utime, now);
-  if (verdict == bus::ReplayGuard::Verdict::kAccepted) return "";
-  const std::string why = guard.Explain(verdict, header.seq, header.utime, now);
-  ++rejected_;
-  ++replayed_;
-  if (session != nullptr) session->CountReplayed(Cat(channel, ": ", why));
-  return why;
-}
-
-std::string SessionManager::CreateRateProblem() {
-  if (config_.max_creates_per_minute <= 0) return "";
-  const int64_t now = MonotonicNanos();
-  constexpr int64_t kMinute = 60'000'000'000;
-  while (!create_times_.empty() && now - create_times_.front() > kMinute) create_times_.pop_front();
-  if (static_cast<int>(create_times_.size()) >= config_.max_creates_per_minute) {
-    return Cat("too many creates: ", create_times_.size(), " in the last minute from ",
-               config_.key_file.empty() ? "all clients" : "the holders of this server's key",
-               " together (limit ", config_.max_creates_per_minute,
-               " per minute; try again shortly)");
-  }
-  create_times_.push_back(now);
-  return "";
-}
-
-double SessionManager::FrameLoadMpix() const {
-  double sum = 0.0;
-  for (const auto& [id, running] : sessions_) sum += running.frame_mpix_per_s;
-  for (const PendingCreate& p : pending_) sum += p.frame_mpix_per_s;
-  return sum;
 }
 
 viscera_proto::session_status_t SessionManager::Retire(int64_t id) {
@@ -288,9 +173,19 @@ void SessionManager::OnDrop(const std::string& channel, bus::DropReason reason, 
             " bytes (--max-message-size)"));
 }
 
+void SessionManager::Reject(session::Session* session, const std::string& why) {
+  ++rejected_;
+  if (session != nullptr) session->CountRejected(why);
+}
+
 void SessionManager::Reply(const session_request_t& request, int8_t result,
-                           const std::string& message, int64_t session_id) {
+                           const std::string& message, int64_t session_id,
+                           const std::vector<uint8_t>& token) {
   reply_.header = bus::MakeHeader(session_id, reply_seq_++);
+  if (!token.empty()) {
+    reply_.header.token = token;
+    reply_.header.token_len = static_cast<int32_t>(token.size());
+  }
   reply_.request_id = request.request_id;
   reply_.command = request.command;
   reply_.result = result;
@@ -307,31 +202,12 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   if (!request.server_id.empty() && request.server_id != config_.server_id) return;
   reply_.sessions.clear();
   reply_.num_sessions = 0;
-
-  const std::string problem = bus::HeaderProblem(request.header);
-  if (!problem.empty() || request.request_id == 0) {
-    Reject(Find(request.header.session_id),
-           Cat("bad request: ", problem.empty() ? "request_id 0" : problem));
-    // another protocol version may not understand the reply, but it is all we can say
-    Reply(request, session_reply_t::kBadRequest,
-          problem.empty() ? "request_id must not be 0" : problem, request.header.session_id);
-    return;
-  }
-
+  if (!Validate(request)) return;
   switch (request.command) {
     case session_request_t::kCreate:
-      if (request.server_id != config_.server_id) {
-        ++rejected_;
-        Reply(request, session_reply_t::kBadRequest,
-              "create must name its server (server_id from the heartbeat)");
-        return;
+      if (const std::optional<AdmittedCreate> admitted = AdmitCreate(request)) {
+        StartCreate(request, *admitted);
       }
-      if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, nullptr);
-          !why.empty()) {
-        Reply(request, session_reply_t::kReplayed, why);
-        return;
-      }
-      Create(request);
       return;
     case session_request_t::kList:
       for (const auto& [id, running] : sessions_)
@@ -339,6 +215,32 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
       reply_.num_sessions = static_cast<int32_t>(reply_.sessions.size());
       Reply(request, session_reply_t::kOk, "");
       return;
+    default:
+      if (session::Session* session = AdmitToSession(request)) Dispatch(request, session);
+      return;
+  }
+}
+
+bool SessionManager::Validate(const session_request_t& request) {
+  const int64_t id = request.header.session_id;
+  const std::string problem = bus::HeaderProblem(request.header);
+  if (!problem.empty() || request.request_id == 0) {
+    Reject(Find(id), Cat("bad request: ", problem.empty() ? "request_id 0" : problem));
+    // another protocol version may not understand the reply, but it is all we can say
+    Reply(request, session_reply_t::kBadRequest,
+          problem.empty() ? "request_id must not be 0" : problem, id);
+    return false;
+  }
+  switch (request.command) {
+    case session_request_t::kCreate:
+      if (request.server_id != config_.server_id) {
+        ++rejected_;
+        Reply(request, session_reply_t::kBadRequest,
+              "create must name its server (server_id from the heartbeat)");
+        return false;
+      }
+      return true;
+    case session_request_t::kList:
     case session_request_t::kStatus:
     case session_request_t::kDestroy:
     case session_request_t::kReset:
@@ -346,86 +248,47 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
     case session_request_t::kResume:
     case session_request_t::kCamera:
     case session_request_t::kKeepAlive:
-    case session_request_t::kWatchFrames: break;
+    case session_request_t::kWatchFrames: return true;
     default:
-      Reject(Find(request.header.session_id), Cat("unknown command ", int{request.command}));
+      Reject(Find(id), Cat("unknown command ", int{request.command}));
       Reply(request, session_reply_t::kBadRequest, Cat("unknown command ", int{request.command}),
-            request.header.session_id);
-      return;
+            id);
+      return false;
   }
+}
 
+void SessionManager::Dispatch(const session_request_t& request, session::Session* session) {
   const int64_t id = request.header.session_id;
-  session::Session* session = Find(id);
-  if (session == nullptr) {
-    ++not_ours_;  // on a shared bus, most likely another server's session: not an attack
-    Reply(request, session_reply_t::kUnknownSession,
-          Cat("no session ", id, " on server ", config_.server_id), id);
-    return;
+  switch (request.command) {
+    case session_request_t::kStatus:
+      reply_.sessions.push_back(session->Status());
+      reply_.num_sessions = 1;
+      Reply(request, session_reply_t::kOk, "", id);
+      return;
+    case session_request_t::kWatchFrames:
+      session->WatchFrames();
+      Reply(request, session_reply_t::kOk, "", id);
+      return;
+    default: break;
   }
-  if (request.command == session_request_t::kStatus) {
-    // status needs no token: the same status goes out on VISCERA_STATUS_<id> to everyone
-    reply_.sessions.push_back(session->Status());
-    reply_.num_sessions = 1;
-    Reply(request, session_reply_t::kOk, "", id);
-    return;
-  }
-  if (request.command == session_request_t::kWatchFrames) {
-    // no token, as the frames themselves: a watcher costs the server the frames it asked for
-    // anyway before the lease existed, and changes nothing else
-    session->WatchFrames();
-    Reply(request, session_reply_t::kOk, "", id);
-    return;
-  }
-  if (!bus::SecureEquals(request.header.token, session->config().token)) {
-    Reject(session, request.header.token.empty() ? "request without the session token"
-                                                 : "request with a wrong session token");
-    Reply(request, session_reply_t::kBadToken,
-          request.header.token.empty() ? "this command needs the session token"
-                                       : "wrong session token",
-          id);
-    return;
-  }
-  // before any effect: a replayed or stale command changes nothing, not even the lease
-  if (const std::string why = CheckReplay(request.header, bus::kRequestChannel, session);
-      !why.empty()) {
-    Reply(request, session_reply_t::kReplayed, why, id);
-    return;
-  }
+  // an authentic command renews the lease and is recorded, even one refused below
   session->Touch();
-  if (session->recorder() != nullptr) {
-    record_request_ = request;
-    Scrub(&record_request_.header);
-    session->recorder()->Write(bus::kRequestChannel, record_request_, bus::WallMicros());
-  }
+  records_.WriteRequest(session->recorder(), request, bus::WallMicros());
 
   session::Command command;
   switch (request.command) {
     case session_request_t::kKeepAlive: Reply(request, session_reply_t::kOk, "", id); return;
-    case session_request_t::kDestroy: {
+    case session_request_t::kDestroy:
       reply_.sessions.push_back(Retire(id));
       reply_.num_sessions = 1;
       Reply(request, session_reply_t::kOk, "", id);
       return;
-    }
     case session_request_t::kReset: command.kind = session::Command::Kind::kReset; break;
     case session_request_t::kPause: command.kind = session::Command::Kind::kPause; break;
     case session_request_t::kResume: command.kind = session::Command::Kind::kResume; break;
     default: {  // kCamera: no mechanics involved, the render thread reads it directly
-      session::CameraPose pose;
-      pose.eye = Vec3(request.camera_eye[0], request.camera_eye[1], request.camera_eye[2]);
-      pose.target =
-          Vec3(request.camera_target[0], request.camera_target[1], request.camera_target[2]);
-      pose.up = Vec3(request.camera_up[0], request.camera_up[1], request.camera_up[2]);
-      pose.fov_deg = request.camera_fov_deg;
-      pose.set_by_client = true;
-      const Vec3 view = pose.target - pose.eye;
-      const bool ok = pose.eye.allFinite() && pose.target.allFinite() && pose.up.allFinite() &&
-                      pose.eye.cwiseAbs().maxCoeff() <= kMaxPosition &&
-                      pose.target.cwiseAbs().maxCoeff() <= kMaxPosition && view.norm() > 1e-6 &&
-                      pose.up.norm() > 1e-9 &&
-                      view.normalized().cross(pose.up.normalized()).norm() > 1e-6 &&
-                      std::isfinite(pose.fov_deg) && pose.fov_deg > 1.0 && pose.fov_deg < 179.0;
-      if (!ok) {
+      const session::CameraPose pose = CameraPoseOf(request);
+      if (!CameraPoseUsable(pose)) {
         Reject(session, "camera: non-finite or degenerate pose, or fov outside (1, 179) deg");
         Reply(request, session_reply_t::kRefused,
               Cat("camera: eye and target must differ and lie within ", kMaxPosition,
@@ -446,81 +309,16 @@ void SessionManager::OnRequest(const session_request_t& request, const bus::Mess
   Reply(request, session_reply_t::kOk, "", id);
 }
 
-void SessionManager::Create(const session_request_t& request) {
-  if (const std::string problem = CreateRateProblem(); !problem.empty()) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused, problem);
-    return;
-  }
-  if (static_cast<int>(sessions_.size() + pending_.size()) >= config_.max_sessions) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused, FullMessage());
-    return;
-  }
-  if (const std::string problem = RecordDiskProblem(config_); !problem.empty()) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused, problem);
-    return;
-  }
-  if (!std::isfinite(request.skeleton_rate_hz) || request.skeleton_rate_hz > 1000.0) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused, "skeleton rate must be at most 1000 Hz");
-    return;
-  }
-  if (const std::string problem =
-          FrameSettingsProblem(request.frame_width, request.frame_height, request.frame_rate_hz,
-                               request.jpeg_quality, request.skin, config_);
-      !problem.empty()) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused, problem);
-    return;
-  }
-
-  const double frame_rate =
-      request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
-  const double mpix =
-      frame_rate <= 0.0
-          ? 0.0
-          : 1e-6 * frame_rate *
-                (request.frame_width > 0 ? request.frame_width : config_.frame_width) *
-                (request.frame_height > 0 ? request.frame_height : config_.frame_height);
-  if (const double in_use = FrameLoadMpix();
-      config_.max_frame_mpix_per_s > 0.0 && in_use + mpix > config_.max_frame_mpix_per_s) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused,
-          Cat("frame bandwidth: this stream needs ", mpix,
-              " Mpixel/s and the server's streams use ", in_use, " of its ",
-              config_.max_frame_mpix_per_s, " (ask for a smaller or slower stream, or none)"));
-    return;
-  }
-
-  const double cores =
-      !capacity_
-          ? 0.0
-          : capacity_->SessionCores(
-                frame_rate, request.frame_width > 0 ? request.frame_width : config_.frame_width,
-                request.frame_height > 0 ? request.frame_height : config_.frame_height);
-  if (const double charged = CoresCharged();
-      capacity_ && charged > 0.0 && charged + cores > capacity_->BudgetCores() + 1e-9) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused,
-          Cat("server ", config_.server_id, " has no room for this session: it would cost ", cores,
-              " core", frame_rate > 0.0 ? Cat(" (", frame_rate, " Hz frames included)") : "",
-              ", and its ", sessions_.size(), " sessions use ", charged, " of its ",
-              capacity_->BudgetCores(), " core budget",
-              frame_rate > 0.0 ? "; ask for fewer or no frames (frame rate < 0)" : ""));
-    return;
-  }
-
+void SessionManager::StartCreate(const session_request_t& request, const AdmittedCreate& admitted) {
   // Building the model may take long (mesh distance fields, settling): a helper thread does
   // it at low priority (nice 10), within the server's scene budget, so no session waits for it.
-  const double rate = request.rate_hz != 0.0 ? request.rate_hz : config_.rate_hz;
+  const double rate = admitted.settings.rate_hz;
   scene::SceneLimits limits = NetworkSceneLimits(config_, rate);
   auto stop = std::make_shared<std::atomic<bool>>(false);
   limits.check_stop = BuildStopCheck(stop, config_.max_build_s);
   const std::string inline_source = config_.scene_dir + "/<inline>";  // meshes: the scene dir
   // copies only, no `this`: a build still running at shutdown is left behind (StopAll)
-  pending_.push_back({request, mpix, cores,
+  pending_.push_back({request, admitted,
                       std::async(std::launch::async,
                                  [scene_dir = config_.scene_dir, max_rate = config_.max_rate_hz,
                                   request, rate, limits, inline_source] {
@@ -545,26 +343,24 @@ void SessionManager::Poll() {
       continue;
     }
     const session_request_t request = p.request;
-    const double mpix = p.frame_mpix_per_s, cores = p.cores;
+    const AdmittedCreate admitted = p.admitted;
     std::future<session::SessionScene> future = std::move(p.scene);
     pending_.erase(pending_.begin() + static_cast<long>(i));
     session::SessionScene scene;
     try {
       scene = future.get();  // the helper's exception, if any, arrives here as a value
     } catch (const std::exception& e) {
-      ++rejected_;
-      Reply(request, session_reply_t::kRefused, e.what());
+      RefuseCreate(request, e.what());
       continue;
     }
-    FinishCreate(request, std::move(scene), mpix, cores);
+    FinishCreate(request, std::move(scene), admitted);
   }
 }
 
 void SessionManager::FinishCreate(const session_request_t& request, session::SessionScene scene,
-                                  double frame_mpix_per_s, double cores) {
+                                  const AdmittedCreate& admitted) {
   if (static_cast<int>(sessions_.size()) >= config_.max_sessions) {
-    ++rejected_;
-    Reply(request, session_reply_t::kRefused, FullMessage());
+    RefuseCreate(request, FullMessage());
     return;
   }
   session::SessionConfig sc;
@@ -574,22 +370,12 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   sc.token = bus::RandomBytes(kTokenBytes);
   sc.server_id = config_.server_id;
   sc.scene = scene.label;
-  sc.skeleton_rate_hz =
-      request.skeleton_rate_hz != 0.0 ? request.skeleton_rate_hz : config_.skeleton_rate_hz;
+  sc.skeleton_rate_hz = admitted.settings.skeleton_rate_hz;
   sc.status_rate_hz = config_.status_rate_hz;
   sc.realtime_priority = config_.realtime_priority;
   sc.lease_s = config_.session_lease_s;
   sc.spin_ns = config_.spin_us < 0.0 ? -1 : static_cast<int64_t>(config_.spin_us * 1e3);
-  FrameStreamConfig frames;
-  frames.rate_hz = request.frame_rate_hz != 0.0 ? request.frame_rate_hz : config_.frame_rate_hz;
-  frames.lease_s = config_.frame_lease_s;
-  frames.options.width = request.frame_width > 0 ? request.frame_width : config_.frame_width;
-  frames.options.height = request.frame_height > 0 ? request.frame_height : config_.frame_height;
-  frames.options.jpeg_quality =
-      request.jpeg_quality > 0 ? request.jpeg_quality : config_.jpeg_quality;
-  frames.options.skin = !request.skin.empty() ? request.skin : config_.skin;
-  frames.options.skin_options.parametric.sides = config_.skin_sides;
-  frames.options.skin_options.convolution.sides = config_.skin_sides;
+  const FrameStreamConfig frames = admitted.settings.FrameStream(config_);
   // while frames stream, a snapshot every step (it costs a copy of the control points): a
   // frame then shows the pose of its tick, not one up to a snapshot period older
   sc.snapshot_rate_hz =
@@ -604,22 +390,12 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
       Reply(request, session_reply_t::kRefused, Cat("cannot record the session: ", e.what()));
       return;
     }
-    // the request as it came, and the scene as loaded with the rate in use: replay needs both
-    const int64_t now = bus::WallMicros();
-    record_request_ = request;
-    Scrub(&record_request_.header);
-    recorder->Write(bus::kRequestChannel, record_request_, now);
-    session_request_t scene_record = record_request_;
-    scene_record.header = bus::MakeHeader(sc.id, 0);
-    scene_record.scene_toml = scene.toml;
-    scene_record.scene_name = scene.source;  // meshes resolve against it on replay
-    scene_record.rate_hz = scene.model->params().rate_hz;
-    recorder->Write(bus::SessionChannel(bus::kScenePrefix, sc.id), scene_record, now);
+    records_.WriteCreate(recorder.get(), request, sc.id, scene, bus::WallMicros());
   }
 
   Running& running = sessions_[sc.id];  // in the map first: nothing below can lose a thread
-  running.frame_mpix_per_s = frame_mpix_per_s;
-  running.cores = cores;
+  running.frame_mpix_per_s = admitted.frame_mpix_per_s;
+  running.cores = admitted.cores;
   running.session = std::make_unique<session::Session>(sc, scene.model, bus_, std::move(recorder));
   session::Session* session = running.session.get();
   session->Start();
@@ -638,15 +414,7 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
   for (const std::string& w : scene.warnings) message += (message.empty() ? "" : "; ") + w;
   reply_.sessions.push_back(session->Status());
   reply_.num_sessions = 1;
-  reply_.header = bus::MakeHeader(sc.id, reply_seq_++);
-  reply_.header.token = sc.token;
-  reply_.header.token_len = static_cast<int32_t>(sc.token.size());
-  reply_.request_id = request.request_id;
-  reply_.command = request.command;
-  reply_.result = session_reply_t::kOk;
-  reply_.message = message;
-  reply_.server_id = config_.server_id;
-  bus_->Publish(bus::kReplyChannel, reply_);
+  Reply(request, session_reply_t::kOk, message, sc.id, sc.token);
   std::fprintf(stderr, "viscerad: session %lld created (scene %s, %g Hz)\n",
                static_cast<long long>(sc.id), sc.scene.c_str(), scene.model->params().rate_hz);
 }
@@ -694,11 +462,7 @@ void SessionManager::OnPose(const viscera_proto::tool_pose_t& pose, const bus::M
     return;
   }
   session->CountPose();
-  if (session->recorder() != nullptr) {
-    record_pose_ = pose;
-    Scrub(&record_pose_.header);
-    session->recorder()->Write(*info.channel, record_pose_, info.recv_utime);
-  }
+  records_.WritePose(session->recorder(), *info.channel, pose, info.recv_utime);
 }
 
 }  // namespace viscera::server

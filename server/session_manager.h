@@ -19,28 +19,17 @@
 #include "bus/lcm_bus.h"
 #include "bus/replay_guard.h"
 #include "server/capacity_estimate.h"
+#include "server/create_settings.h"
 #include "server/exposure_watcher.h"
 #include "server/frame_streamer.h"
 #include "server/peer_directory.h"
+#include "server/request_checks.h"
 #include "server/server_config.h"
+#include "server/session_record.h"
 #include "session/session.h"
 #include "session/session_scene.h"
 
 namespace viscera::server {
-
-/// Why a pose cannot drive tool `tool` of a session with `num_tools` tools ("" if it can):
-/// out-of-range tool index, non-finite or out-of-range position (|x| <= 10 m), orientation
-/// (norm within 0.5..2) or jaw (0..1).
-std::string PoseProblem(const viscera_proto::tool_pose_t& pose, int num_tools);
-
-/// Smallest frame side a stream may have (pixels).
-inline constexpr int kMinFrameSide = 16;
-
-/// Why frames of these settings cannot be served within `limits` (max_frame_width,
-/// max_frame_height, max_frame_rate_hz), or "" when they can: a create's (0 or "" = the
-/// server default) and viscerad's own defaults alike. Rates < 0 mean no frames.
-std::string FrameSettingsProblem(int width, int height, double rate_hz, int jpeg_quality,
-                                 const std::string& skin_name, const ServerConfig& limits);
 
 class SessionManager {
  public:
@@ -100,11 +89,40 @@ class SessionManager {
   int64_t unconverged_solves() const;
 
  private:
+  /// What admission decided for a create: its settings with the server's defaults, and what
+  /// it is charged until it ends.
+  struct AdmittedCreate {
+    CreateSettings settings;
+    double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
+    double cores = 0.0;             // what admission charged it (SetCapacity)
+  };
+
+  /// Answers `request` (`token`: the session token, for a create's answer only). The reply
+  /// carries the statuses put in reply_.sessions before the call.
   void Reply(const viscera_proto::session_request_t& request, int8_t result,
-             const std::string& message, int64_t session_id = 0);
-  void Create(const viscera_proto::session_request_t& request);
+             const std::string& message, int64_t session_id = 0,
+             const std::vector<uint8_t>& token = {});
+  // A request goes through three steps, each answering it when it ends there: Validate (its
+  // form), admission (the server's state, the session's token, the replay guard), then the
+  // command (StartCreate, the list, Dispatch).
+  /// False (answered kBadRequest) for a request of bad form: its header, request_id 0, an
+  /// unknown command, a create that does not name this server.
+  bool Validate(const viscera_proto::session_request_t& request);
+  /// Whether a create may start (session_admission.cc): not a replay, within the create rate,
+  /// the sessions, the disk, the server's limits, its frame bandwidth and cores. Answers a
+  /// refusal.
+  std::optional<AdmittedCreate> AdmitCreate(const viscera_proto::session_request_t& request);
+  /// The session a command is for, once its token and the replay guard let it through (status
+  /// and frame watching need no token); nullptr when refused (answered).
+  session::Session* AdmitToSession(const viscera_proto::session_request_t& request);
+  /// Counts and answers a create refused (kRefused).
+  void RefuseCreate(const viscera_proto::session_request_t& request, const std::string& why);
+  /// Runs an admitted session command and answers it.
+  void Dispatch(const viscera_proto::session_request_t& request, session::Session* session);
+  /// Starts building an admitted create's scene on a helper thread (Poll finishes it).
+  void StartCreate(const viscera_proto::session_request_t& request, const AdmittedCreate& admitted);
   void FinishCreate(const viscera_proto::session_request_t& request, session::SessionScene scene,
-                    double frame_mpix_per_s, double cores);
+                    const AdmittedCreate& admitted);
   void Reject(session::Session* session, const std::string& why);
   /// The replay verdict on an otherwise authentic message: "" to go on, else why it was
   /// dropped (counted, charged to `session` when there is one).
@@ -148,8 +166,7 @@ class SessionManager {
   std::vector<Running> retiring_;
   struct PendingCreate {
     viscera_proto::session_request_t request;
-    double frame_mpix_per_s = 0.0;
-    double cores = 0.0;
+    AdmittedCreate admitted;
     std::future<session::SessionScene> scene;  // the helper's result or its exception
     std::shared_ptr<std::atomic<bool>> stop;   // set: the helper abandons the build
   };
@@ -165,9 +182,8 @@ class SessionManager {
   std::deque<int64_t> create_times_;      // creates accepted within the last minute (ns)
   int64_t reply_seq_ = 0;
   viscera_proto::session_reply_t
-      reply_{};  // zeroed: Reply() sends num_sessions before any list set it
-  viscera_proto::tool_pose_t record_pose_{};           // a pose as recorded: without its token
-  viscera_proto::session_request_t record_request_{};  // a request as recorded: likewise
+      reply_{};             // zeroed: Reply() sends num_sessions before any list set it
+  ScrubbedRecord records_;  // requests and poses into session records, without tokens
 };
 
 }  // namespace viscera::server

@@ -1,9 +1,11 @@
 #pragma once
-/// Session: one running simulation. It owns the immutable model, the mechanics thread (a
-/// fixed-rate loop with absolute deadlines), the inbox the I/O thread fills, and the
-/// session record. Every step it publishes force feedback; at configured rates, skeleton
-/// state and status. An exception never leaves the mechanics thread: the loop catches it,
-/// marks the session faulted and says why in its status; the server lives on.
+/// Session: one running simulation. It owns the immutable model, the mechanics thread (its
+/// loop: mechanics_loop.h), the inbox the I/O thread fills, and the session record; what
+/// other threads read of it sits on its status board (status_board.h), its camera, its
+/// skeleton snapshots and its targets' exposures (assessment_file.h). Every step it publishes
+/// force feedback; at configured rates, skeleton state and status. An exception never leaves
+/// the mechanics thread: the session catches it, marks itself faulted and says why in its
+/// status; the server lives on.
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -14,16 +16,19 @@
 
 #include <viscera_proto/session_status_t.hpp>
 
-#include "assessment/metrics.h"
 #include "assessment/report.h"
 #include "bus/lcm_bus.h"
 #include "common/clock.h"
 #include "mechanics/model.h"
+#include "session/assessment_file.h"
 #include "session/inbox.h"
 #include "session/recorder.h"
 #include "session/snapshot.h"
+#include "session/status_board.h"
 
 namespace viscera::session {
+
+class MechanicsLoop;
 
 struct SessionConfig {
   int64_t id = 0;                  ///< session id (> 0)
@@ -55,20 +60,6 @@ struct CameraPose {
   double fov_deg = 60.0;
   /// False until a client sets the camera: the render thread then frames the scene itself.
   bool set_by_client = false;
-};
-
-/// What a session's render thread reports of its frame stream; merged into every status.
-struct FrameStreamReport {
-  std::string error;         ///< the render thread's last problem ("" if none)
-  int64_t error_serial = 0;  ///< +1 per new error: Status() takes each one once
-  std::string skin;
-  int width = 0, height = 0;                        ///< pixels
-  double rate_hz = 0.0;                             ///< configured (Hz)
-  double achieved_rate_hz = 0.0;                    ///< over about the last second (Hz)
-  int64_t frames = 0;                               ///< sent
-  int64_t dropped = 0;                              ///< skipped: the renderer was busy
-  float skin_ms = 0, render_ms = 0, encode_ms = 0;  ///< medians over about the last second
-  int32_t frame_bytes = 0;                          ///< JPEG size of the last frame rendered
 };
 
 class Session {
@@ -112,7 +103,7 @@ class Session {
   /// `.lcmlog`; "" without a record.
   std::string AssessmentPath() const;
   /// Counts an accepted pose (I/O thread).
-  void CountPose() { ++poses_; }
+  void CountPose() { board_.CountPose(); }
   /// Keeps `why` as the last error (shown in status), counting nothing. Any thread.
   void SetError(const std::string& why);
   /// Counts a replayed or stale message of this session (also a rejected one).
@@ -138,19 +129,14 @@ class Session {
   /// The latest skeleton snapshot (published at config().snapshot_rate_hz), for the
   /// skin/render thread. Any thread.
   std::shared_ptr<const Snapshot> LatestSnapshot() const { return snapshots_.Latest(); }
-  bool faulted() const { return state_.load() == viscera_proto::session_status_t::kFaulted; }
+  bool faulted() const { return board_.state() == viscera_proto::session_status_t::kFaulted; }
 
  private:
   void Run();
-  void Loop(bool realtime);
-  void ApplyCommands();
-  void PublishForces(int64_t now_ns);
-  void PublishSkeleton();
-  /// Publishes the status; `new_state` (>= 0) becomes the session's state in the same critical
-  /// section as the figures, so no reader sees the new state with figures from before it.
+  /// Publishes the status (from the mechanics thread, or once it has ended): the board's,
+  /// with the loop's figures when it ran; `new_state` (>= 0) becomes the session's state
+  /// with them (StatusBoard::Post).
   void PublishStatus(int64_t now_ns, bool summarize, int8_t new_state = -1);
-  // The assessment of the mechanics thread's metrics and the latest exposures, into status_.
-  void FillAssessment(viscera_proto::session_status_t* status);
   void WriteAssessment();
 
   SessionConfig config_;
@@ -160,32 +146,20 @@ class Session {
   Inbox inbox_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
-  std::atomic<int8_t> state_{viscera_proto::session_status_t::kRunning};
-  std::atomic<int64_t> poses_{0};
-  std::atomic<int64_t> rejected_{0};
-  std::atomic<int64_t> replayed_{0};
   std::atomic<int64_t> last_touch_ns_;
   static constexpr int64_t kNeverWatched = INT64_MIN;
   std::atomic<int64_t> last_watch_ns_{kNeverWatched};
 
-  // The render thread (SCHED_IDLE) never takes status_mutex_ or blocks the mechanics thread:
-  // a thread that low, preempted while holding a lock, could hold it for a long time.
-  mutable std::mutex status_mutex_;           // guards status_, last_error_, frames_seen_
-  viscera_proto::session_status_t status_{};  // zeroed: lcm-gen types leave counters uninitialized
-  mutable std::string last_error_;            // Status() folds the render thread's new problems in
-  mutable FrameStreamReport frames_seen_;     // the last report Status() could read
-  mutable std::mutex camera_mutex_;           // I/O and render threads only
+  // What other threads read, each behind its own lock (the class says whose): the mechanics
+  // thread waits for none that a low-priority thread (render, exposure watcher) takes.
+  StatusBoard board_;
+  mutable std::mutex camera_mutex_;  // I/O and render threads only
   CameraPose camera_;
-  mutable std::mutex frames_mutex_;  // render thread; others only try_lock it
-  FrameStreamReport frames_;
   SnapshotExchange snapshots_;
-  mutable std::mutex exposure_mutex_;  // the exposure watcher; the mechanics thread try_locks
-  assessment::TargetTracker targets_;  // guarded by exposure_mutex_
-  assessment::Report targets_seen_;    // mechanics thread: the last targets it could read
+  TargetExposures targets_;
 
-  // Mechanics thread only (the loop and what it calls).
-  struct LoopState;
-  std::unique_ptr<LoopState> loop_;
+  // The mechanics thread's alone while it runs (built there); the session's once it ended.
+  std::unique_ptr<MechanicsLoop> loop_;
 };
 
 }  // namespace viscera::session
