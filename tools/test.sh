@@ -2,7 +2,8 @@
 # Configures, builds and runs every viscera test with ctest. Installs what it needs first.
 # Usage: ./tools/test.sh [extra ctest arguments for the main suite]
 #
-# First the form check (tools/format.sh --check: every tracked C++ file as .clang-format has it).
+# First the form checks: tools/format.sh --check (every tracked C++ file as .clang-format has it)
+# and tools/check_words.py (no tracked file speaks of how the work is done; the file lists the words).
 # Then three parts, each timed (docs/reliability.md, "Sanitizers in CI", has the figures and why
 # each part covers what it does):
 #   1. Release build (gcc), every test (unit, integration, end to end, the short soak).
@@ -36,6 +37,8 @@ timed() {  # NAME COMMAND...: runs it, keeps how long it took
 
 # 0. form: every tracked C++ file as .clang-format has it (tools/format.sh fixes a difference)
 timed "format check" "$root/tools/format.sh" --check
+# ... and no words about how the work is done (the patterns' own examples first)
+timed "word check" bash -c "'$root/tools/check_words.py' --self-test && '$root/tools/check_words.py'"
 
 # 1. the main build and suite
 timed "release build" bash -c "cmake -S '$root' -B '$build' -G Ninja -DCMAKE_BUILD_TYPE=Release ${launcher[*]} >/dev/null &&
