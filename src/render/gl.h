@@ -5,5 +5,8 @@
 #ifndef GL_GLEXT_PROTOTYPES
 #define GL_GLEXT_PROTOTYPES 1
 #endif
-#include <GL/glext.h>
+// glext.h needs gl.h's types first: the order is kept by hand.
+// clang-format off
 #include <GL/osmesa.h>  // includes GL/gl.h
+#include <GL/glext.h>
+// clang-format on
