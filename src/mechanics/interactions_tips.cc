@@ -13,8 +13,6 @@ namespace {
 using collision::ContactCandidate;
 using collision::ContactKind;
 
-constexpr double kCouplingTimeConstant = 0.05;  // s: coupling fades in / out (idle device)
-
 }  // namespace
 
 void Interactions::SyncTools(const State& state) {

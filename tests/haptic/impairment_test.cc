@@ -51,7 +51,9 @@ TEST(Impairment, DelaysWithinTheJitterBandAndReordersLikeANetwork) {
     EXPECT_LE(delay, 25 * kMs);
     sum += static_cast<double>(delay);
     if (i > 0 && out[i].id < out[i - 1].id) ++reordered;
-    if (i > 0) EXPECT_GE(out[i].due_ns, out[i - 1].due_ns);  // delivered in due order
+    if (i > 0) {
+      EXPECT_GE(out[i].due_ns, out[i - 1].due_ns);  // delivered in due order
+    }
   }
   EXPECT_NEAR(sum / out.size() / kMs, 20.0, 0.2);  // uniform jitter: mean is the delay
   EXPECT_GT(reordered, 100);  // 1 ms apart with +-5 ms of jitter: often overtaken

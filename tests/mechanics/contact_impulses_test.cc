@@ -87,7 +87,9 @@ TEST(ContactImpulses, DeferredChangesGiveThePlainGaussSeidelBitForBit) {
         EXPECT_EQ(sweeps, ref_sweeps);
         EXPECT_TRUE(SameBits(lambda, ref_lambda, count));
         EXPECT_TRUE(SameBits(speed, ref_speed, count));
-        if (pinned >= 0) EXPECT_EQ(lambda(pinned), 0.0);
+        if (pinned >= 0) {
+          EXPECT_EQ(lambda(pinned), 0.0);
+        }
         if (lambda.maxCoeff() > 0.0 && sweeps > 1) ++solved_with_impulses;
       }
     }
@@ -107,7 +109,9 @@ TEST(ContactImpulses, TheImpulsesMeetTheTargetsWithoutPulling) {
     if (i == 5) continue;  // pinned: left alone
     EXPECT_GE(lambda(i), 0.0);
     EXPECT_GE(speed(i), p.target(i) - 1e-5);
-    if (lambda(i) > 0.0) EXPECT_NEAR(speed(i), p.target(i), 1e-5);  // no more than the target asks
+    if (lambda(i) > 0.0) {
+      EXPECT_NEAR(speed(i), p.target(i), 1e-5);  // no more than the target asks
+    }
   }
 }
 

@@ -145,9 +145,14 @@ TEST(DropEnergy, Figures) {
       std::string gains;  // the steps that gained more than round-off
       for (size_t k = 0; k < r.energy.size(); ++k) {
         const double gain = r.energy[k] - (k ? r.energy[k - 1] : r.start_energy);
-        if (gain > kRoundOff * r.start_energy)
-          gains += " " + std::to_string(r.Seconds(static_cast<int>(k))).substr(0, 5) + " s (" +
-                   std::to_string(gain * 1e3).substr(0, 5) + " mJ)";
+        if (gain > kRoundOff * r.start_energy) {
+          // appended piece by piece: gcc 12's -Wrestrict misreads `" " + std::string&&` at -O3
+          gains += ' ';
+          gains += std::to_string(r.Seconds(static_cast<int>(k))).substr(0, 5);
+          gains += " s (";
+          gains += std::to_string(gain * 1e3).substr(0, 5);
+          gains += " mJ)";
+        }
       }
       std::printf("%s %5.0f Hz: gains at [%s]; %s\n",
                   depth < 0.0 ? "limiter alone" : "none         ", rate, gains.c_str(),

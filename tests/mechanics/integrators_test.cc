@@ -64,8 +64,9 @@ TEST(Integrators, ImplicitEulerFreeFallVelocityIsExact) {
                                                               : dz / 3.0 + 2.0 * h / 3.0 * vj;
       z += dz;
     }
-    if (scheme == ImplicitScheme::kBackwardEuler)
+    if (scheme == ImplicitScheme::kBackwardEuler) {
       EXPECT_NEAR(z, 0.5 * h * h * p.gravity.z() * k * (k + 1), 1e-12);
+    }
     for (int i = 0; i < 20; ++i) {
       EXPECT_LT((end.qd.row(i).transpose() - p.gravity).norm(), 1e-9);
       EXPECT_NEAR(end.q(i, 2), z, 1e-9);

@@ -68,8 +68,11 @@ TEST(PeerDirectory, SuggestsFreshPeersWithRoomNeverItself) {
 // forgotten and at most kMaxPeers are kept, a known peer still updates when it is full.
 TEST(PeerDirectory, ForgetsSilentPeersAndIsCapped) {
   PeerDirectory peers("me", 3000);
-  for (size_t i = 0; i < 10 * PeerDirectory::kMaxPeers; ++i)
-    peers.Observe(Heartbeat("p" + std::to_string(i), 0, 4), 0);
+  for (size_t i = 0; i < 10 * PeerDirectory::kMaxPeers; ++i) {
+    std::string id = "p";  // appended: gcc 12's -Wrestrict misreads `"p" + std::string&&` at -O3
+    id += std::to_string(i);
+    peers.Observe(Heartbeat(id, 0, 4), 0);
+  }
   EXPECT_EQ(peers.size(), PeerDirectory::kMaxPeers);
   peers.Observe(Heartbeat("p0", 4, 4), 1000);  // known: updated (now full)
   EXPECT_EQ(peers.size(), PeerDirectory::kMaxPeers);

@@ -183,8 +183,9 @@ TEST(Session, ForceFeedbackEchoesThePoseAndTheToolGoesIdleWhenPosesStop) {
     }
     // idle stays idle until a new pose (a poster starved past the idle timeout lets the
     // tool go idle before the silence too; each such idle is counted below)
-    if (f.active && idle_seq >= 0)
+    if (f.active && idle_seq >= 0) {
       EXPECT_GT(f.pose_seq, idle_seq) << "active again without a new pose";
+    }
     if (f.pose_seq >= 0 && !f.active) idle_seq = f.pose_seq;
   }
   EXPECT_EQ(last_seq, seq - 1);  // the latest pose was used
