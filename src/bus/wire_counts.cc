@@ -190,6 +190,10 @@ bool ArrayCountsFit<viscera_proto::heartbeat_t>(const uint8_t* data, int size) {
   c.Fingerprint();
   c.Header();
   c.String();  // server_id
+  // num_sessions .. min_record_free_bytes: eleven 4-byte and fourteen 8-byte fields
+  c.Skip(11 * 4 + 14 * 8);
+  c.String();         // capacity
+  c.Skip(4 + 8 + 8);  // cores, not_ours, unconverged_solves
   return c.ok();
 }
 

@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -181,6 +182,23 @@ TEST(ArrayCountsFit, RefusesAStringWithoutItsTerminator) {
       Fits<viscera_proto::heartbeat_t>(Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0, 0, 0, 0, 'x', 0})));
   EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(
       Patched(bytes, {0, 0, 0, 2, 'x', 0}, {0xff, 0xff, 0xff, 0xfe, 'x', 0})));
+}
+
+// A string after the fixed fields (a heartbeat's capacity) is walked too: its length of -2^31
+// made the generated decode compute length - 1 in int32 (a signed overflow, caught by fuzzing).
+TEST(ArrayCountsFit, RefusesAHostileLengthOfAStringAfterTheFixedFields) {
+  viscera_proto::heartbeat_t hb{};
+  hb.header = MakeHeader(0, 0);
+  hb.server_id = "x";
+  hb.capacity = "cap";
+  const auto bytes = Encode(hb);
+  EXPECT_TRUE(Fits<viscera_proto::heartbeat_t>(bytes));
+  const std::vector<uint8_t> capacity = {0, 0, 0, 4, 'c', 'a', 'p', 0};
+  for (const int32_t length : {std::numeric_limits<int32_t>::min(), -1, 0, 5, 0x7fffffff}) {
+    std::vector<uint8_t> hostile = BigEndian(length);
+    hostile.insert(hostile.end(), capacity.begin() + 4, capacity.end());
+    EXPECT_FALSE(Fits<viscera_proto::heartbeat_t>(Patched(bytes, capacity, hostile))) << length;
+  }
 }
 
 // Through a client's bus: a 60-odd-byte frame datagram claiming 2 GB of JPEG is dropped as
