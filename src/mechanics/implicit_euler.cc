@@ -226,7 +226,7 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   // 10.7 iterations per sub-step, 3.4 with the floor; docs/contacts.md). (h W)^T M^-1 (h W) is
   // m (h g)^2.
   const double gravity_reference =
-      gravity_floor_ ? gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_ : 0.0;
+      gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_;
   const double reference =
       std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
   // The warm start is the state's (State::cg_correction): a step from a copied state starts from

@@ -92,11 +92,10 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// converge within kMaxCgIterationsExtended, in all.
   int64_t cg_extended() const { return cg_extended_; }
   int64_t cg_halved() const { return cg_halved_; }
-  /// Whether CG's stop also accepts a residual below kCgTolerance of the gravity impulse (on by
-  /// default; off only to compare against the stricter stop, in tests and benchmarks), and at
-  /// which share of that impulse (kStickSlipGravityFloor or 1 by default; tests compare others).
-  void set_gravity_floor(bool on) { gravity_floor_ = on; }
-  void set_gravity_floor_share(double share) { gravity_floor_share_ = share; }
+  /// The share of the gravity impulse below whose kCgTolerance CG's stop also accepts a residual
+  /// (kStickSlipGravityFloor or 1 by default; 0 turns the floor off, to compare against the
+  /// stricter stop in tests and benchmarks).
+  void set_gravity_floor(double share) { gravity_floor_share_ = share; }
   /// The largest stretch a sub-step may leave unseen by its linearization, as a fraction of a
   /// segment of the control polygon (UnseenStretchWithin); a sub-step past it is done again as two
   /// halves, at most kMaxHalvings deep, and a half again only while halving at least halves it
@@ -231,7 +230,6 @@ class ImplicitEulerIntegrator final : public Integrator {
   VecX impact_lambda_, impact_speed_, impact_target_, impact_dv_, depth_dq_;
   Points impact_v_, impact_check_;
   int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;
-  bool gravity_floor_ = true;
   double gravity_floor_share_;
   bool impact_redo_ = true;
   bool impact_momentum_kept_ = true;

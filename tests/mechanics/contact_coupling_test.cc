@@ -112,7 +112,7 @@ TEST(ContactCoupling, ASettledPileStopsAtGravitysScaleAndMovesAsWithTheStrictSto
   auto* floor_cg = dynamic_cast<ImplicitEulerIntegrator*>(&floor_workspace.integrator());
   auto* strict_cg = dynamic_cast<ImplicitEulerIntegrator*>(&strict_workspace.integrator());
   ASSERT_TRUE(floor_cg != nullptr && strict_cg != nullptr);
-  strict_cg->set_gravity_floor(false);
+  strict_cg->set_gravity_floor(0.0);
   double worst_distance = 0.0, fastest = 0.0;
   for (int k = 0; k < 50; ++k) {
     Step(model, {}, &floor_state, &floor_workspace);

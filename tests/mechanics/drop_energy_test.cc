@@ -84,7 +84,7 @@ ShippedFall RunShippedFall(double rate_hz, bool impact_redo, bool stick_slip = f
   Workspace ws(model);
   auto& integrator = dynamic_cast<ImplicitEulerIntegrator&>(ws.integrator());
   integrator.set_impact_redo(impact_redo);
-  if (floor_share > 0.0) integrator.set_gravity_floor_share(floor_share);
+  if (floor_share > 0.0) integrator.set_gravity_floor(floor_share);
   Interactions* in = ws.interactions();
   double previous = ComputeEnergies(model, s.q, s.qd, in).total();
   ShippedFall f{-std::numeric_limits<double>::infinity(), previous, 0.0};
