@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Runs the benchmarks of docs/benchmarks.md and prints each one's figures as the page prints them:
-# a heading, the machine, commit and load average, then the Markdown table (Google Benchmark
-# binaries, formatted by bench/report_table.py) or the script's own summary lines (the benchmarks
-# that drive viscerad over the network).
+# Runs the benchmarks of docs/benchmarks.md and docs/server-benchmarks.md and prints each one's
+# figures as the pages print them: a heading, the machine, commit and load average, then the
+# Markdown table (Google Benchmark binaries, formatted by bench/report_table.py) or the program's
+# own summary lines (bench_direct_coupling, bench_pacer and the scripts that drive viscerad).
 #
-# Usage: bench/report.sh [--list] [NAME...]      (no NAME: every benchmark, in the page's order)
+# Usage: bench/report.sh [--list] [NAME...]      (no NAME: every benchmark, in the pages' order)
 # Environment:
 #   BUILD         the build tree (default: build), built with the bench targets
 #   BENCH_ARGS    extra Google Benchmark flags, e.g. "--benchmark_min_time=0.05" for a quick look,
@@ -89,7 +89,7 @@ run() {  # name kind command
 }
 
 if [[ ${1:-} = --list ]]; then list; exit 0; fi
-if [[ ${1:-} = -h || ${1:-} = --help ]]; then sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
+if [[ ${1:-} = -h || ${1:-} = --help ]]; then sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
 out=${KEEP:-$(mktemp -d)}
 mkdir -p "$out"
 [[ -n ${KEEP:-} ]] || trap 'rm -rf "$out"' EXIT
