@@ -89,7 +89,7 @@ run() {  # name kind command
 }
 
 if [[ ${1:-} = --list ]]; then list; exit 0; fi
-if [[ ${1:-} = -h || ${1:-} = --help ]]; then sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
+if [[ ${1:-} = -h || ${1:-} = --help ]]; then sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0; fi
 out=${KEEP:-$(mktemp -d)}
 mkdir -p "$out"
 [[ -n ${KEEP:-} ]] || trap 'rm -rf "$out"' EXIT

@@ -45,10 +45,12 @@ def fmt(x, digits=3):
     """A figure to about DIGITS significant digits, without exponent."""
     if x is None:
         return ""
-    if x == int(x) and abs(x) < 10 ** digits:
-        return str(int(x))  # counts: sub-steps, grid points
+    if x == int(x) and abs(x) < 1000:
+        return str(int(x))  # counts: sub-steps, iterations
+    if abs(x) >= 10000:
+        return f"{x:,.0f}".replace(",", " ")
     if abs(x) >= 10 ** (digits - 1):
-        return f"{x:,.0f}".replace(",", " ") if abs(x) >= 10000 else f"{x:.0f}"
+        return f"{x:.0f}"
     decimals = max(0, digits - 1 - int(f"{abs(x):e}".split("e")[1]))
     return f"{x:.{decimals}f}"
 
@@ -144,7 +146,7 @@ def mesh_sdf(rows):
 def skins(rows):
     out = []
     for name, b in rows.items():
-        out.append([f"`{name}`", fmt(b.get("triangles"), 6), fmt(b.get("meshes/s")),
+        out.append([f"`{name}`", fmt(b.get("triangles")), fmt(b.get("meshes/s")),
                     fmt(b.get("evals/vertex"))])
     return table(["benchmark", "triangles", "meshes/s", "field evaluations per vertex"], out)
 
