@@ -1,6 +1,6 @@
 // Cost of the mechanics WITH contacts on the paper's benchmark scene (scenes/fall.toml: a 4 m
 // coil falling onto a plane, self-contacts on), for 50 to 1000 control points.
-// Figures and the command that produced them: docs/benchmarks.md ("Contacts").
+// Figures and the commands: docs/benchmarks.md ("Cavity clearing", "Fall and coil", "Mesentery").
 //
 // Every size is the same physical scene: the TOML text is re-parsed with another
 // intestine.control_points (bench/mechanics_bench.cc does the same without contacts). The sphere
@@ -173,7 +173,7 @@ void BM_FallWhole(benchmark::State& bench) {
 }
 
 // The same fall without the impacts held inside the implicit solve and with spheres fixed on the
-// curve (docs/contacts.md, "Impacts"): what holding them costs or saves, now that BM_FallWhole
+// curve (docs/impacts.md): what holding them costs or saves, now that BM_FallWhole
 // holds them (the scene's default).
 void BM_FallWholeLimiterOnly(benchmark::State& bench) {
   ModelParams params = FallParams(static_cast<int>(bench.range(0)), true);

@@ -1,10 +1,11 @@
 // Would a direct solver of the coupled pairs beat the step's CG? (the exact coupling of self
-// pairs; figures and the command in docs/contacts.md, "Why CG and not the alternatives").
+// pairs; figures and the command in docs/benchmarks.md, "Direct solvers of the coupled pairs";
+// what they mean in docs/self-coupling.md, "Why CG and not the alternatives").
 //
-// Runs the scenes of the contact cost rows (docs/contacts.md, "Where it stands"), sub-step by
-// sub-step as mechanics::Step does (and checks at the end that Step's own run reaches the same
-// state bit for bit), and after every implicit sub-step takes the exact matrix A = A_s + w u u^T
-// of that sub-step (exact_system.h):
+// Runs the scenes of the contact cost rows (docs/self-coupling.md, "What the coupling costs"),
+// sub-step by sub-step as mechanics::Step does (and checks at the end that Step's own run
+// reaches the same state bit for bit), and after every implicit sub-step takes the exact matrix
+// A = A_s + w u u^T of that sub-step (exact_system.h):
 //   sweep      every sub-step: the pairs, whether the pattern of A_s changed since the last
 //              sub-step, the step's CG iterations, and the cost of each way to solve A x = b:
 //                cg      the step's way: the band factor, its column solves (b, and u for the

@@ -1,6 +1,6 @@
 #pragma once
 // The implicit step's exact matrix as a sparse matrix, for direct solvers (bench_direct_coupling
-// and tests/mechanics/direct_coupling_test.cc; docs/contacts.md, "Exact coupling of self pairs").
+// and tests/mechanics/direct_coupling_test.cc; docs/self-coupling.md).
 //
 // After ImplicitEulerIntegrator::Advance the integrator keeps its band system P (each self pair
 // as 2 H per side) and Interactions keeps the pairs' common modes weighed with (h^2, h). The

@@ -1,7 +1,7 @@
 #!/bin/sh
 # Frame-stream benchmark (not a timed test): the real viscerad and viscera over real UDP
 # multicast inside a private loopback-only network namespace. Prints the figures that
-# docs/benchmarks.md ("## Frame streams") records:
+# docs/server-benchmarks.md ("Frame streams") records:
 #  1. frames per second delivered to a client, frames lost on the way, frames the server's
 #     renderer dropped, frame age, per skin and rate, on the settled scenes/cavity.toml;
 #  2. mechanics deadline misses at 100 Hz and 1 kHz without frames and while streaming;

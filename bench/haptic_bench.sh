@@ -1,5 +1,5 @@
 #!/bin/sh
-# Haptic device loop benchmark (not a timed test; docs/benchmarks.md, "Haptics"): the real
+# Haptic device loop benchmark (not a timed test; docs/server-benchmarks.md, "Haptics"): the real
 # viscerad and `viscera haptic` with the simulated hand, over real UDP multicast in a private
 # loopback-only network namespace. Prints:
 #  1. device loop period error p50/p99/max and misses at 1 kHz (push scene, 1 kHz session),

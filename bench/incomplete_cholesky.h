@@ -1,6 +1,6 @@
 #pragma once
 // Incomplete Cholesky of the exact matrix's sparse part A_s, as a CG preconditioner that sees the
-// self pairs (bench_direct_coupling; docs/contacts.md, "The direct solvers, measured").
+// self pairs (bench_direct_coupling; docs/benchmarks.md, "Direct solvers of the coupled pairs").
 //
 // Eigen 3.4's IncompleteCholesky is Lin and Moré's ICT: each column of L keeps the p largest
 // entries, p being the column's count in its input, and the matrix is scaled and shifted only

@@ -1,4 +1,4 @@
-// Pacing benchmark (docs/benchmarks.md, "Haptics"): a 1 kHz loop paced by common/pacer.h
+// Pacing benchmark (docs/server-benchmarks.md, "Pacing"): a 1 kHz loop paced by common/pacer.h
 // with several spin margins, doing nothing but waiting, on this (shared) machine. The margins
 // take turns in one-second slices, so that a load that comes and goes falls on all of them
 // alike. Prints, per margin: period error p50/p99/max (|actual - nominal| between consecutive

@@ -1,7 +1,7 @@
 #!/bin/sh
 # Server benchmark (not a timed test): runs the real viscerad and viscera over real UDP
 # multicast inside a private loopback-only network namespace and prints the figures that
-# docs/benchmarks.md ("## Server") records:
+# docs/server-benchmarks.md ("Server") records:
 #  1. round trip pose -> force (p50/p99) at a 1 kHz pose rate, mechanics at 100 Hz and 1 kHz,
 #     on the 250-point intestine of scenes/fall.toml (contacts with the floor) plus one tool;
 #  2. deadline misses at 100 Hz and 1 kHz over the drive;

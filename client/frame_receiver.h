@@ -13,8 +13,8 @@
 
 namespace viscera::client {
 
-/// Receive buffer asked for frame streams: a 640x480 frame is about 30 fragments of 1.4 kB
-/// (LCM 1.3.1), and a whole second of 25 Hz frames fits in 2 MB (docs/rendering.md).
+/// Receive buffer asked for frame streams: a 640x480 frame is about 25 fragments of 1.4 kB
+/// (LCM 1.3.1), and a whole second of 25 Hz frames fits in 2 MB (docs/frame-streams.md).
 inline constexpr int kFrameReceiveBuffer = 2 * 1024 * 1024;
 
 /// `url` with `recv_buf_size=bytes` added, when it is a udpm:// URL that sets none; any

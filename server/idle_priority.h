@@ -6,8 +6,8 @@ namespace viscera::server {
 
 /// SCHED_IDLE for the calling thread (which also drops a SCHED_FIFO inherited from a
 /// realtime server): a waking mechanics, output or I/O thread preempts it at once; nice 10
-/// alone still cost a 1 kHz session 5 % of its deadlines (docs/benchmarks.md, Frame
-/// streams). Falls back to nice 19 where SCHED_IDLE is refused.
+/// alone still cost a 1 kHz session 5 % of its deadlines (docs/server-benchmarks.md,
+/// Frame streams). Falls back to nice 19 where SCHED_IDLE is refused.
 void LowerThisThreadsPriority();
 
 /// nice 10 for the calling thread (SCHED_OTHER, which also drops an inherited SCHED_FIFO): for

@@ -16,7 +16,7 @@ struct ServerConfig {
   double max_rate_hz = 1000.0;     ///< highest mechanics rate a create may ask for (Hz)
   double skeleton_rate_hz = 30.0;  ///< default skeleton_state_t rate (Hz); <= 0: none
   double status_rate_hz = 4.0;     ///< session_status_t rate (Hz)
-  // Frame streams, when a create asks for no particular value (docs/rendering.md says why).
+  // Frame streams, when a create asks for no particular value (docs/frame-streams.md says why).
   double frame_rate_hz = 25.0;      ///< jpeg_frame_t per second; <= 0: no frames by default
   double max_frame_rate_hz = 60.0;  ///< highest frame rate a create may ask for (Hz)
   /// Frames are drawn only while a viewer renewed the frame lease (kWatchFrames) within this

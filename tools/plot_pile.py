@@ -5,7 +5,7 @@
                        [--tool-script CSV] [--title TEXT]
 
 A DOCS-ONLY TOOL: it makes the pictures in docs/ (docs/fall_pile.png, docs/cavity_clearing.png;
-commands in docs/benchmarks.md, "Contacts") and is not part of the build, the tests or the
+commands in docs/contacts.md, "Pictures") and is not part of the build, the tests or the
 simulator. It needs numpy and matplotlib, which the project does not otherwise use:
 `pip install numpy matplotlib`.
 

@@ -5,7 +5,7 @@ zero-delay force.
 
     tools/plot_transparency.py OUT_DIR OUT.png
 
-A DOCS-ONLY TOOL: it makes docs/haptic_transparency.png (command in docs/benchmarks.md,
+A DOCS-ONLY TOOL: it makes docs/haptic_transparency.png (command in docs/server-benchmarks.md,
 "Haptics") and is not part of the build or the tests. It needs matplotlib, which the project does
 not otherwise use: `pip install matplotlib`.
 

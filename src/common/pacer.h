@@ -19,7 +19,7 @@ struct PacerClock {
   static PacerClock Monotonic();
 };
 
-/// The spin margin that paid off on this machine (docs/benchmarks.md, "Haptics", bench_pacer):
+/// The spin margin that paid off on this machine (docs/server-benchmarks.md, "Pacing"):
 /// 50 us for a SCHED_FIFO thread (no peer preempts it, the spin absorbs the wake-up latency),
 /// none under normal scheduling (a spinning thread spends its fair share and is preempted more
 /// often: on the loaded 2-vCPU machine every margin made p99 and misses worse).

@@ -219,12 +219,12 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
   // barely change, so that start is most of the way (the last correction alone took 2.5
   // iterations per 1 kHz step of the clearing gesture, its linear extrapolation 1.8; a quadratic
-  // one 2.1; docs/contacts.md). It stops when the preconditioned residual is a small fraction of
-  // b's, or of gravity's impulse over the sub-step when b is smaller: in a resting pile the
-  // forces nearly cancel (the cavity's median b is 0.2 % of gravity's impulse, in this norm), and
-  // a fraction of b asked for velocities exact to a tenth of a micrometre per second (settled fall:
-  // 10.7 iterations per sub-step, 3.4 with the floor; docs/contacts.md). (h W)^T M^-1 (h W) is
-  // m (h g)^2.
+  // one 2.1; docs/self-coupling.md). It stops when the preconditioned residual is a small
+  // fraction of b's, or of gravity's impulse over the sub-step when b is smaller: in a resting
+  // pile the forces nearly cancel (the cavity's median b is 0.2 % of gravity's impulse, in this
+  // norm), and a fraction of b asked for velocities exact to a tenth of a micrometre per second
+  // (settled fall: 10.7 iterations per sub-step, 3.4 with the floor; docs/self-coupling.md).
+  // (h W)^T M^-1 (h W) is m (h g)^2.
   const double gravity_reference =
       gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_;
   const double reference =

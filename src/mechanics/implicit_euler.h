@@ -12,7 +12,7 @@
 /// Self-contacts couple windows far apart in the chain: the band holds them approximately (an
 /// upper bound, see Interactions::AddForces), and preconditioned conjugate gradients on the
 /// exact matrix, with that band solve as the preconditioner, removes the difference (the pair's
-/// artificial drag on common motion). docs/contacts.md: why CG and what it costs.
+/// artificial drag on common motion). docs/self-coupling.md: why CG and what it costs.
 /// Both are unconditionally stable for the linearized system and damp high frequencies; backward
 /// Euler also damps a slow mode of frequency ω by h ω² / 2 (1/s), BDF2 by O(h³ ω⁴).
 #include <vector>
@@ -72,7 +72,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t cg_unconverged() const { return cg_unconverged_; }
   /// CG stops when the preconditioned residual norm falls below this fraction of b's, or of the
   /// sub-step's gravity impulse h W (in M^-1's norm, m (h g)^2: an RMS over the tube's mass) when
-  /// that is larger (docs/contacts.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~1-3
+  /// that is larger (docs/self-coupling.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~1-3
   /// iterations at 1 kHz).
   static constexpr double kCgTolerance = 1e-3;
   /// With stick-slip friction, the share of gravity's impulse over the sub-step at which CG's
@@ -114,7 +114,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// segment turns inside out): what a halving must at least halve to be tried again.
   static double UnseenStretch(const Points& q, const Points& dq);
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
-  /// contacts in all (docs/contacts.md, "Impacts").
+  /// contacts in all (docs/impacts.md).
   int64_t impact_substeps() const { return impact_substeps_; }
   int64_t impact_contacts() const { return impact_contacts_total_; }
 

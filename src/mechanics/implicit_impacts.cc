@@ -1,4 +1,4 @@
-// ImplicitEulerIntegrator's impacts inside the solve (docs/contacts.md, "Impacts"): impulses
+// ImplicitEulerIntegrator's impacts inside the solve (docs/impacts.md): impulses
 // through the implicit system A = M + h D + h^2 K rather than through M alone, so that the
 // tube's stretching stiffness spreads a stopped sphere's correction along the chain.
 #include <algorithm>

@@ -1,4 +1,4 @@
-// ImplicitEulerIntegrator's tools (docs/contacts.md, "Tools and haptics"): each tool's tip is
+// ImplicitEulerIntegrator's tools (docs/tool-coupling.md): each tool's tip is
 // three more unknowns of the implicit system,
 //   [A  B] [dv  ]   [b  ]
 //   [B' C] [dv_t] = [b_t],   C = m I + h D_tt + h^2 K_tt (3 x 3 per tool),

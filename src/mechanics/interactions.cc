@@ -42,7 +42,7 @@ Interactions::Law Interactions::ContactLaw(double depth) const {
   Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
   const double d1 = cp.impact_depth * radius_;
   // Tools' contacts too: linear, a tool pressing a loop into the wall sank by its force over k
-  // (80 % of R at 5 N; docs/contacts.md, "Tools and haptics").
+  // (80 % of R at 5 N; docs/tool-coupling.md).
   if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
   const double s =
       (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
@@ -395,8 +395,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
     // The regularized law's friction is viscous at the slip speed's slope; stick-slip friction is
-    // a spring and damper while stuck and a constant force while sliding (docs/contacts.md,
-    // "Friction").
+    // a spring and damper while stuck and a constant force while sliding
+    // (docs/friction.md).
     Mat3 kn = law.slope * nn;
     Mat3 dn = cp.damping * nn;
     if (stick_slip) {

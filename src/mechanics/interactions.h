@@ -3,7 +3,7 @@
 /// the sphere chain and its contacts (self, environment, tools: penalty springs with damping and
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
-/// friction may have a static phase (contacts.friction_law; docs/contacts.md, "Friction"). Owned by
+/// friction may have a static phase (contacts.friction_law; docs/friction.md). Owned by
 /// the stepping thread's Workspace; allocates nothing in steady state.
 #include <algorithm>
 #include <array>
@@ -46,7 +46,7 @@ class Interactions {
   /// included as the last sub-step left them. K, D as in ForceJacobians, kept in the
   /// chain's band: a self pair's coupling H enters as 2 H on each side's own window, which
   /// exceeds the exact (J_a - J_b)^T H (J_a - J_b) by the pair's common-mode term
-  /// (J_a + J_b)^T H (J_a + J_b) (see AddCommonModeTerms; docs/contacts.md).
+  /// (J_a + J_b)^T H (J_a + J_b) (see AddCommonModeTerms; docs/self-coupling.md).
   double AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K, BlockBand* D);
 
   /// Weighs the self pairs of the last AddForces with K for AddCommonModeTerms: C_p = ck K_p +
@@ -67,7 +67,7 @@ class Interactions {
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
 
-  /// What the implicit solve's impulses hold (docs/contacts.md, "Impacts"), at the end of a
+  /// What the implicit solve's impulses hold (docs/impacts.md), at the end of a
   /// sub-step (the depth at its start minus h times the closing speed):
   /// kImpact: impacts (closing faster than the penalty stops) within impact_depth, never pushed
   ///   apart (their impulse stays in the velocity);
@@ -87,8 +87,8 @@ class Interactions {
 
   /// With the implicit integrator the tools' tips are unknowns of the tube's solve (three per
   /// tool): the coupling to the device's target, the tip's mass and every contact and grasp
-  /// between tip and tube enter one linear system, so action is reaction (docs/contacts.md,
-  /// "Tools and haptics"). With RK4 the tip runs its own short cycles at each sub-step's start.
+  /// between tip and tube enter one linear system, so action is reaction
+  /// (docs/tool-coupling.md). With RK4 the tip runs its own short cycles at each sub-step's start.
   bool tips_in_solve() const { return tips_in_solve_; }
   /// A tip's own rows of the implicit system at the sub-step's start: force on the tip
   /// (coupling and tissue, the tissue's by the lever rule), K = -dF/dtip and D = -dF/dv_tip.
@@ -132,7 +132,7 @@ class Interactions {
   /// hand feels it, enters the step's impulse (EndStep reports its mean, then clamps it).
   void TipAdvanced(int index, double h, ToolState* ts);
 
-  /// Stick-slip friction (docs/contacts.md, "Friction") in the next force evaluations of a
+  /// Stick-slip friction (docs/friction.md) in the next force evaluations of a
   /// sub-step of length h, from the anchors it starts from; nullptr: the regularized law (RK4, or
   /// the scene's friction_law). The anchors must outlive those evaluations.
   void UseFriction(const std::vector<FrictionAnchor>* anchors, double h) {
@@ -163,7 +163,7 @@ class Interactions {
   /// sets contacts.tangential_stiffness): stiff enough that a contact moves only micrometres
   /// before it slides (mu f_n / k_t), soft enough that a stuck pair turning within a 10 ms
   /// sub-step does not push itself deeper (at the normal stiffness, a jammed pile held by the
-  /// limiter alone gained 7 mJ in one 100 Hz step; docs/contacts.md, "Friction").
+  /// limiter alone gained 7 mJ in one 100 Hz step; docs/friction.md).
   static constexpr double kTangentialShare = 0.2;
   /// The key a pair's anchor is found by: its kind and its two sides' indices.
   static uint64_t FrictionKey(collision::ContactKind kind, int a, int b) {
@@ -245,7 +245,7 @@ class Interactions {
   void SelfGeometry(const std::array<int, 4>& batch, int count);
   void RefreshToolGeometry();
   // Inelastic impulses on the pairs that would end the next h deeper than
-  // contacts.impact_depth moving at u (docs/contacts.md, "Impacts"): u changes, and so does v
+  // contacts.impact_depth moving at u (docs/impacts.md): u changes, and so does v
   // (if given: the velocity whose kinetic energy counts) by the same impulses.
   void LimitImpacts(double h, Points* u, Points* v);
   // Closing speeds below this are the penalty's (m/s): LimitImpacts.

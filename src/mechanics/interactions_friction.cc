@@ -1,4 +1,4 @@
-// Coulomb friction with a static phase for the implicit step (docs/contacts.md, "Friction"). A
+// Coulomb friction with a static phase for the implicit step (docs/friction.md). A
 // contact holds an anchor: the stretch s of a tangential spring k_t from where it stuck, and
 // whether it slid in the last sub-step. With its normal force f_n (lagged: the sub-step start's):
 // - stuck, it is a spring k_t and damper c in the tangent plane, linearized exactly, so a loop

@@ -1,6 +1,6 @@
 // The impacts' part of Interactions: impulses that keep closing pairs within impact_depth, either
 // after the step's solve (the impact limiter) or as constraints held inside the implicit solve
-// (docs/contacts.md, "Impacts").
+// (docs/impacts.md).
 #include "mechanics/interactions.h"
 
 #include <algorithm>
@@ -48,7 +48,7 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     for (size_t i = 0; i < list.size(); ++i) {
       // Tools are left to their coupling and the contact law (an impulse shoved the tube out
       // from under a pressing tool); the tip is integrated against its contacts so it cannot
-      // tunnel (docs/contacts.md, "Tools and haptics").
+      // tunnel (docs/tool-coupling.md).
       if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
       const Penalty& p = geometry_[i];
       const double un =
@@ -100,7 +100,7 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   // The depth bound sits a quarter of the way from impact_depth to the goal: the linearized end
   // depth misses up to ~3.5 % of R (pairs that appear or turn within the sub-step), and a pile
   // held where the law is 25 k stiff, not 50 k (half-way), gains no energy from its single
-  // linearization per sub-step (docs/contacts.md, "Impacts").
+  // linearization per sub-step (docs/impacts.md).
   const double allowed =
       (impact ? cp.impact_depth : cp.impact_depth + 0.25 * (kDepthGoal - cp.impact_depth)) *
       radius_;

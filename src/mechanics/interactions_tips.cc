@@ -1,4 +1,4 @@
-// The tools' tips as unknowns of the implicit solve (docs/contacts.md, "Tools and haptics"): the
+// The tools' tips as unknowns of the implicit solve (docs/tool-coupling.md): the
 // virtual coupling to the device's target and the tip's mass give each tip its own rows;
 // AddForces adds every tip-tube contact and grasp to them and to the links between a tip and the
 // tube's windows, which the integrator eliminates by a Schur complement.

@@ -66,16 +66,16 @@ struct ContactParams {
   double self_friction = 0.3;
   double tool_friction = 0.3;
   /// Implicit integrator with impact constraints: Coulomb's law with a static phase (kStickSlip:
-  /// a tangential spring to where the contact stuck, capped by the cone; docs/contacts.md,
-  /// "Friction"), or the regularized law, viscous below kFrictionSlip (kRegularized, the
-  /// default; RK4 always uses it).
+  /// a tangential spring to where the contact stuck, capped by the cone; docs/friction.md),
+  /// or the regularized law, viscous below kFrictionSlip (kRegularized, the default; RK4 always
+  /// uses it).
   FrictionLaw friction_law = FrictionLaw::kRegularized;
   /// N/m: the stuck contact's tangential spring; 0: a fifth of the normal stiffness.
   double tangential_stiffness = 0.0;
   double margin =
       -1.0;  ///< m: pairs this close are candidates and count as contacts; < 0: radius / 4
   /// Implicit integrator: self pairs coupled exactly (true) or only through each side's own
-  /// window (false: cheaper, but a pair moving together is dragged; docs/contacts.md).
+  /// window (false: cheaper, but a pair moving together is dragged; docs/self-coupling.md).
   bool exact_pairs = true;
   /// Fraction of the radius: a contact that would end a sub-step deeper than this at its current
   /// speed is stopped there by an inelastic impulse (ImpactLimiter); 0 turns that off.
@@ -83,14 +83,14 @@ struct ContactParams {
   /// Implicit integrator: impulses inside the implicit solve (through its system matrix) stop the
   /// impacts that the step's own forces would still drive deeper than impact_depth, and push any
   /// pair back within impact_depth + (10 % - impact_depth) / 4 of the radius by a position
-  /// correction (docs/contacts.md, "Impacts").
+  /// correction (docs/impacts.md).
   bool impact_constraints = true;
   /// The contact spheres stay where they were first placed along the tube (material points)
   /// instead of being re-placed along its arc length at every sub-step, which slides them into
-  /// each other while an impact stretches the tube (docs/contacts.md, "Impacts").
+  /// each other while an impact stretches the tube (docs/impacts.md).
   bool spheres_follow_material = true;
   /// Implicit integrator: each tool's tip is an unknown of the tube's solve, with its coupling and
-  /// every tip-tube contact (docs/contacts.md, "Tools and haptics"); false runs the tip in its own
+  /// every tip-tube contact (docs/tool-coupling.md); false runs the tip in its own
   /// cycles against the tube held still (not action-reaction; kept to compare against).
   bool tips_in_solve = true;
 };

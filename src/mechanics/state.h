@@ -25,7 +25,7 @@ struct ContactStats {
   const char* deepest = "";
 };
 
-/// A contact that friction holds (docs/contacts.md, "Friction"): the stretch of its tangential
+/// A contact that friction holds (docs/friction.md): the stretch of its tangential
 /// spring, from where the contact stuck (sticking) or as far as the cone lets it (sliding).
 struct FrictionAnchor {
   uint64_t key = 0;             ///< the pair: Interactions::FrictionKey(kind, a, b)

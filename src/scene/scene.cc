@@ -383,7 +383,7 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
   mechanics::State state = mechanics::InitialState(before);
   // The settle stands for the minutes in which breathing and peristalsis lay the bowel where it
   // rests: friction without a static phase, so that it creeps into the low places; the session
-  // then starts from that rest under Coulomb's law (docs/contacts.md, "Friction").
+  // then starts from that rest under Coulomb's law (docs/friction.md).
   const mechanics::FrictionLaw law = p->contacts.friction_law;
   p->contacts.friction_law = mechanics::FrictionLaw::kRegularized;
   for (int stage = 0; stage < stages; ++stage) {

@@ -5,7 +5,7 @@
 /// hand then follows a path fixed before it moves, like a surgeon's reaching for a loop they
 /// see. A target that kept chasing the tube it is moving would close a loop through the
 /// simulation with one step of latency, and the force on the hand would depend on the rate
-/// (docs/contacts.md: 14 % RMS between 100 Hz and 1 kHz on the clearing gesture).
+/// (docs/tool-coupling.md: 14 % RMS between 100 Hz and 1 kHz on the clearing gesture).
 #include <map>
 #include <string>
 #include <vector>

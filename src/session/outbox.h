@@ -4,7 +4,7 @@
 /// deadlines; the output thread publishes them on the bus and writes them to the record,
 /// in the order they were handed over. Publishing on LCM (a sendto on a multicast socket)
 /// and writing the record (stdio) can block for milliseconds on a busy machine
-/// (docs/benchmarks.md measured 1-5 ms stalls in sendto); here they cannot delay a step.
+/// (docs/server-benchmarks.md measured 1-5 ms stalls in sendto); here they cannot delay a step.
 /// The queue is bounded (kMaxQueued): when the output falls behind, the oldest force is
 /// dropped (a newer one for the same tool supersedes it), or with no force queued the oldest
 /// message; and no message with a non-finite number is ever sent. Both are counted.

@@ -78,7 +78,7 @@ class ClearingTask : public ::testing::Test {
   }
 
   // Another pile: the contacts without their impulses inside the implicit solve and with the
-  // spheres re-placed along the arc length (docs/contacts.md, "Impacts") settle the loops
+  // spheres re-placed along the arc length (docs/impacts.md) settle the loops
   // elsewhere, as an edited scene or another machine's floating point would.
   void UseAnotherPile() {
     scene_.model.contacts.impact_constraints = false;

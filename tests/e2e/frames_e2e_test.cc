@@ -49,7 +49,7 @@ double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b) {
 
 // Frames arrive, decode to the requested size and show the tube moving; every frame the
 // client counted is one the server sent. How fast, how late and how many are lost on this
-// machine is bench/frames_bench.sh's to measure (docs/benchmarks.md, "Frame streams").
+// machine is bench/frames_bench.sh's to measure (docs/server-benchmarks.md, "Frame streams").
 TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
   const std::string dir = ScratchDir();
   Daemon daemon("e2e-frames", {}, dir);

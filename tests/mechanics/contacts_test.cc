@@ -89,8 +89,8 @@ TEST(Contacts, SameInputsGiveBitIdenticalStates) {
 }
 
 // fall.toml with the impact limiter and the stiffening law alone: the impulses inside the implicit
-// solve and the material spheres, on by default, switched off by its keys (docs/contacts.md,
-// "Impacts").
+// solve and the material spheres, on by default, switched off by its keys
+// (docs/impacts.md).
 std::string LimiterOnlyFall() {
   std::string text = SceneText("fall.toml");
   const size_t table = text.find("[contacts]");

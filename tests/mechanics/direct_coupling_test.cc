@@ -84,7 +84,7 @@ TEST_F(DirectCoupling, IncompleteCholeskyPreconditionedCgReachesCgsAnswerInFewer
   // without fill the factor holds the band's exactly (no fill falls outside the band), so its
   // fewer iterations come from the pairs' entries it adds. AMD without fill is left out: it drops
   // what the chain needs and stagnates (bench_direct_coupling: unconverged after 500 iterations
-  // on most of the fall's sub-steps; docs/contacts.md).
+  // on most of the fall's sub-steps; docs/self-coupling.md).
   const std::pair<IcOrdering, int> variants[] = {{IcOrdering::kNatural, 0},
                                                  {IcOrdering::kNatural, 5},
                                                  {IcOrdering::kNatural, 20},

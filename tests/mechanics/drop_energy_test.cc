@@ -21,7 +21,7 @@ constexpr double kSeconds = 1.5;    // impact at ~0.33 s; the landing and the pi
 constexpr double kRoundOff = 1e-9;  // of the energy at release: far above double round-off on ~6 J
 
 // held = false: the impact limiter and the stiffening law alone, without the impulses inside the
-// implicit solve and the material spheres that are on by default (docs/contacts.md, "Impacts").
+// implicit solve and the material spheres that are on by default (docs/impacts.md).
 FallRecord Drop(double rate_hz, double impact_depth = -1.0, bool held = true) {
   ModelParams p = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/fall.toml").model;
   scene::ChangeRate(&p, rate_hz);

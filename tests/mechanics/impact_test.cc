@@ -3,7 +3,7 @@
 // of every step (no input after the release). The goal is 10 % of the radius. The defaults
 // (impulses inside the implicit solve and spheres that follow the material, on top of the impact
 // limiter and the stiffening law) hold 6.3-8.7 %; the limiter and the law alone 12-17 % (from
-// 65-82 % without them). docs/contacts.md, "Impacts".
+// 65-82 % without them). docs/impacts.md.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -138,7 +138,7 @@ TEST(Impacts, WithoutTheLimiterTheDropSinksDeep) {
   EXPECT_GT(run.deepest, 3.0 * RunDrop(LimiterOnly(100.0)).deepest);
 }
 
-// Figures for docs/contacts.md: VISCERA_IMPACT_FIGURES=1 prints every candidate at every rate.
+// Figures for docs/impacts.md: VISCERA_IMPACT_FIGURES=1 prints every candidate at every rate.
 TEST(Impacts, Figures) {
   if (!std::getenv("VISCERA_IMPACT_FIGURES"))
     GTEST_SKIP() << "set VISCERA_IMPACT_FIGURES=1 to print the table";

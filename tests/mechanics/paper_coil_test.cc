@@ -33,7 +33,7 @@ TEST(PaperCoil, TheSceneIsThePapersCoilThirtyCentimetresUp) {
 }
 
 // The limiter and the stiffening law alone (the defaults' impulses inside the implicit solve and
-// material spheres switched off, docs/contacts.md "Impacts"): the impact (~0.27 s) sinks a self
+// material spheres switched off, docs/impacts.md): the impact (~0.27 s) sinks a self
 // pair by 10-13 % of R and the floor by 9-11 %; the pile then rests within 6 %.
 ModelParams LimiterOnly(double rate_hz) {
   ModelParams p = PaperCoil(rate_hz);

@@ -2,7 +2,7 @@
 // (a hard press through the pile to the floor, fast sweeps, a grasp and yank, two tools at once)
 // on scenes/cavity.toml at 100 Hz and 1 kHz. No pair, the tools' included, sinks deeper than 10 %
 // of the radius at the end of any step. With the tools' contacts linear, the press and the sweeps
-// sank a tool 39-53 % of R into the tube (docs/contacts.md, "Tools and haptics").
+// sank a tool 39-53 % of R into the tube (docs/tool-coupling.md).
 // The press and the sweeps test the tools' law (their deepest pair is the tool's); the grasping
 // gestures test that a yanked or spread pile does not sink into its walls or itself.
 #include <gtest/gtest.h>

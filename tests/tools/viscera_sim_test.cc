@@ -270,7 +270,7 @@ TEST(VisceraSim, WarnsWhenRk4IsBeyondItsStabilityLimit) {
   EXPECT_NE(r.out.find("substeps >="), std::string::npos) << r.out;
 }
 
-// viscera-state-digest: the check behind bit-identical performance work (docs/benchmarks.md).
+// viscera-state-digest: the check behind bit-identical performance work (docs/performance.md).
 // Reruns agree line for line; a longer run shares the shorter one's digests; a change of the
 // last bit of one input (the scene's damping) changes them.
 TEST(VisceraStateDigest, RerunsAgreeAndAOneBitChangeShows) {

@@ -2,7 +2,7 @@
 // steps) and prints a 64-bit FNV-1a digest of every bit of the state after each step (t, q, qd,
 // the tools' poses and forces, the contact counts and deepest clearance), cumulative, every
 // --every steps and at the end. Two builds whose digests agree produced bit-identical runs: the
-// check behind performance work that must not move the rounding (docs/benchmarks.md).
+// check behind performance work that must not move the rounding (docs/performance.md).
 //   viscera-state-digest SCENE.toml --duration S [--rate HZ] [--tool-script CSV] [--every N]
 #include <CLI/CLI.hpp>
 
