@@ -213,7 +213,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
 }
 
 bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv,
-                                            State* state) {
+                                            State* state, bool again) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
@@ -237,9 +237,11 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
     correction.setZero(b.size());  // a state not made by InitialState: allocates, once
     previous.setZero(b.size());
   }
-  cg_q_ = correction - previous;  // cg_q_ is free until the first product
-  previous = correction;
-  correction += cg_q_;
+  if (!again) {
+    cg_q_ = correction - previous;  // cg_q_ is free until the first product
+    previous = correction;
+    correction += cg_q_;
+  }
   dv += correction;
   MultiplyExact(dv, &cg_q_);
   cg_r_ = b - cg_q_;
@@ -340,6 +342,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
                                              State* state) {
   Points& q = state->q;
   Points& v = state->qd;
+  const bool again = solving_again_;
+  solving_again_ = false;
   ++substeps_;
   const bool tips = HasTips(*state);
   if (tips) interactions_->PlaceTips(*state, tip_end_);
@@ -410,7 +414,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   bool converged = true;
   if (coupled) {
     interactions_->WeighCommonModes(-w.stiffness, -w.h_eff);
-    converged = RefineExactly(b_, h, dv, state);
+    converged = RefineExactly(b_, h, dv, state, again);
   } else {
     state->cg_correction.setZero();
     state->cg_previous_correction.setZero();
@@ -442,6 +446,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   const bool correct_depth = multistep ? false : ResolveImpacts(h, v, dv);
   if (tips && SolveTips(h, v, dv.data(), *state)) {
     ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
+    solving_again_ = coupled;
     AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
     return;
   }
@@ -449,6 +454,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
     ++friction_rounds_;  // a contact sticks or slides otherwise than solved: solved again
     ++friction_redos_;
+    solving_again_ = coupled;
     AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
     return;
   }

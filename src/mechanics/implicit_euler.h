@@ -159,7 +159,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
   // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended). Starts from, and
   // updates, the state's warm start.
-  bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv, State* state);
+  // `again`: the sub-step solved again (a contact's mode revised): CG starts from the last
+  // solve's correction, and the extrapolation the next sub-step makes is left as it was.
+  bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv, State* state, bool again);
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
@@ -195,6 +197,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   // Solves of one sub-step redone while its contacts' stick or slip is revised
   // (Interactions::ReviseFriction).
   static constexpr int kMaxFrictionRounds = 3;
+  bool solving_again_ = false;  // the next AdvanceHalving solves the last sub-step again
 
   const Model& model_;
   Interactions* interactions_;

@@ -106,6 +106,9 @@ Interactions::Interactions(const Model& model)
       cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : kTangentialShare * cp.stiffness;
   friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  anchor_order_.reserve(static_cast<size_t>(chain_.size()) * 8);
+  anchor_bucket_.assign(3 * static_cast<size_t>(chain_.size()) + 1, 0);
+  anchor_cursor_.assign(anchor_bucket_.size(), 0);
   friction_stuck_.reserve(static_cast<size_t>(chain_.size()) * 8);
   friction_slid_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);

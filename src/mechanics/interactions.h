@@ -135,10 +135,7 @@ class Interactions {
   /// Stick-slip friction (docs/friction.md) in the next force evaluations of a
   /// sub-step of length h, from the anchors it starts from; nullptr: the regularized law (RK4, or
   /// the scene's friction_law). The anchors must outlive those evaluations.
-  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h) {
-    anchors_ = anchors;
-    friction_h_ = h;
-  }
+  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h);
   /// Once a sub-step is accepted: each contact that friction held in the last force evaluation
   /// moves its anchor by the contact's tangential motion over the sub-step (dq, #N by 3: how far
   /// the sub-step moved q; a tool's tip moved by h times its new velocity), capped by the cone,
@@ -147,18 +144,28 @@ class Interactions {
   void AdvanceFriction(const Points& dq, double h, State* state);
   /// After a solve whose end velocities are v + dv (#N by 3, dv's 3N values) and, for the tips,
   /// their start velocities plus tip_dv (3 per tool; nullptr: none): a sliding contact that the
-  /// friction turned back faster than kFrictionReversal sticks in the next solve of the same
-  /// sub-step (a constant force that overshoots would do work: energy from nothing), and a stuck
-  /// one held far beyond the cone (kFrictionOverload) slides. Says whether any changed.
+  /// friction turned back (faster than kFrictionReversal, kFrictionReversalShare) sticks in the
+  /// next solve of the same sub-step (a constant force that overshoots would do work: energy
+  /// from nothing), and a stuck one held far beyond the cone (kFrictionOverload,
+  /// kFrictionOverloadSpeed) slides. Says whether any changed.
   /// ClearTipReleases also starts a sub-step with every contact as its start has it.
   bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
   /// m/s: a slower reversal is left to the next sub-step, which starts it stuck (its energy,
   /// m v^2 / 2, is about 1e-9 J for a 10 g contact).
   static constexpr double kFrictionReversal = 5e-4;
+  /// A reversal is solved again only where the sliding force held constant differs from the
+  /// stuck spring's by more than this share of the cone (k_t h u): closer, the constant force is
+  /// the spring's at the cone, and the energy it gives, k_t (h u)^2 / 2, the spring's stretch
+  /// takes back in AdvanceFriction.
+  static constexpr double kFrictionReversalShare = 0.25;
   /// A stuck contact whose spring and damper end the sub-step beyond this many times the cone
   /// slides in the next solve of the same sub-step (closer to the cone, it slides from the next
   /// sub-step on: a resting pile has many contacts at the cone's edge).
   static constexpr double kFrictionOverload = 2.0;
+  /// m/s: the speed the force a stuck pair held beyond the cone must give its spheres within the
+  /// sub-step for the pair to be solved again as sliding. Slower, the one sub-step it was held
+  /// moved them by micrometres (25 µm at 100 Hz), and it slides from the next one on.
+  static constexpr double kFrictionOverloadSpeed = 5e-3;
   /// A stuck contact's tangential spring, as a share of the normal stiffness (unless the scene
   /// sets contacts.tangential_stiffness): stiff enough that a contact moves only micrometres
   /// before it slides (mu f_n / k_t), soft enough that a stuck pair turning within a 10 ms
@@ -374,6 +381,11 @@ class Interactions {
   // Stick-slip friction: the anchors the sub-step starts from and its length (UseFriction), the
   // pairs friction held in the last force evaluation, and the anchors being made from them.
   const std::vector<FrictionAnchor>* anchors_ = nullptr;
+  // The anchors by the pair's kind and first sphere (a counting sort, made by UseFriction):
+  // bucket kind * spheres + a holds anchor_order_[anchor_bucket_[i] .. anchor_bucket_[i + 1]),
+  // a few pairs each, so that a contact finds its anchor in O(1) rather than by a search.
+  std::vector<int> anchor_bucket_, anchor_cursor_, anchor_order_;
+  const FrictionAnchor* FindAnchor(uint64_t key) const;
   double friction_h_ = 0.0;
   double tangential_stiffness_ = 0.0;
   double friction_energy_ = 0.0;  // J: the tangential springs' as the last sub-step left them

@@ -29,16 +29,45 @@ double Interactions::Friction(ContactKind kind) const {
   return cp.friction;
 }
 
+namespace {
+// The bucket of a friction key: its kind and first sphere (Interactions::FrictionKey).
+size_t AnchorBucket(uint64_t key, int spheres) {
+  return static_cast<size_t>(key >> 42) * static_cast<size_t>(spheres) +
+         static_cast<size_t>((key >> 21) & ((uint64_t{1} << 21) - 1));
+}
+}  // namespace
+
+void Interactions::UseFriction(const std::vector<FrictionAnchor>* anchors, double h) {
+  anchors_ = anchors;
+  friction_h_ = h;
+  if (anchors == nullptr) return;
+  const int spheres = chain_.size();
+  std::fill(anchor_bucket_.begin(), anchor_bucket_.end(), 0);
+  for (const FrictionAnchor& a : *anchors) ++anchor_bucket_[AnchorBucket(a.key, spheres) + 1];
+  for (size_t i = 1; i < anchor_bucket_.size(); ++i) anchor_bucket_[i] += anchor_bucket_[i - 1];
+  std::copy(anchor_bucket_.begin(), anchor_bucket_.end(), anchor_cursor_.begin());
+  anchor_order_.resize(anchors->size());  // within the capacity reserved for the pairs
+  for (size_t i = 0; i < anchors->size(); ++i)
+    anchor_order_[anchor_cursor_[AnchorBucket((*anchors)[i].key, spheres)]++] = static_cast<int>(i);
+}
+
+const FrictionAnchor* Interactions::FindAnchor(uint64_t key) const {
+  const size_t bucket = AnchorBucket(key, chain_.size());
+  for (int j = anchor_bucket_[bucket]; j < anchor_bucket_[bucket + 1]; ++j) {
+    const FrictionAnchor& a = (*anchors_)[anchor_order_[j]];
+    if (a.key == key) return &a;
+  }
+  return nullptr;
+}
+
 void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, Mat3* d) {
   const double limit = Friction(c.kind) * std::max(p->normal_force, 0.0);
   if (!(limit > 0.0)) return;
   const Vec3& n = p->normal;
   const Mat3 tangent = Mat3::Identity() - n * n.transpose();
   const uint64_t key = FrictionKey(c.kind, c.a, c.b);
-  const auto found =
-      std::lower_bound(anchors_->begin(), anchors_->end(), key,
-                       [](const FrictionAnchor& a, uint64_t k) { return a.key < k; });
-  const bool anchored = found != anchors_->end() && found->key == key;
+  const FrictionAnchor* found = FindAnchor(key);
+  const bool anchored = found != nullptr;
   const double kt = tangential_stiffness_;
   // The anchor's spring within this sub-step's cone: an impact's damping raises f_n for a
   // sub-step, and the stretch it allowed would spring back beyond the cone once f_n fell.
@@ -47,12 +76,16 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
   if (size0 > limit) stretch *= limit / size0;
   const double ct = model_.params().contacts.damping;
   const Vec3 trial = stretch + friction_h_ * p->slip;
-  // A contact sticks or slides as the last sub-step ended it (AdvanceFriction); a new one sticks
-  // if its trial force is within the cone. (The trial from the start's speed is a poor guess at
-  // 100 Hz: k_t h v_t exceeds the cone at 2 mm/s, and contacts that friction stops within a
-  // sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at mu 0.3.)
+  // A contact sticks or slides as the last sub-step ended it (AdvanceFriction), unless a stuck
+  // one's trial force is already beyond kFrictionOverload times the cone (it would be solved
+  // again sliding); a new one sticks if its trial force is within the cone. (The trial from the
+  // start's speed is a poor guess at 100 Hz: k_t h v_t exceeds the cone at 2 mm/s, and contacts
+  // that friction stops within a sub-step chattered between the two, creeping 3.7 mm/s down a 10
+  // degree slope at mu 0.3.)
   const bool stuck =
-      ((anchored ? !found->sliding : (kt * trial + ct * p->slip).norm() <= limit) &&
+      ((anchored
+            ? !found->sliding && (kt * trial + ct * p->slip).norm() <= kFrictionOverload * limit
+            : (kt * trial + ct * p->slip).norm() <= limit) &&
        std::find(friction_slid_.begin(), friction_slid_.end(), key) == friction_slid_.end()) ||
       std::find(friction_stuck_.begin(), friction_stuck_.end(), key) != friction_stuck_.end();
   Vec3 force, direction = Vec3::Zero();
@@ -111,6 +144,7 @@ Vec3 Interactions::PairMotion(const FrictionPair& pair, const Points& x, const d
 bool Interactions::ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
   const double kt = tangential_stiffness_;
   const double ct = model_.params().contacts.damping;
+  const double sphere_mass = model_.params().mass * chain_.spacing() / model_.params().length;
   bool revised = false;
   for (const FrictionPair& pair : friction_pairs_) {
     Vec3 tip = Vec3::Zero();
@@ -122,16 +156,22 @@ bool Interactions::ReviseFriction(const Points& v, const double* dv, const doubl
     if (pair.stuck) {
       // Held stuck, the contact pushed well beyond the cone over the sub-step (a launched loop's
       // stuck springs stopped it dead): it slides.
-      if ((kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm() <=
-          kFrictionOverload * pair.limit)
-        continue;
+      const double force = (kt * (pair.stretch + friction_h_ * slip) + ct * slip).norm();
+      if (force <= kFrictionOverload * pair.limit) continue;
+      // Nor where the force beyond the cone, over the sub-step, gave the pair's spheres less
+      // than kFrictionOverloadSpeed.
+      const double mass = pair.kind == ContactKind::kSelf ? 0.5 * sphere_mass : sphere_mass;
+      if (friction_h_ * (force - pair.limit) <= kFrictionOverloadSpeed * mass) continue;
       if (std::find(friction_slid_.begin(), friction_slid_.end(), pair.key) != friction_slid_.end())
         continue;
       friction_slid_.push_back(pair.key);
       revised = true;
       continue;
     }
-    if (slip.dot(pair.direction) >= -kFrictionReversal) continue;
+    const double reversal = -slip.dot(pair.direction);
+    if (reversal <= kFrictionReversal ||
+        kt * friction_h_ * reversal <= kFrictionReversalShare * pair.limit)
+      continue;
     friction_stuck_.push_back(pair.key);
     revised = true;
   }
@@ -157,8 +197,6 @@ void Interactions::AdvanceFriction(const Points& dq, double h, State* state) {
   friction_energy_ = 0.0;
   for (const FrictionAnchor& anchor : next_anchors_)
     friction_energy_ += 0.5 * kt * anchor.stretch.squaredNorm();
-  std::sort(next_anchors_.begin(), next_anchors_.end(),
-            [](const FrictionAnchor& a, const FrictionAnchor& b) { return a.key < b.key; });
   state->friction.swap(next_anchors_);
 }
 

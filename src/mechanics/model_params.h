@@ -65,11 +65,11 @@ struct ContactParams {
   double friction = 0.3;
   double self_friction = 0.3;
   double tool_friction = 0.3;
-  /// Implicit integrator with impact constraints: Coulomb's law with a static phase (kStickSlip:
-  /// a tangential spring to where the contact stuck, capped by the cone; docs/friction.md),
-  /// or the regularized law, viscous below kFrictionSlip (kRegularized, the default; RK4 always
-  /// uses it).
-  FrictionLaw friction_law = FrictionLaw::kRegularized;
+  /// Implicit integrator with impact constraints: Coulomb's law with a static phase (kStickSlip,
+  /// the default: a tangential spring to where the contact stuck, capped by the cone;
+  /// docs/friction.md), or the regularized law, viscous below kFrictionSlip (kRegularized; RK4
+  /// and the limiter alone always use it).
+  FrictionLaw friction_law = FrictionLaw::kStickSlip;
   /// N/m: the stuck contact's tangential spring; 0: a fifth of the normal stiffness.
   double tangential_stiffness = 0.0;
   double margin =

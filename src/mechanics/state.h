@@ -52,7 +52,7 @@ struct State {
   Points last_dqd;
   double last_h = 0.0;
   /// The implicit integrator's stick-slip friction: one anchor per contact that friction held in
-  /// the last sub-step, sorted by key (empty with the regularized law).
+  /// the last sub-step, in the order of the contact candidates (empty with the regularized law).
   std::vector<FrictionAnchor> friction;
   /// The implicit integrator's conjugate-gradient warm start (3N each): the last coupled
   /// sub-step's correction (exact answer minus the band's) and the one before, which the next

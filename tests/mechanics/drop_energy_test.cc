@@ -72,13 +72,13 @@ struct ShippedFall {
   double largest_gain, start_energy, deepest;
 };
 
-// stick_slip: Coulomb's law with a static phase; floor_share > 0: CG's stop floored at that share
-// of gravity's impulse instead of the default.
+// stick_slip: Coulomb's law with a static phase (the default), else the regularized law;
+// floor_share > 0: CG's stop floored at that share of gravity's impulse instead of the default.
 ShippedFall RunShippedFall(double rate_hz, bool impact_redo, bool stick_slip = false,
                            double floor_share = 0.0) {
   ModelParams p = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/fall.toml").model;
   scene::ChangeRate(&p, rate_hz);
-  if (stick_slip) p.contacts.friction_law = FrictionLaw::kStickSlip;
+  p.contacts.friction_law = stick_slip ? FrictionLaw::kStickSlip : FrictionLaw::kRegularized;
   const Model model(p);
   State s = InitialState(model);
   Workspace ws(model);

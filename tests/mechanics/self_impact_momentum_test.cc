@@ -187,7 +187,7 @@ TEST(SelfImpactMomentum, AHairpinSnappingShutKeepsItsMomentumAndGainsNoEnergy) {
       const ImpactRun r = Simulate(h);
       // the impact is there: the arms hit hard enough for the impact constraints to hold them
       EXPECT_GE(r.max_self, 5) << Describe(h, r);
-      EXPECT_GT(r.deepest, 0.03) << Describe(h, r);
+      EXPECT_GT(r.deepest, 0.025) << Describe(h, r);
       EXPECT_GT(r.arm_peak, 0.03) << Describe(h, r);
       EXPECT_LT(r.momentum_error, 0.01 * r.arm_peak) << Describe(h, r);
       EXPECT_LE(r.largest_gain, kRoundOff * r.start_energy) << Describe(h, r);
@@ -211,17 +211,25 @@ TEST(SelfImpactMomentum, WithoutContactsTheMomentumIsKeptToRoundOff) {
 
 // The safeguard, switched off: the impulses and depth corrections held inside the solve act
 // through the band system, where each side of a self pair is tied to the world by twice the
-// pair's stiffness; an impact between the arms then creates momentum. Measured: 39 / 49 / 29 %
-// of an arm's (wide) and 11 / 85 / 31 % (shorter) at 100 / 250 / 1000 Hz.
+// pair's stiffness; an impact between the arms then creates momentum. Under the regularized
+// friction law, measured: 39 / 49 / 29 % of an arm's (wide) and 11 / 85 / 31 % (shorter) at
+// 100 / 250 / 1000 Hz. Under stick-slip friction the arms stick where they meet and less of it
+// shows (0.1-2.3 %), but more than the 1 % the goal above allows.
 TEST(SelfImpactMomentum, ImpulsesThroughTheBandSystemAloneCreateMomentum) {
+  double worst = 0.0;
   for (Hairpin h : HardImpacts()) {
     h.momentum_kept = false;
     for (double rate : {100.0, 250.0, 1000.0}) {
       h.rate_hz = rate;
-      const ImpactRun r = Simulate(h);
-      EXPECT_GT(r.momentum_error, 0.05 * r.arm_peak) << Describe(h, r);
+      const ImpactRun stick_slip = Simulate(h);
+      worst = std::max(worst, stick_slip.momentum_error / stick_slip.arm_peak);
+      Hairpin regularized = h;
+      regularized.contacts = "friction_law = \"regularized\"\n";
+      const ImpactRun r = Simulate(regularized);
+      EXPECT_GT(r.momentum_error, 0.05 * r.arm_peak) << Describe(regularized, r);
     }
   }
+  EXPECT_GT(worst, 0.01);
 }
 
 // Figures: VISCERA_SELF_IMPACT="arm gap stretch rate [verbose]" runs one hairpin and prints it;
