@@ -1,7 +1,5 @@
 #include "mechanics/implicit_euler.h"
 
-#include "mechanics/avx_clone.h"
-
 #include <algorithm>
 #include <limits>
 
@@ -17,7 +15,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       interactions_(interactions),
       n_(model.num_points()),
       num_pins_(static_cast<int>(model.pins().size())),
-      use_cholmod_(model.params().linear_solver == LinearSolverKind::kCholmod),
       guard_(model.params().linearization_guard),
       // BDF2 steps where the impact and depth constraints would not act, and backward Euler
       // where they would: without them (the limiter alone) nothing tells, and a landed pile
@@ -29,10 +26,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       stick_slip_(interactions != nullptr &&
                   model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
                   model.params().contacts.impact_constraints),
-      system_(model.num_points()),
-      solver_(&common_),
-      solve_work_(&common_),
-      solve_one_work_(&common_) {
+      band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod) {
   gravity_floor_share_ = stick_slip_ ? kStickSlipGravityFloor : 1.0;
   scratch_.Resize(n_);
   jac_.Resize(n_);
@@ -55,41 +49,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
   for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_})
     v->setZero(3 * num_tools_);
-  if (use_cholmod_) BuildPattern();
-}
-
-void ImplicitEulerIntegrator::BuildPattern() {
-  // Upper triangle of the 3N x 3N block band, column by column, rows sorted.
-  const int dim = 3 * n_;
-  std::vector<int> col_ptr(dim + 1, 0), row_index;
-  slot_.assign(static_cast<size_t>(n_) * BlockBand::kWidth * 9, -1);
-  for (int j = 0; j < n_; ++j) {
-    for (int beta = 0; beta < 3; ++beta) {
-      const int col = 3 * j + beta;
-      for (int i = std::max(0, j - 3); i <= j; ++i) {
-        for (int alpha = 0; alpha < 3; ++alpha) {
-          const int row = 3 * i + alpha;
-          if (row > col) continue;
-          slot_[((static_cast<size_t>(i) * BlockBand::kWidth + (j - i)) * 3 + alpha) * 3 + beta] =
-              static_cast<int>(row_index.size());
-          row_index.push_back(row);
-        }
-      }
-      col_ptr[col + 1] = static_cast<int>(row_index.size());
-    }
-  }
-  solver_.SetPattern(dim, col_ptr, row_index);
-}
-
-VISCERA_AVX_CLONE void ImplicitEulerIntegrator::AssembleSystem(const StepWeights& w) {
-  const Band& m = model_.mass_band();
-  for (int i = 0; i < n_; ++i) {
-    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
-      Mat3& block = system_.block(i, d);
-      block = w.h_eff * jac_.damping.block(i, d) + w.stiffness * jac_.stiffness.block(i, d);
-      block.diagonal().array() += m(i, d);
-    }
-  }
 }
 
 void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& state) {
@@ -103,45 +62,6 @@ void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& stat
   b_ -= (w.history * w.h_eff) * Eigen::Map<const VecX>(history_.data(), 3 * n_);
   BandMultiply(model_.mass_band(), state.last_dqd, &history_);
   b_ += w.history * Eigen::Map<const VecX>(history_.data(), 3 * n_);
-}
-
-bool ImplicitEulerIntegrator::FactorSystem() {
-  if (!use_cholmod_) return band_factor_.Factor(system_);
-  double* values = solver_.values();
-  for (int i = 0; i < n_; ++i) {
-    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
-      const Mat3& block = system_.block(i, d);
-      const int* s = &slot_[(static_cast<size_t>(i) * BlockBand::kWidth + d) * 9];
-      for (int e = 0; e < 9; ++e) {
-        if (s[e] >= 0) values[s[e]] = block(e / 3, e % 3);
-      }
-    }
-  }
-  return solver_.Factorize();
-}
-
-void ImplicitEulerIntegrator::SolveColumns() {
-  // Column 0 (b) always; column 1 (u) only with a rank-one term; then the pins' columns.
-  const bool rank1 = rank1_w_ > 0.0;
-  if (use_cholmod_) {
-    solver_.SolveInPlace(rhs_.col(0).data(), 1, &solve_one_work_);
-    const int first = rank1 ? 1 : 2;
-    const int cols = static_cast<int>(rhs_.cols()) - first;
-    if (cols > 0) solver_.SolveInPlace(rhs_.col(first).data(), cols, &solve_work_);
-    return;
-  }
-  // Two columns per pass where there are two (each column's numbers are the one-column solve's).
-  Eigen::Index pending = -1;
-  for (Eigen::Index k = 0; k < rhs_.cols(); ++k) {
-    if (k == 1 && !rank1) continue;
-    if (pending < 0) {
-      pending = k;
-    } else {
-      band_factor_.SolveTwoInPlace(rhs_.col(pending).data(), rhs_.col(k).data());
-      pending = -1;
-    }
-  }
-  if (pending >= 0) band_factor_.SolveInPlace(rhs_.col(pending).data());
 }
 
 void ImplicitEulerIntegrator::PrepareConstraints() {
@@ -168,11 +88,7 @@ void ImplicitEulerIntegrator::PrepareConstraints() {
 }
 
 void ImplicitEulerIntegrator::ApplyBandInverse(double* x) {
-  if (use_cholmod_) {
-    solver_.SolveInPlace(x, 1, &solve_one_work_);
-  } else {
-    band_factor_.SolveInPlace(x);
-  }
+  band_.SolveInPlace(x);
   ApplyCorrections(x);
 }
 
@@ -203,7 +119,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   // The band and the common modes read 3N values as #N by 3 points: the same storage.
   VISCERA_ASSERT(x.size() == 3 * n_ && x.data() != y->data());
   y->resize(3 * n_);
-  system_.Multiply(x.data(), y->data());
+  band_.system().Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
   if (tip_woodbury_) SubtractTipSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
@@ -385,8 +301,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     }
   }
 
-  AssembleSystem(w);
-  if (!FactorSystem()) {
+  band_.Assemble(model_.mass_band(), jac_, w.h_eff, w.stiffness);
+  if (!band_.Factor()) {
     // Cannot happen for M + ĥ D + ĥ^2 K with K, D clamped PSD; count it and take an explicit
     // step rather than produce garbage.
     ++factorization_failures_;
@@ -403,9 +319,10 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     state->last_h = 0.0;
     return;
   }
-  // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once; column 0 then gets their corrections.
+  // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once, column 1 only with a rank-one term; column 0
+  // then gets their corrections.
   rank1_w_ = w.stiffness * c;
-  SolveColumns();
+  band_.SolveColumns(&rhs_, rank1_w_ > 0.0 ? 1 : 2);
   auto dv = rhs_.col(0);
   PrepareConstraints();
   if (tips) PrepareTipCorrection();

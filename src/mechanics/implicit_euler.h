@@ -17,8 +17,7 @@
 /// Euler also damps a slow mode of frequency ω by h ω² / 2 (1/s), BDF2 by O(h³ ω⁴).
 #include <vector>
 
-#include "mechanics/block_band_cholesky.h"
-#include "mechanics/cholmod_solver.h"
+#include "mechanics/band_system_solver.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/integrator.h"
 #include "mechanics/interactions.h"
@@ -122,7 +121,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// solver): the band system P = M + ĥ D + ĥ^2 K with each self pair as 2 H per side; the
   /// global stretching energy's rank-one term w u u^T (w = 0: none); the right-hand side b.
   /// The exact matrix is P + w u u^T minus the pairs' common modes (MultiplyExact).
-  const BlockBand& band_system() const { return system_; }
+  const BlockBand& band_system() const { return band_.system(); }
   double rank_one_weight() const { return rank1_w_; }
   const Points& rank_one_u() const { return jac_.rank1_u; }
   const VecX& last_rhs() const { return b_; }
@@ -145,13 +144,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // The sub-step of length h done as two halves (the tools' targets half the way each).
   void AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
                      State* state);
-  void BuildPattern();
-  void AssembleSystem(const StepWeights& w);  // system_ = M + ĥ D + ĥ^2 K
   // b_ += μ (M Δv - ĥ K Δq) (BDF2); kv_'s common modes still weighed as for K v.
   void AddHistory(const StepWeights& w, const State& state);
-  bool FactorSystem();
-  void SolveColumns();        // rhs_ <- system_^-1 rhs_
-  void PrepareConstraints();  // after SolveColumns: the rank-one and pins' terms
+  void PrepareConstraints();  // after the band solve of rhs_: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
@@ -203,17 +198,10 @@ class ImplicitEulerIntegrator final : public Integrator {
   Interactions* interactions_;
   int n_;  // control points
   int num_pins_;
-  bool use_cholmod_;
-  bool guard_;       // params().linearization_guard
-  bool bdf2_;        // params().implicit_scheme is BDF2, with impact constraints
-  bool stick_slip_;  // contacts with stick-slip friction (State::friction's anchors)
-  BlockBand system_;
-  BlockBandCholesky band_factor_;
-  CholmodCommon common_;
-  CholmodSolver solver_;
-  CholmodSolveWorkspace solve_work_;      // the multi-column solve of rhs_ columns 1..
-  CholmodSolveWorkspace solve_one_work_;  // one vector (CG): its own, so neither reallocates
-  std::vector<int> slot_;  // (block i, d, alpha, beta) -> index in the CSC values, or -1
+  bool guard_;             // params().linearization_guard
+  bool bdf2_;              // params().implicit_scheme is BDF2, with impact constraints
+  bool stick_slip_;        // contacts with stick-slip friction (State::friction's anchors)
+  BandSystemSolver band_;  // M + ĥ D + ĥ^2 K
   StretchScratch scratch_;
   ForceJacobians jac_;
   Points force_, kv_;
