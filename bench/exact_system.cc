@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "common/check.h"
+#include "mechanics/conjugate_gradient.h"
 
 namespace viscera::bench {
 
@@ -155,26 +156,15 @@ void BandPreconditioner::Apply(VecX* x) const {
 int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator,
                const Preconditioner& preconditioner, double stop, double relative,
                int max_iterations, VecX* x, VecX* r) {
-  VecX z = *r, q(r->size());
-  preconditioner.Apply(&z);
-  VecX p = z;
-  double rz = r->dot(z);
-  stop = std::max(stop, relative * relative * rz);
-  int it = 0;
-  while (it < max_iterations && rz > stop) {
-    ++it;
-    integrator.MultiplyExact(p, &q);
-    const double pq = p.dot(q);
-    if (!(pq > 0.0)) break;
-    const double alpha = rz / pq;
-    *x += alpha * p;
-    *r -= alpha * q;
-    z = *r;
-    preconditioner.Apply(&z);
-    const double rz_next = r->dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
+  mechanics::PreconditionedCg cg;
+  cg.Resize(r->size());
+  cg.residual() = *r;
+  const int it =
+      cg.Continue([&](const Eigen::Ref<const VecX>& v, VecX* y) { integrator.MultiplyExact(v, y); },
+                  [&](VecX* v) { preconditioner.Apply(v); }, stop, relative, max_iterations, *x,
+                  nullptr)
+          .iterations;
+  *r = cg.residual();
   return it;
 }
 

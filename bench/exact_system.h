@@ -97,10 +97,10 @@ class BandPreconditioner final : public Preconditioner {
   double denominator_;
 };
 
-/// Preconditioned CG on the integrator's own exact product (MultiplyExact), as the step's
-/// RefineExactly: from *x with *r = b - A *x, until r^T M^-1 r falls to max(stop, relative^2
-/// times its start) or after max_iterations (or when p^T A p is not positive). Updates x and r;
-/// returns the iterations.
+/// The step's preconditioned CG (mechanics::PreconditionedCg) on the integrator's own exact
+/// product (MultiplyExact), with another preconditioner: from *x with *r = b - A *x, until r^T M^-1
+/// r falls to max(stop, relative^2 times its start) or after max_iterations (or when p^T A p is not
+/// positive). Updates x and r; returns the iterations.
 int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator,
                const Preconditioner& preconditioner, double stop, double relative,
                int max_iterations, VecX* x, VecX* r);

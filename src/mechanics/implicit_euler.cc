@@ -42,7 +42,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   // m |g|^2 = |total weight| |g|: the generalized weight W satisfies M^-1 W = g at every point.
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
-  for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_}) v->setZero(3 * n_);
+  b_.setZero(3 * n_);
+  cg_.Resize(3 * n_);
   num_tools_ = static_cast<int>(model.params().tools.size());
   tip_B_.setZero(3 * n_, 3 * num_tools_);
   tip_Y_.setZero(3 * n_, 3 * num_tools_);
@@ -145,50 +146,38 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
       gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_;
   const double reference =
       std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
+  const double stop = kCgTolerance * kCgTolerance * reference;
+  last_cg_stop_ = stop;
+  VecX& correction = state->cg_correction;
+  WarmStart(again, state);
+  dv += correction;
+  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap
+                                                       : kMaxCgIterationsExtended;
+  const PreconditionedCg::Result result =
+      cg_.Solve([this](const Eigen::Ref<const VecX>& x, VecX* y) { MultiplyExact(x, y); },
+                [this](VecX* x) { ApplyBandInverse(x->data()); }, b, stop, cap, dv, &correction);
+  if (result.iterations > kMaxCgIterations) ++cg_extended_;
+  last_cg_iterations_ = result.iterations;
+  cg_iterations_ += result.iterations;
+  return result.converged;
+}
+
+void ImplicitEulerIntegrator::WarmStart(bool again, State* state) const {
   // The warm start is the state's (State::cg_correction): a step from a copied state starts from
   // the same guess whatever this integrator solved before.
   VecX& correction = state->cg_correction;
   VecX& previous = state->cg_previous_correction;
-  if (correction.size() != b.size() || previous.size() != b.size()) {
-    correction.setZero(b.size());  // a state not made by InitialState: allocates, once
-    previous.setZero(b.size());
+  if (correction.size() != 3 * n_ || previous.size() != 3 * n_) {
+    correction.setZero(3 * n_);  // a state not made by InitialState: allocates, once
+    previous.setZero(3 * n_);
   }
-  if (!again) {
-    cg_q_ = correction - previous;  // cg_q_ is free until the first product
-    previous = correction;
-    correction += cg_q_;
+  if (again) return;
+  // correction + (correction - previous), the last one kept as the previous.
+  for (Eigen::Index i = 0; i < correction.size(); ++i) {
+    const double step = correction(i) - previous(i);
+    previous(i) = correction(i);
+    correction(i) += step;
   }
-  dv += correction;
-  MultiplyExact(dv, &cg_q_);
-  cg_r_ = b - cg_q_;
-  cg_z_ = cg_r_;
-  ApplyBandInverse(cg_z_.data());
-  double rz = cg_r_.dot(cg_z_);
-  const double stop = kCgTolerance * kCgTolerance * reference;
-  last_cg_stop_ = stop;
-  cg_p_ = cg_z_;
-  int it = 0;
-  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap
-                                                       : kMaxCgIterationsExtended;
-  while (it < cap && rz > stop) {
-    ++it;
-    MultiplyExact(cg_p_, &cg_q_);
-    const double pq = cg_p_.dot(cg_q_);
-    if (!(pq > 0.0)) break;  // A is positive definite; guard against round-off at convergence
-    const double alpha = rz / pq;
-    dv += alpha * cg_p_;
-    correction += alpha * cg_p_;
-    cg_r_ -= alpha * cg_q_;
-    cg_z_ = cg_r_;
-    ApplyBandInverse(cg_z_.data());
-    const double rz_next = cg_r_.dot(cg_z_);
-    cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
-    rz = rz_next;
-  }
-  if (it > kMaxCgIterations) ++cg_extended_;
-  last_cg_iterations_ = it;
-  cg_iterations_ += it;
-  return !(rz > stop);
 }
 
 namespace {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "mechanics/band_system_solver.h"
+#include "mechanics/conjugate_gradient.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/integrator.h"
 #include "mechanics/interactions.h"
@@ -157,6 +158,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // `again`: the sub-step solved again (a contact's mode revised): CG starts from the last
   // solve's correction, and the extrapolation the next sub-step makes is left as it was.
   bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv, State* state, bool again);
+  // The state's correction <- CG's start (added to the band's answer): twice the last correction
+  // minus the one before, which becomes the last; left as it was when `again`.
+  void WarmStart(bool again, State* state) const;
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
@@ -211,8 +215,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   MatX schur_;      // 3 #pins square
   Eigen::LDLT<MatX> schur_ldlt_;
   VecX pin_rhs_, pin_lambda_;
-  VecX b_, cg_r_, cg_z_, cg_p_,
-      cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
+  VecX b_;  // the right-hand side
+  PreconditionedCg cg_;
   // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
   // band system), their Delassus matrix and impulses.
   std::vector<ImpactLimiter::Contact> impact_set_;
