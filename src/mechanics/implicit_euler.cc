@@ -6,6 +6,7 @@
 #include "common/check.h"
 #include "mechanics/banded_cholesky.h"
 #include "mechanics/interactions.h"
+#include "mechanics/linearization_guard.h"
 #include "mechanics/mass_solver.h"
 
 namespace viscera::mechanics {
@@ -180,49 +181,6 @@ void ImplicitEulerIntegrator::WarmStart(bool again, State* state) const {
   }
 }
 
-namespace {
-
-// Segment e = q_i+1 - q_i of the control polygon, moved by Δe = dq_i+1 - dq_i. With l² = |e|² and
-// p = e·Δe, a = l + p / l is its first-order length and |Δe_⊥|² = |Δe|² - p² / l², so its
-// unseen stretch |Δe_⊥|² / 2a, as a fraction of l, is sideways / (2 l² first_order), both
-// scaled by l² (first_order = a l): no root and no division.
-struct SegmentMotion {
-  double l2;           // |e|²
-  double first_order;  // l² + p: its first-order length times l (<= 0: turned inside out)
-  double sideways;     // |Δe_⊥|² l²
-};
-
-SegmentMotion Motion(const Points& q, const Points& dq, Eigen::Index i) {
-  const Vec3 e = (q.row(i + 1) - q.row(i)).transpose();
-  const Vec3 de = (dq.row(i + 1) - dq.row(i)).transpose();
-  const double l2 = e.squaredNorm(), p = e.dot(de);
-  return {l2, l2 + p, de.squaredNorm() * l2 - p * p};
-}
-
-}  // namespace
-
-bool ImplicitEulerIntegrator::UnseenStretchWithin(const Points& q, const Points& dq, double limit) {
-  // Branch-free: the loop vectorizes, and a whole pass costs ~0.4 µs on the cavity's 190 points.
-  bool within = true;
-  for (Eigen::Index i = 0; i + 1 < q.rows(); ++i) {
-    const SegmentMotion m = Motion(q, dq, i);
-    within &=
-        (m.first_order > 0.0 || m.l2 == 0.0) & (m.sideways <= 2.0 * limit * m.l2 * m.first_order);
-  }
-  return within;
-}
-
-double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq) {
-  double largest = 0.0;
-  for (Eigen::Index i = 0; i + 1 < q.rows(); ++i) {
-    const SegmentMotion m = Motion(q, dq, i);
-    if (m.l2 == 0.0) continue;
-    if (!(m.first_order > 0.0)) return std::numeric_limits<double>::infinity();
-    largest = std::max(largest, m.sideways / (2.0 * m.l2 * m.first_order));
-  }
-  return largest;
-}
-
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
   ClearTipReleases();
   AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), bdf2_, state);
@@ -371,12 +329,9 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   if (guard_ && halvings < kMaxHalvings) {
     if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
     if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
-    // Halving shrinks what the velocities and the forces move (4 to 16 times); what it does not
-    // shrink (a position correction, a speed the step length does not set) it cannot mend, and
-    // is then accepted as the plain step would.
-    const double unseen =
-        UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
-    if (unseen > 0.0 && (halvings == 0 || unseen < 0.5 * parent_unseen)) {
+    // Halving shrinks what the velocities and the forces move (4 to 16 times).
+    const double unseen = LinearizationGuard::Excess(q, step_dq_);
+    if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
       ++halved_substeps_;
       AdvanceHalves(loads, h, halvings, unseen, state);
       return;

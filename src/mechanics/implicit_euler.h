@@ -96,23 +96,11 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// (kStickSlipGravityFloor or 1 by default; 0 turns the floor off, to compare against the
   /// stricter stop in tests and benchmarks).
   void set_gravity_floor(double share) { gravity_floor_share_ = share; }
-  /// The largest stretch a sub-step may leave unseen by its linearization, as a fraction of a
-  /// segment of the control polygon (UnseenStretchWithin); a sub-step past it is done again as two
-  /// halves, at most kMaxHalvings deep, and a half again only while halving at least halves it
-  /// (docs/mechanics.md, "One linearization per sub-step").
-  static constexpr double kMaxUnseenStretch = 0.05;
+  /// Sub-steps done again as two halves (by LinearizationGuard, or for a CG that did not
+  /// converge) nest at most this deep.
   static constexpr int kMaxHalvings = 5;
-  /// Sub-steps done again as two halves, in all.
+  /// Sub-steps the linearization guard did again as two halves, in all.
   int64_t halved_substeps() const { return halved_substeps_; }
-  /// Whether, for every segment e = q_i+1 - q_i of the control polygon moved by dq, the stretch
-  /// the step's single linearization cannot see, |Δe_⊥|² / 2 (|e| + ê·Δe) (the sideways motion's
-  /// second-order lengthening over the first-order length; sin²θ / 2 cos θ ≈ θ²/2 of |e| for a
-  /// segment turned by θ), is at most `limit` |e|, and no segment is turned inside out
-  /// (|e| + ê·Δe <= 0). Coincident points are skipped.
-  static bool UnseenStretchWithin(const Points& q, const Points& dq, double limit);
-  /// The largest of that unseen stretch over the segments, as a fraction of each (infinite if a
-  /// segment turns inside out): what a halving must at least halve to be tried again.
-  static double UnseenStretch(const Points& q, const Points& dq);
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/impacts.md).
   int64_t impact_substeps() const { return impact_substeps_; }
