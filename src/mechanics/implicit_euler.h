@@ -106,25 +106,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t impact_substeps() const { return impact_substeps_; }
   int64_t impact_contacts() const { return impact_contacts_total_; }
 
-  /// The last sub-step's system, read-only (bench/exact_system.h assembles it for a direct
-  /// solver): the band system P = M + ĥ D + ĥ^2 K with each self pair as 2 H per side; the
-  /// global stretching energy's rank-one term w u u^T (w = 0: none); the right-hand side b.
-  /// The exact matrix is P + w u u^T minus the pairs' common modes (MultiplyExact).
-  const BlockBand& band_system() const { return band_.system(); }
-  double rank_one_weight() const { return rank1_w_; }
-  const Points& rank_one_u() const { return jac_.rank1_u; }
-  const VecX& last_rhs() const { return b_; }
-  /// y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
-  /// the common modes (as Interactions last weighed them: after Advance, with (ĥ^2, ĥ)).
-  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
-  /// The last sub-step's CG stop (on r^T M^-1 r, M the preconditioner). Its correction (exact
-  /// answer minus the band's) and the one before are the state's (State::cg_correction,
-  /// cg_previous_correction): the next coupled sub-step starts from the band's answer plus twice
-  /// the one minus the other. Read by bench_direct_coupling to rerun that CG with other
-  /// preconditioners.
-  double last_cg_stop() const { return last_cg_stop_; }
-
  private:
+  friend class ImplicitSystemView;  // the last sub-step's system, read-only (bench, tests)
+
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
   // parent_unseen: the unseen stretch of the sub-step these are halves of (infinite at the top).
   // bdf2: whether this sub-step may be BDF2 (the scheme's, unless done again for its impacts).
@@ -140,6 +124,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   void ApplyBandInverse(double* x);
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
   void ApplyCorrections(double* x);
+  // y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
+  // the common modes (as Interactions last weighed them), minus the tips' B C^-1 B'.
+  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
   // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended). Starts from, and
   // updates, the state's warm start.
