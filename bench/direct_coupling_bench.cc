@@ -48,6 +48,7 @@
 #include "exact_system.h"
 #include "fall_scene.h"
 #include "incomplete_cholesky.h"
+#include "mechanics/implicit_system_view.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
 #include "script/scripted_tools.h"
@@ -56,6 +57,7 @@ namespace viscera::bench {
 namespace {
 
 using mechanics::ImplicitEulerIntegrator;
+using mechanics::ImplicitSystemView;
 using mechanics::Interactions;
 using mechanics::Model;
 using mechanics::State;
@@ -197,18 +199,18 @@ struct IcRun {
 struct CgStart {
   VecX x, r;
 };
-CgStart StepStart(const ImplicitEulerIntegrator& integrator, const BandPreconditioner& band,
+CgStart StepStart(const ImplicitSystemView& system, const BandPreconditioner& band,
                   const VecX& extrapolated) {
-  CgStart start{CgWarmStart(band, integrator.last_rhs(), extrapolated), {}};
-  integrator.MultiplyExact(start.x, &start.r);
-  start.r = integrator.last_rhs() - start.r;
+  CgStart start{CgWarmStart(band, system.last_rhs(), extrapolated), {}};
+  system.MultiplyExact(start.x, &start.r);
+  start.r = system.last_rhs() - start.r;
   return start;
 }
 
-IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const SparseUpper& a,
+IcRun RunIc(const IcVariant& v, const ImplicitSystemView& system, const SparseUpper& a,
             const BandPreconditioner& band, const CgStart& start) {
-  const double w = integrator.rank_one_weight();
-  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
+  const double w = system.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(system.rank_one_u().data(), a.n);
   IncompleteCholeskyPreconditioner ic(v.ordering, v.fill);
   IcRun run;
   run.factor_us = MedianMicros(3, [&] { run.factored = ic.Factor(a, w, u); });
@@ -216,25 +218,24 @@ IcRun RunIc(const IcVariant& v, const ImplicitEulerIntegrator& integrator, const
   run.nonzeros = static_cast<double>(ic.factor_nonzeros());
   run.flops = ic.factor_flops();
   VecX x = start.x, r = start.r;
-  run.iterations =
-      ContinueCg(integrator, ic, integrator.last_cg_stop(), 0.0, kIcMaxIterations, &x, &r);
+  run.iterations = ContinueCg(system, ic, system.last_cg_stop(), 0.0, kIcMaxIterations, &x, &r);
   VecX z = r;
   band.Apply(&z);
-  run.band_residual = r.dot(z) / integrator.last_cg_stop();
+  run.band_residual = r.dot(z) / system.last_cg_stop();
   constexpr int kTimedIterations = 8;
   VecX cg_x;
   run.iteration_us =
       MedianMicros(
-          3,
-          [&] { SolveByCg(integrator, ic, integrator.last_rhs(), 0.0, kTimedIterations, &cg_x); }) /
+          3, [&] { SolveByCg(system, ic, system.last_rhs(), 0.0, kTimedIterations, &cg_x); }) /
       kTimedIterations;
   return run;
 }
 
 void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interactions,
                   const State& state, Sweep* s) {
+  const ImplicitSystemView system(integrator);
   ++s->substeps;
-  const Eigen::Index n = integrator.last_rhs().size();  // the step starts with no correction
+  const Eigen::Index n = system.last_rhs().size();  // the step starts with no correction
   s->extrapolated = s->next_extrapolated.size() == n ? s->next_extrapolated : VecX::Zero(n);
   s->next_extrapolated = 2.0 * state.cg_correction - state.cg_previous_correction;
   const int pairs = interactions.coupled_pairs();
@@ -246,7 +247,7 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   s->pairs += pairs;
   const int cg = integrator.last_cg_iterations();
   s->cg_iterations += cg;
-  const SparseUpper a = AssembleExact(integrator, interactions);
+  const SparseUpper a = AssembleExact(system, interactions);
   const std::vector<std::pair<int, int>> blocks = CoupledBlocks(a);
   const bool changed = blocks != s->last_blocks;
   const bool outgrown = !std::includes(s->analysed_blocks.begin(), s->analysed_blocks.end(),
@@ -256,13 +257,13 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   if (outgrown) s->analysed_blocks = blocks;
   s->last_blocks = blocks;
 
-  const double w = integrator.rank_one_weight();
-  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
-  const VecX& b = integrator.last_rhs();
+  const double w = system.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(system.rank_one_u().data(), a.n);
+  const VecX& b = system.last_rhs();
   const int columns = w > 0.0 ? 2 : 1;
   mechanics::CholmodCommon common;
   DirectSolver direct(&common, Ordering::kAmd, /*supernodal=*/false);
-  BandPreconditioner band(integrator);
+  BandPreconditioner band(system);
   mechanics::BlockBandCholesky factor;
   VecX x = b, z(a.n), cg_x(a.n);
   const double analysis = MedianMicros(3, [&] { direct.Analyze(a); });
@@ -272,14 +273,14 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
     direct.Solve(&x);
   });
   const double band_factor =
-      MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); });
+      MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(system.band_system())); });
   const double band_solve = MedianMicros(3, [&] {
     x = b;
     factor.SolveInPlace(x.data());
   });
   constexpr int kTimedIterations = 8;
   const double iteration =
-      MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, kTimedIterations, &cg_x); }) /
+      MedianMicros(3, [&] { SolveByCg(system, band, b, 0.0, kTimedIterations, &cg_x); }) /
       kTimedIterations;
   const double cg_path = band_factor + columns * band_solve + (cg + 1) * iteration;
   s->cg_us += cg_path;
@@ -290,14 +291,14 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
   x = b;
   direct.SolveWithRankOne(w, u, &x, &z);
   VecX ax;
-  integrator.MultiplyExact(x, &ax);
+  system.MultiplyExact(x, &ax);
   s->worst_residual = std::max(s->worst_residual, (ax - b).norm() / b.norm());
 
   // The step's start, checked by rerunning the step's CG from it; then each IC from it.
-  const CgStart start = StepStart(integrator, band, s->extrapolated);
+  const CgStart start = StepStart(system, band, s->extrapolated);
   {
     VecX x_again = start.x, r_again = start.r;
-    const int again = ContinueCg(integrator, band, integrator.last_cg_stop(), 0.0,
+    const int again = ContinueCg(system, band, system.last_cg_stop(), 0.0,
                                  ImplicitEulerIntegrator::kMaxCgIterations, &x_again, &r_again);
     s->start_mismatches += again != cg;
   }
@@ -306,7 +307,7 @@ void ObserveSweep(ImplicitEulerIntegrator& integrator, Interactions& interaction
       s->ic.push_back({IncompleteCholeskyPreconditioner(v.ordering, v.fill).name()});
   }
   for (size_t i = 0; i < std::size(kIcVariants); ++i) {
-    const IcRun run = RunIc(kIcVariants[i], integrator, a, band, start);
+    const IcRun run = RunIc(kIcVariants[i], system, a, band, start);
     IcSweep& ic = s->ic[i];
     if (!run.factored) {
       ++ic.failures;
@@ -364,16 +365,17 @@ void PrintSweep(const Case& c, const Sweep& s) {
 // One snapshot in detail: every ordering, both factorizations, the band, Woodbury's parts.
 void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator,
               Interactions& interactions, const VecX& extrapolated) {
-  const SparseUpper a = AssembleExact(integrator, interactions);
+  const ImplicitSystemView system(integrator);
+  const SparseUpper a = AssembleExact(system, interactions);
   const int pairs = interactions.coupled_pairs();
-  const VecX& b = integrator.last_rhs();
+  const VecX& b = system.last_rhs();
   // The assembled matrix is the step's product.
-  const double w = integrator.rank_one_weight();
-  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
+  const double w = system.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(system.rank_one_u().data(), a.n);
   const VecX probe = VecX::Random(a.n);
   VecX mine, theirs;
   MultiplySymmetric(a, w, u, probe, &mine);
-  integrator.MultiplyExact(probe, &theirs);
+  system.MultiplyExact(probe, &theirs);
   const double mismatch = (mine - theirs).norm() / theirs.norm();
   VISCERA_DEMAND(mismatch < 1e-12);
   std::printf(
@@ -398,7 +400,7 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator,
   }
   std::vector<double> band_factor, band_solve, iteration, woodbury_dense;
   mechanics::CholmodCommon common;
-  BandPreconditioner band(integrator);
+  BandPreconditioner band(system);
   mechanics::BlockBandCholesky factor;
   VecX x(a.n), cg_x(a.n);
   // Woodbury: A_s = P - V V^T with one column of V per rank of a pair's 3x3 (1 to 3): one band
@@ -421,13 +423,12 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator,
       }));
     }
     band_factor.push_back(
-        MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(integrator.band_system())); }));
+        MedianMicros(3, [&] { VISCERA_DEMAND(factor.Factor(system.band_system())); }));
     band_solve.push_back(MedianMicros(3, [&] {
       x = b;
       factor.SolveInPlace(x.data());
     }));
-    iteration.push_back(MedianMicros(3, [&] { SolveByCg(integrator, band, b, 0.0, 8, &cg_x); }) /
-                        8.0);
+    iteration.push_back(MedianMicros(3, [&] { SolveByCg(system, band, b, 0.0, 8, &cg_x); }) / 8.0);
     woodbury_dense.push_back(MedianMicros(1, [&] { llt.compute(spd); }));
   }
   std::printf("  %-8s %-11s %10s %9s %10s %10s %9s\n", "ordering", "factor", "analyse_us", "nnz(L)",
@@ -456,9 +457,9 @@ void Snapshot(const std::string& name, ImplicitEulerIntegrator& integrator,
       "  level-0 IC, chain's order: %.0f multiply-adds, %.0f of them the band's (the band "
       "factor's: %.1f us)\n",
       level_zero, band_part, bf);
-  const CgStart start = StepStart(integrator, band, extrapolated);
+  const CgStart start = StepStart(system, band, extrapolated);
   for (const IcVariant& v : kIcVariants) {
-    const IcRun run = RunIc(v, integrator, a, band, start);
+    const IcRun run = RunIc(v, system, a, band, start);
     const std::string name = IncompleteCholeskyPreconditioner(v.ordering, v.fill).name();
     if (!run.factored) {
       std::printf("  %s: the factorization failed\n", name.c_str());

@@ -4,12 +4,13 @@
 #include <cstring>
 
 #include "common/check.h"
+#include "mechanics/conjugate_gradient.h"
 
 namespace viscera::bench {
 
-SparseUpper AssembleExact(const mechanics::ImplicitEulerIntegrator& integrator,
+SparseUpper AssembleExact(const mechanics::ImplicitSystemView& system,
                           const mechanics::Interactions& interactions) {
-  const mechanics::BlockBand& band = integrator.band_system();
+  const mechanics::BlockBand& band = system.band_system();
   const int points = band.n();
   SparseUpper a;
   a.n = 3 * points;
@@ -138,10 +139,10 @@ void DirectSolver::SolveWithRankOne(double w, const VecX& u, VecX* x, VecX* z) {
   *x -= (w * u.dot(*x) / (1.0 + w * u.dot(*z))) * *z;
 }
 
-BandPreconditioner::BandPreconditioner(const mechanics::ImplicitEulerIntegrator& integrator)
-    : w_(integrator.rank_one_weight()),
-      u_(Eigen::Map<const VecX>(integrator.rank_one_u().data(), integrator.rank_one_u().size())) {
-  VISCERA_DEMAND(factor_.Factor(integrator.band_system()));
+BandPreconditioner::BandPreconditioner(const mechanics::ImplicitSystemView& system)
+    : w_(system.rank_one_weight()),
+      u_(Eigen::Map<const VecX>(system.rank_one_u().data(), system.rank_one_u().size())) {
+  VISCERA_DEMAND(factor_.Factor(system.band_system()));
   z_ = u_;
   factor_.SolveInPlace(z_.data());
   denominator_ = 1.0 + w_ * u_.dot(z_);
@@ -152,38 +153,25 @@ void BandPreconditioner::Apply(VecX* x) const {
   if (w_ > 0.0) *x -= (w_ * u_.dot(*x) / denominator_) * z_;
 }
 
-int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator,
-               const Preconditioner& preconditioner, double stop, double relative,
-               int max_iterations, VecX* x, VecX* r) {
-  VecX z = *r, q(r->size());
-  preconditioner.Apply(&z);
-  VecX p = z;
-  double rz = r->dot(z);
-  stop = std::max(stop, relative * relative * rz);
-  int it = 0;
-  while (it < max_iterations && rz > stop) {
-    ++it;
-    integrator.MultiplyExact(p, &q);
-    const double pq = p.dot(q);
-    if (!(pq > 0.0)) break;
-    const double alpha = rz / pq;
-    *x += alpha * p;
-    *r -= alpha * q;
-    z = *r;
-    preconditioner.Apply(&z);
-    const double rz_next = r->dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
+int ContinueCg(const mechanics::ImplicitSystemView& system, const Preconditioner& preconditioner,
+               double stop, double relative, int max_iterations, VecX* x, VecX* r) {
+  mechanics::PreconditionedCg cg;
+  cg.Resize(r->size());
+  cg.residual() = *r;
+  const int it =
+      cg.Continue([&](const Eigen::Ref<const VecX>& v, VecX* y) { system.MultiplyExact(v, y); },
+                  [&](VecX* v) { preconditioner.Apply(v); }, stop, relative, max_iterations, *x,
+                  nullptr)
+          .iterations;
+  *r = cg.residual();
   return it;
 }
 
-int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator,
-              const Preconditioner& preconditioner, const VecX& b, double tolerance,
-              int max_iterations, VecX* x) {
+int SolveByCg(const mechanics::ImplicitSystemView& system, const Preconditioner& preconditioner,
+              const VecX& b, double tolerance, int max_iterations, VecX* x) {
   x->setZero(b.size());
   VecX r = b;
-  return ContinueCg(integrator, preconditioner, 0.0, tolerance, max_iterations, x, &r);
+  return ContinueCg(system, preconditioner, 0.0, tolerance, max_iterations, x, &r);
 }
 
 VecX CgWarmStart(const BandPreconditioner& band, const VecX& b, const VecX& extrapolated) {

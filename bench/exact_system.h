@@ -3,12 +3,12 @@
 // and tests/mechanics/direct_coupling_test.cc; docs/self-coupling.md).
 //
 // After ImplicitEulerIntegrator::Advance the integrator keeps its band system P (each self pair
-// as 2 H per side) and Interactions keeps the pairs' common modes weighed with (h^2, h). The
-// exact matrix is A = A_s + w u u^T with A_s = P minus the common modes: A_s is sparse (the band
-// plus a 4 x 4 block of points between each pair's two windows), the rank-one term is dense and
-// is applied by Sherman-Morrison, as the step does. A_s is read column by column: the band's
-// entries, plus AddCommonModeTerms applied to unit vectors (so it holds whatever the step's
-// products hold, with no second copy of the pairs' algebra).
+// as 2 H per side; read through mechanics::ImplicitSystemView) and Interactions keeps the pairs'
+// common modes weighed with (h^2, h). The exact matrix is A = A_s + w u u^T with A_s = P minus the
+// common modes: A_s is sparse (the band plus a 4 x 4 block of points between each pair's two
+// windows), the rank-one term is dense and is applied by Sherman-Morrison, as the step does. A_s is
+// read column by column: the band's entries, plus AddCommonModeTerms applied to unit vectors (so it
+// holds whatever the step's products hold, with no second copy of the pairs' algebra).
 #include <cholmod.h>
 
 #include <utility>
@@ -18,7 +18,7 @@
 #include "mechanics/block_band.h"
 #include "mechanics/block_band_cholesky.h"
 #include "mechanics/cholmod_solver.h"
-#include "mechanics/implicit_euler.h"
+#include "mechanics/implicit_system_view.h"
 #include "mechanics/interactions.h"
 
 namespace viscera::bench {
@@ -34,7 +34,7 @@ struct SparseUpper {
 /// The last sub-step's A_s (the exact matrix without its rank-one term). Entries of the band
 /// are all kept (its structure); the pairs' entries outside it where nonzero.
 /// @pre the model has no pins (a direct solve would need their Schur complement: not built).
-SparseUpper AssembleExact(const mechanics::ImplicitEulerIntegrator& integrator,
+SparseUpper AssembleExact(const mechanics::ImplicitSystemView& system,
                           const mechanics::Interactions& interactions);
 
 /// The pairs' part of the pattern: point pairs (i, j), j - i > 3, with an entry in A_s.
@@ -87,7 +87,7 @@ class Preconditioner {
 /// The step's preconditioner without pins: the band factor of P, then w u u^T by Sherman-Morrison.
 class BandPreconditioner final : public Preconditioner {
  public:
-  explicit BandPreconditioner(const mechanics::ImplicitEulerIntegrator& integrator);
+  explicit BandPreconditioner(const mechanics::ImplicitSystemView& system);
   void Apply(VecX* x) const override;  // x <- (P + w u u^T)^-1 x
 
  private:
@@ -97,18 +97,16 @@ class BandPreconditioner final : public Preconditioner {
   double denominator_;
 };
 
-/// Preconditioned CG on the integrator's own exact product (MultiplyExact), as the step's
-/// RefineExactly: from *x with *r = b - A *x, until r^T M^-1 r falls to max(stop, relative^2
-/// times its start) or after max_iterations (or when p^T A p is not positive). Updates x and r;
-/// returns the iterations.
-int ContinueCg(const mechanics::ImplicitEulerIntegrator& integrator,
-               const Preconditioner& preconditioner, double stop, double relative,
-               int max_iterations, VecX* x, VecX* r);
+/// The step's preconditioned CG (mechanics::PreconditionedCg) on the integrator's own exact
+/// product (MultiplyExact), with another preconditioner: from *x with *r = b - A *x, until r^T M^-1
+/// r falls to max(stop, relative^2 times its start) or after max_iterations (or when p^T A p is not
+/// positive). Updates x and r; returns the iterations.
+int ContinueCg(const mechanics::ImplicitSystemView& system, const Preconditioner& preconditioner,
+               double stop, double relative, int max_iterations, VecX* x, VecX* r);
 
 /// ContinueCg from x = 0, until the preconditioned residual is `tolerance` of b's (in that norm).
-int SolveByCg(const mechanics::ImplicitEulerIntegrator& integrator,
-              const Preconditioner& preconditioner, const VecX& b, double tolerance,
-              int max_iterations, VecX* x);
+int SolveByCg(const mechanics::ImplicitSystemView& system, const Preconditioner& preconditioner,
+              const VecX& b, double tolerance, int max_iterations, VecX* x);
 
 /// The start of the last sub-step's CG: the band's answer plus the correction extrapolated from
 /// the two sub-steps before, `extrapolated` (read from the state after the sub-step before:

@@ -1,13 +1,12 @@
 #include "mechanics/implicit_euler.h"
 
-#include "mechanics/avx_clone.h"
-
 #include <algorithm>
 #include <limits>
 
 #include "common/check.h"
 #include "mechanics/banded_cholesky.h"
 #include "mechanics/interactions.h"
+#include "mechanics/linearization_guard.h"
 #include "mechanics/mass_solver.h"
 
 namespace viscera::mechanics {
@@ -17,7 +16,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       interactions_(interactions),
       n_(model.num_points()),
       num_pins_(static_cast<int>(model.pins().size())),
-      use_cholmod_(model.params().linear_solver == LinearSolverKind::kCholmod),
       guard_(model.params().linearization_guard),
       // BDF2 steps where the impact and depth constraints would not act, and backward Euler
       // where they would: without them (the limiter alone) nothing tells, and a landed pile
@@ -29,10 +27,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       stick_slip_(interactions != nullptr &&
                   model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
                   model.params().contacts.impact_constraints),
-      system_(model.num_points()),
-      solver_(&common_),
-      solve_work_(&common_),
-      solve_one_work_(&common_) {
+      band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod) {
   gravity_floor_share_ = stick_slip_ ? kStickSlipGravityFloor : 1.0;
   scratch_.Resize(n_);
   jac_.Resize(n_);
@@ -48,48 +43,14 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   // m |g|^2 = |total weight| |g|: the generalized weight W satisfies M^-1 W = g at every point.
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
-  for (VecX* v : {&b_, &cg_r_, &cg_z_, &cg_p_, &cg_q_}) v->setZero(3 * n_);
+  b_.setZero(3 * n_);
+  cg_.Resize(3 * n_);
   num_tools_ = static_cast<int>(model.params().tools.size());
   tip_B_.setZero(3 * n_, 3 * num_tools_);
   tip_Y_.setZero(3 * n_, 3 * num_tools_);
   for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
   for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_})
     v->setZero(3 * num_tools_);
-  if (use_cholmod_) BuildPattern();
-}
-
-void ImplicitEulerIntegrator::BuildPattern() {
-  // Upper triangle of the 3N x 3N block band, column by column, rows sorted.
-  const int dim = 3 * n_;
-  std::vector<int> col_ptr(dim + 1, 0), row_index;
-  slot_.assign(static_cast<size_t>(n_) * BlockBand::kWidth * 9, -1);
-  for (int j = 0; j < n_; ++j) {
-    for (int beta = 0; beta < 3; ++beta) {
-      const int col = 3 * j + beta;
-      for (int i = std::max(0, j - 3); i <= j; ++i) {
-        for (int alpha = 0; alpha < 3; ++alpha) {
-          const int row = 3 * i + alpha;
-          if (row > col) continue;
-          slot_[((static_cast<size_t>(i) * BlockBand::kWidth + (j - i)) * 3 + alpha) * 3 + beta] =
-              static_cast<int>(row_index.size());
-          row_index.push_back(row);
-        }
-      }
-      col_ptr[col + 1] = static_cast<int>(row_index.size());
-    }
-  }
-  solver_.SetPattern(dim, col_ptr, row_index);
-}
-
-VISCERA_AVX_CLONE void ImplicitEulerIntegrator::AssembleSystem(const StepWeights& w) {
-  const Band& m = model_.mass_band();
-  for (int i = 0; i < n_; ++i) {
-    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
-      Mat3& block = system_.block(i, d);
-      block = w.h_eff * jac_.damping.block(i, d) + w.stiffness * jac_.stiffness.block(i, d);
-      block.diagonal().array() += m(i, d);
-    }
-  }
 }
 
 void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& state) {
@@ -103,45 +64,6 @@ void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& stat
   b_ -= (w.history * w.h_eff) * Eigen::Map<const VecX>(history_.data(), 3 * n_);
   BandMultiply(model_.mass_band(), state.last_dqd, &history_);
   b_ += w.history * Eigen::Map<const VecX>(history_.data(), 3 * n_);
-}
-
-bool ImplicitEulerIntegrator::FactorSystem() {
-  if (!use_cholmod_) return band_factor_.Factor(system_);
-  double* values = solver_.values();
-  for (int i = 0; i < n_; ++i) {
-    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
-      const Mat3& block = system_.block(i, d);
-      const int* s = &slot_[(static_cast<size_t>(i) * BlockBand::kWidth + d) * 9];
-      for (int e = 0; e < 9; ++e) {
-        if (s[e] >= 0) values[s[e]] = block(e / 3, e % 3);
-      }
-    }
-  }
-  return solver_.Factorize();
-}
-
-void ImplicitEulerIntegrator::SolveColumns() {
-  // Column 0 (b) always; column 1 (u) only with a rank-one term; then the pins' columns.
-  const bool rank1 = rank1_w_ > 0.0;
-  if (use_cholmod_) {
-    solver_.SolveInPlace(rhs_.col(0).data(), 1, &solve_one_work_);
-    const int first = rank1 ? 1 : 2;
-    const int cols = static_cast<int>(rhs_.cols()) - first;
-    if (cols > 0) solver_.SolveInPlace(rhs_.col(first).data(), cols, &solve_work_);
-    return;
-  }
-  // Two columns per pass where there are two (each column's numbers are the one-column solve's).
-  Eigen::Index pending = -1;
-  for (Eigen::Index k = 0; k < rhs_.cols(); ++k) {
-    if (k == 1 && !rank1) continue;
-    if (pending < 0) {
-      pending = k;
-    } else {
-      band_factor_.SolveTwoInPlace(rhs_.col(pending).data(), rhs_.col(k).data());
-      pending = -1;
-    }
-  }
-  if (pending >= 0) band_factor_.SolveInPlace(rhs_.col(pending).data());
 }
 
 void ImplicitEulerIntegrator::PrepareConstraints() {
@@ -168,11 +90,7 @@ void ImplicitEulerIntegrator::PrepareConstraints() {
 }
 
 void ImplicitEulerIntegrator::ApplyBandInverse(double* x) {
-  if (use_cholmod_) {
-    solver_.SolveInPlace(x, 1, &solve_one_work_);
-  } else {
-    band_factor_.SolveInPlace(x);
-  }
+  band_.SolveInPlace(x);
   ApplyCorrections(x);
 }
 
@@ -203,7 +121,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   // The band and the common modes read 3N values as #N by 3 points: the same storage.
   VISCERA_ASSERT(x.size() == 3 * n_ && x.data() != y->data());
   y->resize(3 * n_);
-  system_.Multiply(x.data(), y->data());
+  band_.system().Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
   if (tip_woodbury_) SubtractTipSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
@@ -229,93 +147,38 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
       gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_;
   const double reference =
       std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
+  const double stop = kCgTolerance * kCgTolerance * reference;
+  last_cg_stop_ = stop;
+  VecX& correction = state->cg_correction;
+  WarmStart(again, state);
+  dv += correction;
+  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap
+                                                       : kMaxCgIterationsExtended;
+  const PreconditionedCg::Result result =
+      cg_.Solve([this](const Eigen::Ref<const VecX>& x, VecX* y) { MultiplyExact(x, y); },
+                [this](VecX* x) { ApplyBandInverse(x->data()); }, b, stop, cap, dv, &correction);
+  if (result.iterations > kMaxCgIterations) ++cg_extended_;
+  last_cg_iterations_ = result.iterations;
+  cg_iterations_ += result.iterations;
+  return result.converged;
+}
+
+void ImplicitEulerIntegrator::WarmStart(bool again, State* state) const {
   // The warm start is the state's (State::cg_correction): a step from a copied state starts from
   // the same guess whatever this integrator solved before.
   VecX& correction = state->cg_correction;
   VecX& previous = state->cg_previous_correction;
-  if (correction.size() != b.size() || previous.size() != b.size()) {
-    correction.setZero(b.size());  // a state not made by InitialState: allocates, once
-    previous.setZero(b.size());
+  if (correction.size() != 3 * n_ || previous.size() != 3 * n_) {
+    correction.setZero(3 * n_);  // a state not made by InitialState: allocates, once
+    previous.setZero(3 * n_);
   }
-  if (!again) {
-    cg_q_ = correction - previous;  // cg_q_ is free until the first product
-    previous = correction;
-    correction += cg_q_;
+  if (again) return;
+  // correction + (correction - previous), the last one kept as the previous.
+  for (Eigen::Index i = 0; i < correction.size(); ++i) {
+    const double step = correction(i) - previous(i);
+    previous(i) = correction(i);
+    correction(i) += step;
   }
-  dv += correction;
-  MultiplyExact(dv, &cg_q_);
-  cg_r_ = b - cg_q_;
-  cg_z_ = cg_r_;
-  ApplyBandInverse(cg_z_.data());
-  double rz = cg_r_.dot(cg_z_);
-  const double stop = kCgTolerance * kCgTolerance * reference;
-  last_cg_stop_ = stop;
-  cg_p_ = cg_z_;
-  int it = 0;
-  const int cap = model_.params().cg_iteration_cap > 0 ? model_.params().cg_iteration_cap
-                                                       : kMaxCgIterationsExtended;
-  while (it < cap && rz > stop) {
-    ++it;
-    MultiplyExact(cg_p_, &cg_q_);
-    const double pq = cg_p_.dot(cg_q_);
-    if (!(pq > 0.0)) break;  // A is positive definite; guard against round-off at convergence
-    const double alpha = rz / pq;
-    dv += alpha * cg_p_;
-    correction += alpha * cg_p_;
-    cg_r_ -= alpha * cg_q_;
-    cg_z_ = cg_r_;
-    ApplyBandInverse(cg_z_.data());
-    const double rz_next = cg_r_.dot(cg_z_);
-    cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
-    rz = rz_next;
-  }
-  if (it > kMaxCgIterations) ++cg_extended_;
-  last_cg_iterations_ = it;
-  cg_iterations_ += it;
-  return !(rz > stop);
-}
-
-namespace {
-
-// Segment e = q_i+1 - q_i of the control polygon, moved by Δe = dq_i+1 - dq_i. With l² = |e|² and
-// p = e·Δe, a = l + p / l is its first-order length and |Δe_⊥|² = |Δe|² - p² / l², so its
-// unseen stretch |Δe_⊥|² / 2a, as a fraction of l, is sideways / (2 l² first_order), both
-// scaled by l² (first_order = a l): no root and no division.
-struct SegmentMotion {
-  double l2;           // |e|²
-  double first_order;  // l² + p: its first-order length times l (<= 0: turned inside out)
-  double sideways;     // |Δe_⊥|² l²
-};
-
-SegmentMotion Motion(const Points& q, const Points& dq, Eigen::Index i) {
-  const Vec3 e = (q.row(i + 1) - q.row(i)).transpose();
-  const Vec3 de = (dq.row(i + 1) - dq.row(i)).transpose();
-  const double l2 = e.squaredNorm(), p = e.dot(de);
-  return {l2, l2 + p, de.squaredNorm() * l2 - p * p};
-}
-
-}  // namespace
-
-bool ImplicitEulerIntegrator::UnseenStretchWithin(const Points& q, const Points& dq, double limit) {
-  // Branch-free: the loop vectorizes, and a whole pass costs ~0.4 µs on the cavity's 190 points.
-  bool within = true;
-  for (Eigen::Index i = 0; i + 1 < q.rows(); ++i) {
-    const SegmentMotion m = Motion(q, dq, i);
-    within &=
-        (m.first_order > 0.0 || m.l2 == 0.0) & (m.sideways <= 2.0 * limit * m.l2 * m.first_order);
-  }
-  return within;
-}
-
-double ImplicitEulerIntegrator::UnseenStretch(const Points& q, const Points& dq) {
-  double largest = 0.0;
-  for (Eigen::Index i = 0; i + 1 < q.rows(); ++i) {
-    const SegmentMotion m = Motion(q, dq, i);
-    if (m.l2 == 0.0) continue;
-    if (!(m.first_order > 0.0)) return std::numeric_limits<double>::infinity();
-    largest = std::max(largest, m.sideways / (2.0 * m.l2 * m.first_order));
-  }
-  return largest;
 }
 
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
@@ -385,8 +248,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     }
   }
 
-  AssembleSystem(w);
-  if (!FactorSystem()) {
+  band_.Assemble(model_.mass_band(), jac_, w.h_eff, w.stiffness);
+  if (!band_.Factor()) {
     // Cannot happen for M + ĥ D + ĥ^2 K with K, D clamped PSD; count it and take an explicit
     // step rather than produce garbage.
     ++factorization_failures_;
@@ -403,9 +266,10 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     state->last_h = 0.0;
     return;
   }
-  // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once; column 0 then gets their corrections.
+  // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once, column 1 only with a rank-one term; column 0
+  // then gets their corrections.
   rank1_w_ = w.stiffness * c;
-  SolveColumns();
+  band_.SolveColumns(&rhs_, rank1_w_ > 0.0 ? 1 : 2);
   auto dv = rhs_.col(0);
   PrepareConstraints();
   if (tips) PrepareTipCorrection();
@@ -465,12 +329,9 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   if (guard_ && halvings < kMaxHalvings) {
     if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
     if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
-    // Halving shrinks what the velocities and the forces move (4 to 16 times); what it does not
-    // shrink (a position correction, a speed the step length does not set) it cannot mend, and
-    // is then accepted as the plain step would.
-    const double unseen =
-        UnseenStretchWithin(q, step_dq_, kMaxUnseenStretch) ? 0.0 : UnseenStretch(q, step_dq_);
-    if (unseen > 0.0 && (halvings == 0 || unseen < 0.5 * parent_unseen)) {
+    // Halving shrinks what the velocities and the forces move (4 to 16 times).
+    const double unseen = LinearizationGuard::Excess(q, step_dq_);
+    if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
       ++halved_substeps_;
       AdvanceHalves(loads, h, halvings, unseen, state);
       return;

@@ -17,8 +17,8 @@
 /// Euler also damps a slow mode of frequency ω by h ω² / 2 (1/s), BDF2 by O(h³ ω⁴).
 #include <vector>
 
-#include "mechanics/block_band_cholesky.h"
-#include "mechanics/cholmod_solver.h"
+#include "mechanics/band_system_solver.h"
+#include "mechanics/conjugate_gradient.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/integrator.h"
 #include "mechanics/interactions.h"
@@ -96,47 +96,19 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// (kStickSlipGravityFloor or 1 by default; 0 turns the floor off, to compare against the
   /// stricter stop in tests and benchmarks).
   void set_gravity_floor(double share) { gravity_floor_share_ = share; }
-  /// The largest stretch a sub-step may leave unseen by its linearization, as a fraction of a
-  /// segment of the control polygon (UnseenStretchWithin); a sub-step past it is done again as two
-  /// halves, at most kMaxHalvings deep, and a half again only while halving at least halves it
-  /// (docs/mechanics.md, "One linearization per sub-step").
-  static constexpr double kMaxUnseenStretch = 0.05;
+  /// Sub-steps done again as two halves (by LinearizationGuard, or for a CG that did not
+  /// converge) nest at most this deep.
   static constexpr int kMaxHalvings = 5;
-  /// Sub-steps done again as two halves, in all.
+  /// Sub-steps the linearization guard did again as two halves, in all.
   int64_t halved_substeps() const { return halved_substeps_; }
-  /// Whether, for every segment e = q_i+1 - q_i of the control polygon moved by dq, the stretch
-  /// the step's single linearization cannot see, |Δe_⊥|² / 2 (|e| + ê·Δe) (the sideways motion's
-  /// second-order lengthening over the first-order length; sin²θ / 2 cos θ ≈ θ²/2 of |e| for a
-  /// segment turned by θ), is at most `limit` |e|, and no segment is turned inside out
-  /// (|e| + ê·Δe <= 0). Coincident points are skipped.
-  static bool UnseenStretchWithin(const Points& q, const Points& dq, double limit);
-  /// The largest of that unseen stretch over the segments, as a fraction of each (infinite if a
-  /// segment turns inside out): what a halving must at least halve to be tried again.
-  static double UnseenStretch(const Points& q, const Points& dq);
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/impacts.md).
   int64_t impact_substeps() const { return impact_substeps_; }
   int64_t impact_contacts() const { return impact_contacts_total_; }
 
-  /// The last sub-step's system, read-only (bench/exact_system.h assembles it for a direct
-  /// solver): the band system P = M + ĥ D + ĥ^2 K with each self pair as 2 H per side; the
-  /// global stretching energy's rank-one term w u u^T (w = 0: none); the right-hand side b.
-  /// The exact matrix is P + w u u^T minus the pairs' common modes (MultiplyExact).
-  const BlockBand& band_system() const { return system_; }
-  double rank_one_weight() const { return rank1_w_; }
-  const Points& rank_one_u() const { return jac_.rank1_u; }
-  const VecX& last_rhs() const { return b_; }
-  /// y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
-  /// the common modes (as Interactions last weighed them: after Advance, with (ĥ^2, ĥ)).
-  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
-  /// The last sub-step's CG stop (on r^T M^-1 r, M the preconditioner). Its correction (exact
-  /// answer minus the band's) and the one before are the state's (State::cg_correction,
-  /// cg_previous_correction): the next coupled sub-step starts from the band's answer plus twice
-  /// the one minus the other. Read by bench_direct_coupling to rerun that CG with other
-  /// preconditioners.
-  double last_cg_stop() const { return last_cg_stop_; }
-
  private:
+  friend class ImplicitSystemView;  // the last sub-step's system, read-only (bench, tests)
+
   // Advance, done again as two halves (recursively) when the sub-step turns a segment too far;
   // parent_unseen: the unseen stretch of the sub-step these are halves of (infinite at the top).
   // bdf2: whether this sub-step may be BDF2 (the scheme's, unless done again for its impacts).
@@ -145,23 +117,25 @@ class ImplicitEulerIntegrator final : public Integrator {
   // The sub-step of length h done as two halves (the tools' targets half the way each).
   void AdvanceHalves(std::span<const PointLoad> loads, double h, int halvings, double unseen,
                      State* state);
-  void BuildPattern();
-  void AssembleSystem(const StepWeights& w);  // system_ = M + ĥ D + ĥ^2 K
   // b_ += μ (M Δv - ĥ K Δq) (BDF2); kv_'s common modes still weighed as for K v.
   void AddHistory(const StepWeights& w, const State& state);
-  bool FactorSystem();
-  void SolveColumns();        // rhs_ <- system_^-1 rhs_
-  void PrepareConstraints();  // after SolveColumns: the rank-one and pins' terms
+  void PrepareConstraints();  // after the band solve of rhs_: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
   void ApplyCorrections(double* x);
+  // y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
+  // the common modes (as Interactions last weighed them), minus the tips' B C^-1 B'.
+  void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
   // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended). Starts from, and
   // updates, the state's warm start.
   // `again`: the sub-step solved again (a contact's mode revised): CG starts from the last
   // solve's correction, and the extrapolation the next sub-step makes is left as it was.
   bool RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv, State* state, bool again);
+  // The state's correction <- CG's start (added to the band's answer): twice the last correction
+  // minus the one before, which becomes the last; left as it was when `again`.
+  void WarmStart(bool again, State* state) const;
   // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
   // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
   // depth_dq_ (a position correction, h times it) on top of h (v + dv).
@@ -203,17 +177,10 @@ class ImplicitEulerIntegrator final : public Integrator {
   Interactions* interactions_;
   int n_;  // control points
   int num_pins_;
-  bool use_cholmod_;
-  bool guard_;       // params().linearization_guard
-  bool bdf2_;        // params().implicit_scheme is BDF2, with impact constraints
-  bool stick_slip_;  // contacts with stick-slip friction (State::friction's anchors)
-  BlockBand system_;
-  BlockBandCholesky band_factor_;
-  CholmodCommon common_;
-  CholmodSolver solver_;
-  CholmodSolveWorkspace solve_work_;      // the multi-column solve of rhs_ columns 1..
-  CholmodSolveWorkspace solve_one_work_;  // one vector (CG): its own, so neither reallocates
-  std::vector<int> slot_;  // (block i, d, alpha, beta) -> index in the CSC values, or -1
+  bool guard_;             // params().linearization_guard
+  bool bdf2_;              // params().implicit_scheme is BDF2, with impact constraints
+  bool stick_slip_;        // contacts with stick-slip friction (State::friction's anchors)
+  BandSystemSolver band_;  // M + ĥ D + ĥ^2 K
   StretchScratch scratch_;
   ForceJacobians jac_;
   Points force_, kv_;
@@ -223,8 +190,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   MatX schur_;      // 3 #pins square
   Eigen::LDLT<MatX> schur_ldlt_;
   VecX pin_rhs_, pin_lambda_;
-  VecX b_, cg_r_, cg_z_, cg_p_,
-      cg_q_;  // CG: right-hand side, residual, preconditioned, direction, A p
+  VecX b_;  // the right-hand side
+  PreconditionedCg cg_;
   // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
   // band system), their Delassus matrix and impulses.
   std::vector<ImpactLimiter::Contact> impact_set_;

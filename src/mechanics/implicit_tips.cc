@@ -77,11 +77,7 @@ void ImplicitEulerIntegrator::PrepareTipCorrection() {
   if (!tips_linked_) return;
   for (int j = 0; j < 3 * num_tools_; ++j) {
     tip_Y_.col(j) = tip_B_.col(j);
-    if (use_cholmod_) {
-      solver_.SolveInPlace(tip_Y_.col(j).data(), 1, &solve_one_work_);
-    } else {
-      band_factor_.SolveInPlace(tip_Y_.col(j).data());
-    }
+    band_.SolveInPlace(tip_Y_.col(j).data());
     ApplyCorrections(tip_Y_.col(j).data());
   }
   tip_S_ = tip_c_;

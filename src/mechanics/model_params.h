@@ -106,7 +106,7 @@ struct ModelParams {
   MassSolverKind mass_solver = MassSolverKind::kBanded;
   LinearSolverKind linear_solver = LinearSolverKind::kBlockBand;
   /// Implicit integrator: a sub-step that turns a segment so far that its linearization misses
-  /// more than ImplicitEulerIntegrator::kMaxUnseenStretch of its length is done again as two
+  /// more than LinearizationGuard::kMaxUnseenStretch of its length is done again as two
   /// halves (docs/mechanics.md, "One linearization per sub-step").
   bool linearization_guard = true;
   /// Implicit integrator: BDF2 damps a free swing of frequency ω by O(h³ ω⁴), backward Euler by

@@ -25,8 +25,8 @@ class DirectCoupling : public ::testing::Test {
   const mechanics::Model model;
   mechanics::Workspace workspace;
   mechanics::State state;
-  const ImplicitEulerIntegrator& integrator =
-      dynamic_cast<const ImplicitEulerIntegrator&>(workspace.integrator());
+  const mechanics::ImplicitSystemView system{
+      dynamic_cast<const ImplicitEulerIntegrator&>(workspace.integrator())};
   const mechanics::Interactions& interactions = *workspace.interactions();
 };
 
@@ -34,19 +34,19 @@ TEST_F(DirectCoupling, CholmodOnTheAssembledMatrixIsCgsConvergedAnswer) {
   ASSERT_TRUE(model.pins().empty());
   ASSERT_GT(interactions.coupled_pairs(), 20);
 
-  const SparseUpper a = AssembleExact(integrator, interactions);
+  const SparseUpper a = AssembleExact(system, interactions);
   EXPECT_EQ(a.n, 3 * model.num_points());
   EXPECT_FALSE(CoupledBlocks(a).empty());
-  const double w = integrator.rank_one_weight();
-  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
-  const VecX& b = integrator.last_rhs();
+  const double w = system.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(system.rank_one_u().data(), a.n);
+  const VecX& b = system.last_rhs();
   ASSERT_GT(b.norm(), 0.0);
 
   // The same product as the step's, on any vector.
   const VecX probe = VecX::Random(a.n);
   VecX assembled, step;
   MultiplySymmetric(a, w, u, probe, &assembled);
-  integrator.MultiplyExact(probe, &step);
+  system.MultiplyExact(probe, &step);
   EXPECT_LT((assembled - step).norm(), 1e-12 * step.norm());
 
   mechanics::CholmodCommon common;
@@ -57,9 +57,9 @@ TEST_F(DirectCoupling, CholmodOnTheAssembledMatrixIsCgsConvergedAnswer) {
   VecX x = b, z;
   direct.SolveWithRankOne(w, u, &x, &z);
 
-  const BandPreconditioner band(integrator);
+  const BandPreconditioner band(system);
   VecX converged;
-  const int iterations = SolveByCg(integrator, band, b, 1e-12, 500, &converged);
+  const int iterations = SolveByCg(system, band, b, 1e-12, 500, &converged);
   EXPECT_LT(iterations, 500);
   EXPECT_LT((x - converged).norm(), 1e-8 * converged.norm()) << iterations << " CG iterations";
 
@@ -71,13 +71,13 @@ TEST_F(DirectCoupling, CholmodOnTheAssembledMatrixIsCgsConvergedAnswer) {
 
 TEST_F(DirectCoupling, IncompleteCholeskyPreconditionedCgReachesCgsAnswerInFewerIterations) {
   ASSERT_GT(interactions.coupled_pairs(), 20);
-  const SparseUpper a = AssembleExact(integrator, interactions);
-  const double w = integrator.rank_one_weight();
-  const VecX u = Eigen::Map<const VecX>(integrator.rank_one_u().data(), a.n);
-  const VecX& b = integrator.last_rhs();
-  const BandPreconditioner band(integrator);
+  const SparseUpper a = AssembleExact(system, interactions);
+  const double w = system.rank_one_weight();
+  const VecX u = Eigen::Map<const VecX>(system.rank_one_u().data(), a.n);
+  const VecX& b = system.last_rhs();
+  const BandPreconditioner band(system);
   VecX converged;
-  const int band_iterations = SolveByCg(integrator, band, b, 1e-12, 500, &converged);
+  const int band_iterations = SolveByCg(system, band, b, 1e-12, 500, &converged);
   ASSERT_LT(band_iterations, 500);
 
   // Each reaches the band's converged answer on the step's product. In the chain's order and
@@ -97,7 +97,7 @@ TEST_F(DirectCoupling, IncompleteCholeskyPreconditionedCgReachesCgsAnswerInFewer
               a.nonzeros() - 9 * static_cast<int64_t>(CoupledBlocks(a).size()))
         << ic.name();  // at least the band's count
     VecX x;
-    const int iterations = SolveByCg(integrator, ic, b, 1e-12, 500, &x);
+    const int iterations = SolveByCg(system, ic, b, 1e-12, 500, &x);
     EXPECT_LT(iterations, 500) << ic.name();
     EXPECT_LT((x - converged).norm(), 1e-8 * converged.norm())
         << ic.name() << ": " << iterations << " iterations";

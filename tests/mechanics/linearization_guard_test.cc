@@ -9,6 +9,7 @@
 #include <string>
 
 #include "mechanics/implicit_euler.h"
+#include "mechanics/linearization_guard.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
 
@@ -28,10 +29,10 @@ Points MovingLast(const Vec3& last) {
   return dq;
 }
 bool Within(const Vec3& last, double limit) {
-  return ImplicitEulerIntegrator::UnseenStretchWithin(Line(), MovingLast(last), limit);
+  return LinearizationGuard::UnseenStretchWithin(Line(), MovingLast(last), limit);
 }
 double Unseen(const Vec3& last) {
-  return ImplicitEulerIntegrator::UnseenStretch(Line(), MovingLast(last));
+  return LinearizationGuard::UnseenStretch(Line(), MovingLast(last));
 }
 
 TEST(LinearizationGuard, ATurnOfThetaLeavesAboutHalfThetaSquaredUnseen) {
@@ -49,12 +50,12 @@ TEST(LinearizationGuard, ATurnOfThetaLeavesAboutHalfThetaSquaredUnseen) {
   Points q(2, 3);
   q << 0, 0, 0, 0, 1, 0;
   const Points shift = Vec3(0.3, -2.0, 7.0).transpose().replicate(2, 1);
-  EXPECT_TRUE(ImplicitEulerIntegrator::UnseenStretchWithin(q, shift, 1e-12));
+  EXPECT_TRUE(LinearizationGuard::UnseenStretchWithin(q, shift, 1e-12));
   // A segment turned inside out (first order: length -1) is never within.
   EXPECT_FALSE(Within(Vec3(-2.0, 0.0, 0.0), 100.0));
   // Coincident points have no direction to linearize along: skipped, not NaN.
   Points twice = Points::Zero(2, 3);
-  EXPECT_TRUE(ImplicitEulerIntegrator::UnseenStretchWithin(twice, Points::Ones(2, 3), 0.0));
+  EXPECT_TRUE(LinearizationGuard::UnseenStretchWithin(twice, Points::Ones(2, 3), 0.0));
 }
 
 struct Session {

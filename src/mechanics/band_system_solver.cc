@@ -1,0 +1,97 @@
+#include "mechanics/band_system_solver.h"
+
+#include "mechanics/avx_clone.h"
+
+#include <algorithm>
+
+namespace viscera::mechanics {
+
+BandSystemSolver::BandSystemSolver(int num_points, bool use_cholmod)
+    : n_(num_points),
+      use_cholmod_(use_cholmod),
+      system_(num_points),
+      solver_(&common_),
+      solve_work_(&common_),
+      solve_one_work_(&common_) {
+  if (use_cholmod_) BuildPattern();
+}
+
+void BandSystemSolver::BuildPattern() {
+  // Upper triangle of the 3N x 3N block band, column by column, rows sorted.
+  const int dim = 3 * n_;
+  std::vector<int> col_ptr(dim + 1, 0), row_index;
+  slot_.assign(static_cast<size_t>(n_) * BlockBand::kWidth * 9, -1);
+  for (int j = 0; j < n_; ++j) {
+    for (int beta = 0; beta < 3; ++beta) {
+      const int col = 3 * j + beta;
+      for (int i = std::max(0, j - 3); i <= j; ++i) {
+        for (int alpha = 0; alpha < 3; ++alpha) {
+          const int row = 3 * i + alpha;
+          if (row > col) continue;
+          slot_[((static_cast<size_t>(i) * BlockBand::kWidth + (j - i)) * 3 + alpha) * 3 + beta] =
+              static_cast<int>(row_index.size());
+          row_index.push_back(row);
+        }
+      }
+      col_ptr[col + 1] = static_cast<int>(row_index.size());
+    }
+  }
+  solver_.SetPattern(dim, col_ptr, row_index);
+}
+
+VISCERA_AVX_CLONE void BandSystemSolver::Assemble(const Band& mass, const ForceJacobians& jacobians,
+                                                  double damping_weight, double stiffness_weight) {
+  for (int i = 0; i < n_; ++i) {
+    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
+      Mat3& block = system_.block(i, d);
+      block = damping_weight * jacobians.damping.block(i, d) +
+              stiffness_weight * jacobians.stiffness.block(i, d);
+      block.diagonal().array() += mass(i, d);
+    }
+  }
+}
+
+bool BandSystemSolver::Factor() {
+  if (!use_cholmod_) return band_factor_.Factor(system_);
+  double* values = solver_.values();
+  for (int i = 0; i < n_; ++i) {
+    for (int d = 0; d < BlockBand::kWidth && i + d < n_; ++d) {
+      const Mat3& block = system_.block(i, d);
+      const int* s = &slot_[(static_cast<size_t>(i) * BlockBand::kWidth + d) * 9];
+      for (int e = 0; e < 9; ++e) {
+        if (s[e] >= 0) values[s[e]] = block(e / 3, e % 3);
+      }
+    }
+  }
+  return solver_.Factorize();
+}
+
+void BandSystemSolver::SolveInPlace(double* x) {
+  if (use_cholmod_) {
+    solver_.SolveInPlace(x, 1, &solve_one_work_);
+  } else {
+    band_factor_.SolveInPlace(x);
+  }
+}
+
+void BandSystemSolver::SolveColumns(MatX* rhs, Eigen::Index from) {
+  if (use_cholmod_) {
+    solver_.SolveInPlace(rhs->col(0).data(), 1, &solve_one_work_);
+    const int cols = static_cast<int>(rhs->cols() - from);
+    if (cols > 0) solver_.SolveInPlace(rhs->col(from).data(), cols, &solve_work_);
+    return;
+  }
+  Eigen::Index pending = -1;
+  for (Eigen::Index k = 0; k < rhs->cols(); ++k) {
+    if (k > 0 && k < from) continue;
+    if (pending < 0) {
+      pending = k;
+    } else {
+      band_factor_.SolveTwoInPlace(rhs->col(pending).data(), rhs->col(k).data());
+      pending = -1;
+    }
+  }
+  if (pending >= 0) band_factor_.SolveInPlace(rhs->col(pending).data());
+}
+
+}  // namespace viscera::mechanics
