@@ -54,7 +54,10 @@ cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolSt
   begin = MonotonicNanos();
   context_.MakeCurrent();
   scene_->Draw(mesh_, tools, matrices, &q);
+  timings_.draw_ms = MillisSince(begin);
+  const int64_t drawn = MonotonicNanos();
   cv::Mat frame = context_.Frame();
+  timings_.finish_ms = MillisSince(drawn);
   timings_.render_ms = MillisSince(begin);
   return frame;
 }

@@ -36,7 +36,9 @@ struct FrameOptions {
 /// default, see LimitRasterizerThreads) all of it is spent in the calling thread.
 struct FrameTimings {
   double skin_ms = 0.0;    ///< skin Build
-  double render_ms = 0.0;  ///< upload, draw and glFinish
+  double render_ms = 0.0;  ///< upload, draw and glFinish: draw_ms + finish_ms
+  double draw_ms = 0.0;    ///< the intestine's culling, the uploads and the draw calls
+  double finish_ms = 0.0;  ///< glFinish: what llvmpipe still rasterizes and shades
   double encode_ms = 0.0;  ///< JPEG
 };
 
