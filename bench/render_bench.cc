@@ -112,6 +112,8 @@ void BM_Frame(benchmark::State& state) {
   state.counters["render+encode fps"] = 1e3 / ((render_ms + encode_ms) / n);
   state.counters["frame fps"] = 1e3 / ((skin_ms + render_ms + encode_ms) / n);
   state.counters["triangles"] = static_cast<double>(renderer.scene().triangles());
+  state.counters["skin_drawn"] =
+      static_cast<double>(renderer.scene().intestine_counts().triangles_drawn);
   state.counters["jpeg_kB"] = bytes / n / 1024.0;
 }
 
