@@ -78,7 +78,8 @@ void ExpectSamePicture(const cv::Mat& fast, const cv::Mat& reference, const char
   const double overlap = Overlap(IntestineMask(fast), mask);
   const double difference = MeanDifference(fast, reference);
   testing::Test::RecordProperty(std::string(what) + ": overlap", std::to_string(overlap));
-  testing::Test::RecordProperty(std::string(what) + ": mean difference", std::to_string(difference));
+  testing::Test::RecordProperty(std::string(what) + ": mean difference",
+                                std::to_string(difference));
   EXPECT_GE(overlap, 0.95);
   EXPECT_LT(difference, 1.0);  // levels of 255, mean over all pixels
 }

@@ -79,8 +79,8 @@ TEST(SkinCuller, KeepsEveryTriangleInTheViewAndLeavesOutChunksOutsideIt) {
       const Eigen::Vector3f a = mesh.positions[t[0]].cast<float>(),
                             b = mesh.positions[t[1]].cast<float>(),
                             c = mesh.positions[t[2]].cast<float>();
-      const bool seen = SeenPoint(m, a) || SeenPoint(m, b) || SeenPoint(m, c) ||
-                        SeenPoint(m, (a + b + c) / 3.0f);
+      const bool seen =
+          SeenPoint(m, a) || SeenPoint(m, b) || SeenPoint(m, c) || SeenPoint(m, (a + b + c) / 3.0f);
       const bool kept = drawn.count(Key(a, b, c)) == 1;
       if (seen) {
         EXPECT_TRUE(kept) << "trial " << trial << ": a triangle in the view was dropped";
