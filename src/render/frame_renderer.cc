@@ -4,6 +4,7 @@
 
 #include "common/check.h"
 #include "common/clock.h"
+#include "render/gl.h"
 #include "skin/hybrid_skin.h"
 
 namespace viscera::render {
@@ -34,13 +35,30 @@ FrameRenderer::FrameRenderer(const mechanics::ModelParams& params, const FrameOp
       focus_radius_(options.skin_options.hybrid.focus_radius),
       scene_(std::make_unique<SceneRenderer>(params, options.palette, options.scene)) {
   skin_->Bind(static_cast<int>(params.initial_q.rows()));
+  width_ = context_.width();
+  height_ = context_.height();
+}
+
+void FrameRenderer::SetFrameSize(int width, int height) {
+  ThrowUnless(width >= 1 && width <= context_.width() && height >= 1 && height <= context_.height(),
+              "frame size ", width, "x", height, " is outside 1..", context_.width(), "x",
+              context_.height());
+  width_ = width;
+  height_ = height;
+}
+
+cv::Mat FrameRenderer::Frame() {
+  const cv::Mat all = context_.Frame();
+  if (width_ == context_.width() && height_ == context_.height()) return all;
+  // GL's viewport starts at the bottom left; the buffer's first row is the top
+  return all(cv::Rect(0, context_.height() - height_, width_, height_));
 }
 
 FrameRenderer::~FrameRenderer() = default;
 
 cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolState> tools,
                               const Laparoscope& camera) {
-  const CameraMatrices matrices = camera.Matrices(context_.width(), context_.height());
+  const CameraMatrices matrices = camera.Matrices(width_, height_);
 
   // skin: the hybrid's convolution surface follows the scope's look-at point
   int64_t begin = MonotonicNanos();
@@ -53,10 +71,11 @@ cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolSt
   // draw, and wait for llvmpipe to finish the frame
   begin = MonotonicNanos();
   context_.MakeCurrent();
+  glViewport(0, 0, width_, height_);
   scene_->Draw(mesh_, tools, matrices, &q);
   timings_.draw_ms = MillisSince(begin);
   const int64_t drawn = MonotonicNanos();
-  cv::Mat frame = context_.Frame();
+  cv::Mat frame = Frame();
   timings_.finish_ms = MillisSince(drawn);
   timings_.render_ms = MillisSince(begin);
   return frame;
@@ -66,7 +85,7 @@ const std::vector<uint8_t>& FrameRenderer::Encode() {
   const int64_t begin = MonotonicNanos();
   // Frame() is a view of the buffer llvmpipe drew into: BGRA, top row first, what
   // OpenCV's JPEG writer takes without a flip or a copy
-  const std::vector<uint8_t>& bytes = encoder_.Encode(context_.Frame());
+  const std::vector<uint8_t>& bytes = encoder_.Encode(Frame());
   timings_.encode_ms = MillisSince(begin);
   return bytes;
 }

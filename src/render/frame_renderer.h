@@ -69,6 +69,11 @@ class FrameRenderer {
     return Render(state.q, state.tools, camera);
   }
 
+  /// Draws the next frames at `width` x `height` (at most the context's size; the frame a
+  /// corner of the context's buffer): a smaller stream without a new context.
+  /// @throws InputError for a size outside 1..the context's.
+  void SetFrameSize(int width, int height);
+
   /// The last frame as JPEG bytes, encoded straight from the context's buffer; valid
   /// until the next Encode.
   const std::vector<uint8_t>& Encode();
@@ -78,8 +83,8 @@ class FrameRenderer {
   const skin::Skin& skin() const { return *skin_; }
   const SceneRenderer& scene() const { return *scene_; }
   OffscreenContext& context() { return context_; }
-  int width() const { return context_.width(); }
-  int height() const { return context_.height(); }
+  int width() const { return width_; }  ///< of the frames drawn now
+  int height() const { return height_; }
 
  private:
   OffscreenContext context_;  // first: everything below needs it current
@@ -89,6 +94,8 @@ class FrameRenderer {
   std::unique_ptr<SceneRenderer> scene_;
   skin::Mesh mesh_;
   FrameTimings timings_;
+  int width_ = 0, height_ = 0;
+  cv::Mat Frame();  // the frame's part of the context's buffer
 };
 
 }  // namespace viscera::render

@@ -30,9 +30,9 @@ class Frustum {
 };
 
 struct CullCounts {
-  int chunks = 0;          ///< of the whole skin
-  int chunks_drawn = 0;    ///< in or across the view volume
-  long triangles = 0;      ///< of the whole skin
+  int chunks = 0;        ///< of the whole skin
+  int chunks_drawn = 0;  ///< in or across the view volume
+  long triangles = 0;    ///< of the whole skin
   long triangles_drawn = 0;
 };
 

@@ -44,8 +44,8 @@ void StaticLayer::BeginDrawing(const CameraMatrices& camera, int width, int heig
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
       glBindFramebuffer(GL_FRAMEBUFFER, static_cast<unsigned>(previous_));
-      throw std::runtime_error(Cat("StaticLayer: framebuffer ", width, "x", height,
-                                   " is incomplete"));
+      throw std::runtime_error(
+          Cat("StaticLayer: framebuffer ", width, "x", height, " is incomplete"));
     }
     width_ = width;
     height_ = height;
@@ -54,7 +54,9 @@ void StaticLayer::BeginDrawing(const CameraMatrices& camera, int width, int heig
   valid_ = true;
 }
 
-void StaticLayer::EndDrawing() { glBindFramebuffer(GL_FRAMEBUFFER, static_cast<unsigned>(previous_)); }
+void StaticLayer::EndDrawing() {
+  glBindFramebuffer(GL_FRAMEBUFFER, static_cast<unsigned>(previous_));
+}
 
 void StaticLayer::CopyToBound() const {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
