@@ -40,7 +40,8 @@ TEST(FrameGovernor, RecoversWhenTheLoadGoes) {
   FrameGovernor g;
   for (int i = 0; i < 100; ++i) g.Update(5.0, Period(g), 0.05);
   ASSERT_GT(g.level(), 0);
-  for (int i = 0; i < 1000; ++i) g.Update(5.0 * g.current().scale * g.current().scale, Period(g), 0.9);
+  for (int i = 0; i < 1000; ++i)
+    g.Update(5.0 * g.current().scale * g.current().scale, Period(g), 0.9);
   EXPECT_EQ(g.level(), 0);
 }
 
