@@ -116,7 +116,7 @@ void FrameStreamer::Run() {
 }
 
 void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamReport* report) {
-  // the governor lowers the rate, then the size, under load (FrameGovernor)
+  // the governor lowers the rate, then the size, under load (FrameGovernor), when adaptive
   FrameGovernor governor;
   const int full_width = renderer.width(), full_height = renderer.height();
   int64_t period = std::llround(1e9 / config_.rate_hz);
@@ -172,7 +172,8 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
           shown_utime = snapshot->wall_utime;
           shown_pose = pose;
           report->frame_bytes = frame.size;
-          if (governor.Update(t.skin_ms + t.render_ms + t.encode_ms,
+          if (config_.adaptive &&
+              governor.Update(t.skin_ms + t.render_ms + t.encode_ms,
                               static_cast<double>(period) * 1e-6, session_->step_slack())) {
             const FrameLevel& level = governor.current();
             period = std::llround(1e9 / (config_.rate_hz * level.rate));
