@@ -1,6 +1,10 @@
 #include "render/frame_renderer.h"
 
 #include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+#include <opencv2/core.hpp>
 
 #include "common/check.h"
 #include "common/clock.h"
@@ -37,6 +41,25 @@ FrameRenderer::FrameRenderer(const mechanics::ModelParams& params, const FrameOp
   skin_->Bind(static_cast<int>(params.initial_q.rows()));
   width_ = context_.width();
   height_ = context_.height();
+  // the frame's own target: the StaticLayer's formats (GL_RGBA8, GL_DEPTH_COMPONENT24)
+  glGenFramebuffers(1, &framebuffer_);
+  glGenRenderbuffers(1, &colour_);
+  glGenRenderbuffers(1, &depth_);
+  glBindRenderbuffer(GL_RENDERBUFFER, colour_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width_, height_);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width_, height_);
+  glBindRenderbuffer(GL_RENDERBUFFER, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error(
+        Cat("FrameRenderer: framebuffer ", width_, "x", height_, " is incomplete"));
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetError();  // none pending before the probe
+  glPixelStorei(GL_PACK_INVERT_MESA, GL_TRUE);
+  pack_invert_ = glGetError() == GL_NO_ERROR;
 }
 
 void FrameRenderer::SetFrameSize(int width, int height) {
@@ -47,14 +70,28 @@ void FrameRenderer::SetFrameSize(int width, int height) {
   height_ = height;
 }
 
-cv::Mat FrameRenderer::Frame() {
-  const cv::Mat all = context_.Frame();
-  if (width_ == context_.width() && height_ == context_.height()) return all;
-  // GL's viewport starts at the bottom left; the buffer's first row is the top
-  return all(cv::Rect(0, context_.height() - height_, width_, height_));
+void FrameRenderer::ReadFrame() {
+  // GL's viewport starts at the bottom left: the frame is the framebuffer's bottom rows
+  frame_.create(height_, width_, CV_8UC4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+  if (pack_invert_) {
+    glReadPixels(0, 0, width_, height_, GL_BGRA, GL_UNSIGNED_BYTE, frame_.data);
+  } else {
+    read_.create(height_, width_, CV_8UC4);
+    glReadPixels(0, 0, width_, height_, GL_BGRA, GL_UNSIGNED_BYTE, read_.data);
+    cv::flip(read_, frame_, 0);
+  }
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR)
+    throw std::runtime_error(Cat("GL error 0x", std::hex, error, " reading the frame"));
 }
 
-FrameRenderer::~FrameRenderer() = default;
+FrameRenderer::~FrameRenderer() {
+  scene_.reset();  // its GL objects first, like these: the context is still current
+  glDeleteRenderbuffers(1, &depth_);
+  glDeleteRenderbuffers(1, &colour_);
+  glDeleteFramebuffers(1, &framebuffer_);
+}
 
 cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolState> tools,
                               const Laparoscope& camera) {
@@ -71,21 +108,22 @@ cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolSt
   // draw, and wait for llvmpipe to finish the frame
   begin = MonotonicNanos();
   context_.MakeCurrent();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   glViewport(0, 0, width_, height_);
   scene_->Draw(mesh_, tools, matrices, &q);
   timings_.draw_ms = MillisSince(begin);
   const int64_t drawn = MonotonicNanos();
-  cv::Mat frame = Frame();
+  ReadFrame();  // waits for llvmpipe to finish the frame
   timings_.finish_ms = MillisSince(drawn);
   timings_.render_ms = MillisSince(begin);
-  return frame;
+  return frame_;
 }
 
 const std::vector<uint8_t>& FrameRenderer::Encode() {
   const int64_t begin = MonotonicNanos();
-  // Frame() is a view of the buffer llvmpipe drew into: BGRA, top row first, what
-  // OpenCV's JPEG writer takes without a flip or a copy
-  const std::vector<uint8_t>& bytes = encoder_.Encode(Frame());
+  // BGRA, top row first: what OpenCV's JPEG writer takes without a flip or a copy
+  ThrowUnless(!frame_.empty(), "FrameRenderer::Encode before any Render");
+  const std::vector<uint8_t>& bytes = encoder_.Encode(frame_);
   timings_.encode_ms = MillisSince(begin);
   return bytes;
 }

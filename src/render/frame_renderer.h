@@ -60,7 +60,7 @@ class FrameRenderer {
 
   /// Skins the control points `q` (#N by 3, m), draws the scene with `tools` (State::tools,
   /// or empty) from `camera`, and returns the frame: #height by #width BGRA, top row first,
-  /// a view of the context's buffer (no copy), valid until the next Render.
+  /// a view of the renderer's buffer, valid until the next Render.
   /// @pre called on the creating thread.
   /// @throws InputError when q has another row count or is not finite.
   cv::Mat Render(const Points& q, std::span<const mechanics::ToolState> tools,
@@ -70,11 +70,11 @@ class FrameRenderer {
   }
 
   /// Draws the next frames at `width` x `height` (at most the context's size; the frame a
-  /// corner of the context's buffer): a smaller stream without a new context.
+  /// corner of the framebuffer): a smaller stream without a new context.
   /// @throws InputError for a size outside 1..the context's.
   void SetFrameSize(int width, int height);
 
-  /// The last frame as JPEG bytes, encoded straight from the context's buffer; valid
+  /// The last frame as JPEG bytes, encoded straight from the buffer Render returned; valid
   /// until the next Encode.
   const std::vector<uint8_t>& Encode();
 
@@ -95,7 +95,15 @@ class FrameRenderer {
   skin::Mesh mesh_;
   FrameTimings timings_;
   int width_ = 0, height_ = 0;
-  cv::Mat Frame();  // the frame's part of the context's buffer
+  // The frames are drawn into a framebuffer object of the renderer's own, not the context's
+  // buffer: its formats are the StaticLayer's, so that llvmpipe copies the static picture
+  // with a memcpy (into the context's BGRA buffer it would draw a textured quad over the
+  // whole frame: ~3 ms at 640x480); glReadPixels then swizzles it into BGRA on the CPU.
+  unsigned framebuffer_ = 0, colour_ = 0, depth_ = 0;
+  bool pack_invert_ = false;  // GL_MESA_pack_invert: glReadPixels returns the top row first
+  cv::Mat frame_;             // the last frame: BGRA, top row first
+  cv::Mat read_;              // without GL_MESA_pack_invert: the frame bottom row first
+  void ReadFrame();
 };
 
 }  // namespace viscera::render
