@@ -19,6 +19,7 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
       radius_(params.radius) {
   if (!options_.textures) DropTextures(&palette_);
   if (options_.static_layer) static_layer_ = std::make_unique<StaticLayer>();
+  renderer_.set_serosa_per_vertex(options_.serosa_per_vertex);
   const Vec3 around = params.initial_q.rows() > 0
                           ? Vec3(params.initial_q.colwise().mean().transpose())
                           : Vec3(Vec3::Zero());
