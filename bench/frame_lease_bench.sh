@@ -25,7 +25,7 @@ cpu_s() {  # utime + stime of a process, in seconds
 }
 
 "$build/server/viscerad" --server-id lease-bench --lcm-url "$url" --scene-dir "$root/scenes" \
-  --max-sessions 4 2>"$work/viscerad.err" &
+  --max-sessions 4 --adaptive-frames off 2>"$work/viscerad.err" &  # the stream as asked
 server_pid=$!
 measure() {  # label create-args...
   local label=$1; shift

@@ -23,8 +23,9 @@ work=$(mktemp -d)
 export VISCERA_SESSIONS="$work/sessions.json"
 url='udpm://239.255.76.67:7667?ttl=0'
 v() { "$build/client/viscera" "$@" --lcm-url "${lcm_url:-$url}"; }
+# the rates and sizes asked for, whatever the load (bench/frame_governor_bench.sh: the governor)
 "$build/server/viscerad" --server-id bench --max-sessions 8 --max-frame-rate 120 --scene-dir "$root/scenes" \
-  --lcm-url "$url" 2>"$work/viscerad.err" &
+  --lcm-url "$url" --adaptive-frames off 2>"$work/viscerad.err" &
 pid=$!
 trap 'kill $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$work"' EXIT
 session() { v create "$@" --timeout 60 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])'; }

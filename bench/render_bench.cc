@@ -10,6 +10,9 @@
 //   own threads when LP_NUM_THREADS >= 1): on a loaded machine the wall times include waiting,
 //   the CPU time does not.
 //
+//   draw_ms (culling, uploads, draw calls: llvmpipe's vertex work and binning) and finish_ms
+//   (glFinish: rasterization and fragment shading still under way) split render_ms.
+//
 //   taskset -c 1 ./build/bench/bench_render --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
 
@@ -82,7 +85,8 @@ void BM_Frame(benchmark::State& state) {
           ? FramingLaparoscope(q0.colwise().minCoeff().transpose(),
                                q0.colwise().maxCoeff().transpose(), options.width, options.height)
           : SceneLaparoscope(cavity.params, q0, options.width, options.height);
-  double skin_ms = 0.0, render_ms = 0.0, encode_ms = 0.0, bytes = 0.0;
+  double skin_ms = 0.0, render_ms = 0.0, draw_ms = 0.0, finish_ms = 0.0, encode_ms = 0.0,
+         bytes = 0.0;
   size_t k = 0;
   const int64_t cpu0 = ProcessCpuNanos();
   for (auto _ : state) {
@@ -90,6 +94,8 @@ void BM_Frame(benchmark::State& state) {
     bytes += static_cast<double>(renderer.Encode().size());
     skin_ms += renderer.timings().skin_ms;
     render_ms += renderer.timings().render_ms;
+    draw_ms += renderer.timings().draw_ms;
+    finish_ms += renderer.timings().finish_ms;
     encode_ms += renderer.timings().encode_ms;
   }
   const double cpu_ms = static_cast<double>(ProcessCpuNanos() - cpu0) * 1e-6;
@@ -100,10 +106,14 @@ void BM_Frame(benchmark::State& state) {
   state.counters["cpu_ms"] = cpu_ms / n;
   state.counters["skin_ms"] = skin_ms / n;
   state.counters["render_ms"] = render_ms / n;
+  state.counters["draw_ms"] = draw_ms / n;
+  state.counters["finish_ms"] = finish_ms / n;
   state.counters["encode_ms"] = encode_ms / n;
   state.counters["render+encode fps"] = 1e3 / ((render_ms + encode_ms) / n);
   state.counters["frame fps"] = 1e3 / ((skin_ms + render_ms + encode_ms) / n);
   state.counters["triangles"] = static_cast<double>(renderer.scene().triangles());
+  state.counters["skin_drawn"] =
+      static_cast<double>(renderer.scene().intestine_counts().triangles_drawn);
   state.counters["jpeg_kB"] = bytes / n / 1024.0;
 }
 

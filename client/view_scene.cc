@@ -144,8 +144,8 @@ std::string SceneJson(const mechanics::ModelParams& params,
   vertex.erase(0, vertex.find('\n') + 1);  // "#version 330 core"
   std::string out =
       Cat("{\"width\":", width, ",\"height\":", height,
-          ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(),
-          ",\"fragment\":", nlohmann::json(std::string(render::kTissueFragmentShader)).dump(),
+          ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(), ",\"fragment\":",
+          nlohmann::json(Cat(render::kTissueNoise, render::kTissueFragmentShader)).dump(),
           "},\"camera\":");
   out.append(CameraOf(scope, width, height));
   out.append(",\"background\":");

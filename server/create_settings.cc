@@ -10,6 +10,7 @@ FrameStreamConfig CreateSettings::FrameStream(const ServerConfig& config) const 
   FrameStreamConfig frames;
   frames.rate_hz = frame_rate_hz;
   frames.lease_s = config.frame_lease_s;
+  frames.adaptive = config.adaptive_frames;
   frames.options.width = frame_width;
   frames.options.height = frame_height;
   frames.options.jpeg_quality = jpeg_quality;

@@ -1,5 +1,6 @@
 #include "server/frame_streamer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <exception>
@@ -16,6 +17,7 @@
 #include "common/quantile.h"
 #include "common/rate_window.h"
 #include "render/laparoscope.h"
+#include "server/frame_governor.h"
 #include "server/frame_schedule.h"
 #include "server/idle_priority.h"
 #include "server/session_view.h"
@@ -114,7 +116,10 @@ void FrameStreamer::Run() {
 }
 
 void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamReport* report) {
-  const int64_t period = std::llround(1e9 / config_.rate_hz);
+  // the governor lowers the rate, then the size, under load (FrameGovernor), when adaptive
+  FrameGovernor governor;
+  const int full_width = renderer.width(), full_height = renderer.height();
+  int64_t period = std::llround(1e9 / config_.rate_hz);
   report->width = renderer.width();
   report->height = renderer.height();
   session_->ReportFrames(*report);
@@ -167,6 +172,19 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
           shown_utime = snapshot->wall_utime;
           shown_pose = pose;
           report->frame_bytes = frame.size;
+          if (config_.adaptive &&
+              governor.Update(t.skin_ms + t.render_ms + t.encode_ms,
+                              static_cast<double>(period) * 1e-6, session_->step_slack())) {
+            const FrameLevel& level = governor.current();
+            period = std::llround(1e9 / (config_.rate_hz * level.rate));
+            // even sides: the JPEG's chroma subsampling takes them whole
+            renderer.SetFrameSize(
+                std::max(2, 2 * static_cast<int>(std::lround(full_width * level.scale / 2))),
+                std::max(2, 2 * static_cast<int>(std::lround(full_height * level.scale / 2))));
+            frame.width = report->width = renderer.width();
+            frame.height = report->height = renderer.height();
+            report->rate_hz = config_.rate_hz * level.rate;
+          }
         } catch (const std::exception& e) {
           // e.g. a camera whose up vector lies along its view: say so once, keep trying
           ok = false;

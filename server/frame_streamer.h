@@ -21,6 +21,9 @@ struct FrameStreamConfig {
   /// Frames are drawn only while the session's frame lease (Session::WatchFrames) was renewed
   /// within this long (s); 0: always.
   double lease_s = 0.0;
+  /// Lower the rate, then the size, under load and climb back when calm (FrameGovernor);
+  /// false: the configured rate and size, always.
+  bool adaptive = true;
   render::FrameOptions options;  ///< size, JPEG quality, skin
 };
 

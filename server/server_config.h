@@ -22,6 +22,9 @@ struct ServerConfig {
   /// Frames are drawn only while a viewer renewed the frame lease (kWatchFrames) within this
   /// long (s); 0: always, watched or not.
   double frame_lease_s = 5.0;
+  /// Lower a stream's frame rate, then its size, while frames or mechanics steps run late, and
+  /// climb back when calm (FrameGovernor); off: the rate and size asked for, always.
+  bool adaptive_frames = true;
   std::string skin = "parametric";  ///< skin drawn
   /// Vertices per ring of the parametric and convolution skins (hybrid: both). 16, not the
   /// convolution skin's 32: 640x480 convolution frames at 60 fps on one core

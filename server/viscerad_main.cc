@@ -202,6 +202,12 @@ int main(int argc, char** argv) {
                  "(0 = always)")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
+  std::string adaptive_frames = "on";
+  app.add_option("--adaptive-frames", adaptive_frames,
+                 "Under load, lower a stream's frame rate, then its size, and climb back when "
+                 "calm (on); off: the rate and size asked for, always")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   app.add_option("--max-frame-rate", config.max_frame_rate_hz,
                  "Highest frame rate a session may ask (Hz)")
       ->check(CLI::Range(1.0, 1000.0))
@@ -317,6 +323,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (config.skeleton_rate_hz == 0.0) config.skeleton_rate_hz = -1.0;  // "none" for sessions
   if (config.frame_rate_hz == 0.0) config.frame_rate_hz = -1.0;
+  config.adaptive_frames = adaptive_frames == "on";
   try {
     viscera::render::ParseFrameSize(max_frame_size, &config.max_frame_width,
                                     &config.max_frame_height);

@@ -36,7 +36,9 @@ struct FrameOptions {
 /// default, see LimitRasterizerThreads) all of it is spent in the calling thread.
 struct FrameTimings {
   double skin_ms = 0.0;    ///< skin Build
-  double render_ms = 0.0;  ///< upload, draw and glFinish
+  double render_ms = 0.0;  ///< upload, draw and glFinish: draw_ms + finish_ms
+  double draw_ms = 0.0;    ///< the intestine's culling, the uploads and the draw calls
+  double finish_ms = 0.0;  ///< glFinish: what llvmpipe still rasterizes and shades
   double encode_ms = 0.0;  ///< JPEG
 };
 
@@ -58,7 +60,7 @@ class FrameRenderer {
 
   /// Skins the control points `q` (#N by 3, m), draws the scene with `tools` (State::tools,
   /// or empty) from `camera`, and returns the frame: #height by #width BGRA, top row first,
-  /// a view of the context's buffer (no copy), valid until the next Render.
+  /// a view of the renderer's buffer, valid until the next Render.
   /// @pre called on the creating thread.
   /// @throws InputError when q has another row count or is not finite.
   cv::Mat Render(const Points& q, std::span<const mechanics::ToolState> tools,
@@ -67,7 +69,12 @@ class FrameRenderer {
     return Render(state.q, state.tools, camera);
   }
 
-  /// The last frame as JPEG bytes, encoded straight from the context's buffer; valid
+  /// Draws the next frames at `width` x `height` (at most the context's size; the frame a
+  /// corner of the framebuffer): a smaller stream without a new context.
+  /// @throws InputError for a size outside 1..the context's.
+  void SetFrameSize(int width, int height);
+
+  /// The last frame as JPEG bytes, encoded straight from the buffer Render returned; valid
   /// until the next Encode.
   const std::vector<uint8_t>& Encode();
 
@@ -76,8 +83,8 @@ class FrameRenderer {
   const skin::Skin& skin() const { return *skin_; }
   const SceneRenderer& scene() const { return *scene_; }
   OffscreenContext& context() { return context_; }
-  int width() const { return context_.width(); }
-  int height() const { return context_.height(); }
+  int width() const { return width_; }  ///< of the frames drawn now
+  int height() const { return height_; }
 
  private:
   OffscreenContext context_;  // first: everything below needs it current
@@ -87,6 +94,16 @@ class FrameRenderer {
   std::unique_ptr<SceneRenderer> scene_;
   skin::Mesh mesh_;
   FrameTimings timings_;
+  int width_ = 0, height_ = 0;
+  // The frames are drawn into a framebuffer object of the renderer's own, not the context's
+  // buffer: its formats are the StaticLayer's, so that llvmpipe copies the static picture
+  // with a memcpy (into the context's BGRA buffer it would draw a textured quad over the
+  // whole frame: ~3 ms at 640x480); glReadPixels then swizzles it into BGRA on the CPU.
+  unsigned framebuffer_ = 0, colour_ = 0, depth_ = 0;
+  bool pack_invert_ = false;  // GL_MESA_pack_invert: glReadPixels returns the top row first
+  cv::Mat frame_;             // the last frame: BGRA, top row first
+  cv::Mat read_;              // without GL_MESA_pack_invert: the frame bottom row first
+  void ReadFrame();
 };
 
 }  // namespace viscera::render

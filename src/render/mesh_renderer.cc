@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include "common/check.h"
 #include "render/gl.h"
@@ -29,11 +30,15 @@ MeshRenderer::~MeshRenderer() = default;
 // only the patterns it draws (every program is JIT code llvmpipe keeps with the context).
 const MeshRenderer::Program& MeshRenderer::ProgramFor(Pattern pattern) {
   const int k = static_cast<int>(pattern);
-  Program& p = programs_[k];
+  const bool per_vertex = pattern == Pattern::kSerosa && serosa_per_vertex_;
+  Program& p = programs_[per_vertex ? kPatterns : k];
   if (p.program != nullptr) return p;
+  const std::string version = "#version 330 core\n";
+  const std::string vertex_body = std::string(kTissueVertexShader).substr(version.size());
+  const char* define = per_vertex ? "#define SEROSA_PER_VERTEX 1\n" : "";
   p.program = std::make_unique<ShaderProgram>(
-      kTissueVertexShader,
-      Cat("#version 330 core\n#define PATTERN ", k, "\n", kTissueFragmentShader));
+      Cat(version, define, per_vertex ? kTissueNoise : "", vertex_body),
+      Cat(version, "#define PATTERN ", k, "\n", define, kTissueNoise, kTissueFragmentShader));
   // -1 for a uniform the variant does not use (u_vessel when plain): glUniform ignores it
   auto at = [&](const char* name) { return glGetUniformLocation(p.program->id(), name); };
   p.u_view = at("u_view");

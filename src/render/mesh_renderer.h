@@ -86,6 +86,12 @@ class MeshRenderer {
   void Draw(const VerticesF& positions, const VerticesF& normals, const TrianglesU& triangles,
             const CameraMatrices& camera, const Material& material);
 
+  /// Pattern::kSerosa's slow terms (how far round a vessel reaches, the wet film's patches)
+  /// computed per vertex and interpolated, the fast ones (the vessels' bands, the mottle) per
+  /// fragment: two of its three value noises leave the fragments (~1.3 ms of a 640x480 cavity
+  /// frame on llvmpipe). Off (the default): all per fragment.
+  void set_serosa_per_vertex(bool per_vertex) { serosa_per_vertex_ = per_vertex; }
+
   /// Draws a mesh already in GL buffers (uploaded once for static geometry, or per frame
   /// into a GpuMesh of its own: one buffer set per mesh, so no upload waits for a draw).
   /// @throws std::runtime_error when GL reports an error.
@@ -103,7 +109,8 @@ class MeshRenderer {
   const Program& ProgramFor(Pattern pattern);
 
   static constexpr int kPatterns = 4;
-  Program programs_[kPatterns];      // compiled when first used
+  Program programs_[kPatterns + 1];  // compiled when first used; the last: per-vertex serosa
+  bool serosa_per_vertex_ = false;
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
 };
 

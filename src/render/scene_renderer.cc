@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/check.h"
+#include "render/gl.h"
 #include "render/target_patch.h"
 #include "render/tessellation.h"
 #include "spline/catmull_rom.h"
@@ -17,6 +18,8 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
       length_(params.length),
       radius_(params.radius) {
   if (!options_.textures) DropTextures(&palette_);
+  if (options_.static_layer) static_layer_ = std::make_unique<StaticLayer>();
+  renderer_.set_serosa_per_vertex(options_.serosa_per_vertex);
   const Vec3 around = params.initial_q.rows() > 0
                           ? Vec3(params.initial_q.colwise().mean().transpose())
                           : Vec3(Vec3::Zero());
@@ -72,16 +75,39 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
 
 SceneRenderer::~SceneRenderer() = default;
 
+void SceneRenderer::DrawStatic(const CameraMatrices& camera) {
+  for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
+}
+
 void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
                          const CameraMatrices& camera, const Points* skeleton) {
   ThrowUnless(tools.empty() || tools.size() == tool_params_.size(),
               "SceneRenderer::Draw: ", tools.size(), " tool states for ", tool_params_.size(),
               " tools");
-  renderer_.Clear(palette_.background);
+  const bool layered = static_layer_ != nullptr;
+  if (layered) {
+    GLint viewport[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    if (!static_layer_->Holds(camera, viewport[2], viewport[3])) {
+      static_layer_->BeginDrawing(camera, viewport[2], viewport[3]);
+      renderer_.Clear(palette_.background);
+      DrawStatic(camera);
+      static_layer_->EndDrawing();
+    }
+    static_layer_->CopyToBound();
+  } else {
+    renderer_.Clear(palette_.background);
+  }
   // near to far, roughly: the bowel and the tools before the wall and organs behind them, so the
   // depth test rejects the wall's hidden fragments before they are shaded
   intestine_cpu_.Clear();
-  AppendSkin(intestine, length_, radius_, &intestine_cpu_);
+  if (options_.cull_intestine) {
+    intestine_counts_ = culler_.Append(intestine, length_, radius_, camera, &intestine_cpu_);
+  } else {
+    AppendSkin(intestine, length_, radius_, &intestine_cpu_);
+    intestine_counts_ = {};
+    intestine_counts_.triangles = intestine_counts_.triangles_drawn = intestine.num_triangles();
+  }
   intestine_gpu_.Upload(intestine_cpu_);
   renderer_.Draw(intestine_gpu_, camera, palette_.intestine,
                  options_.intestine_back_faces ? Faces::kBoth : Faces::kFront);
@@ -95,7 +121,7 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   }
   tools_gpu_.Upload(tools_cpu_);
   renderer_.Draw(tools_gpu_, camera, palette_.tool, Faces::kFront);
-  for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
+  if (!layered) DrawStatic(camera);
   // translucent last: it blends over everything opaque behind it
   membrane_cpu_.Clear();
   if (skeleton != nullptr && !membrane_s_.empty() && skeleton->rows() == num_points_) {

@@ -11,6 +11,8 @@
 #include "render/gpu_mesh.h"
 #include "render/mesh_renderer.h"
 #include "render/palette.h"
+#include "render/skin_culling.h"
+#include "render/static_layer.h"
 #include "skin/mesh.h"
 
 namespace viscera::render {
@@ -25,6 +27,15 @@ struct SceneOptions {
   bool intestine_back_faces = false;
   /// Procedural textures (Material::pattern). Off: every material plain (DropTextures).
   bool textures = true;
+  /// Draw only the pieces of the intestine in or across the view volume, nearest first
+  /// (SkinCuller). Off: the whole skin in the skin's order (the reference the tests compare to).
+  bool cull_intestine = true;
+  /// Keep the picture of the static scene (StaticLayer) while the camera stays, and draw only
+  /// what moves over a copy of it. Off: everything drawn every frame (the reference).
+  bool static_layer = true;
+  /// The serosa's slow terms per vertex (MeshRenderer::set_serosa_per_vertex). Off: all of its
+  /// pattern per fragment (the reference).
+  bool serosa_per_vertex = true;
 };
 
 class SceneRenderer {
@@ -51,6 +62,8 @@ class SceneRenderer {
   const Palette& palette() const { return palette_; }
   /// Triangles drawn in the last frame (obstacles, intestine, tools).
   long triangles() const { return triangles_; }
+  /// The intestine's chunks and triangles in the last frame, and how many were drawn.
+  const CullCounts& intestine_counts() const { return intestine_counts_; }
 
  private:
   struct StaticMesh {
@@ -59,11 +72,16 @@ class SceneRenderer {
     Faces faces = Faces::kBoth;
   };
 
+  void DrawStatic(const CameraMatrices& camera);  // the obstacles and targets
+
   std::vector<mechanics::ToolParams> tool_params_;
   Palette palette_;
   SceneOptions options_;
   MeshRenderer renderer_;
   std::vector<StaticMesh> obstacles_;
+  std::unique_ptr<StaticLayer> static_layer_;  // null when SceneOptions::static_layer is off
+  SkinCuller culler_;
+  CullCounts intestine_counts_;
   TriMesh intestine_cpu_;  // reused: its float copy of the skin
   TriMesh tools_cpu_;
   GpuMesh intestine_gpu_;  // one buffer set per dynamic mesh: no upload waits for a draw

@@ -15,11 +15,17 @@ layout(location = 2) in vec3 a_texture;
 out vec3 v_position;  // view space
 out vec3 v_normal;    // view space
 out vec3 v_texture;   // the tissue's own space (m)
+#ifdef SEROSA_PER_VERTEX
+out vec2 v_serosa;  // the serosa's slow terms at the vertex: the vessels' reach, the wet film
+#endif
 void main() {
   vec4 p = u_view * vec4(a_position, 1.0);
   v_position = p.xyz;
   v_normal = mat3(u_view) * a_normal;  // u_view is rigid: no inverse transpose needed
   v_texture = a_texture;
+#ifdef SEROSA_PER_VERTEX
+  v_serosa = vec2(SerosaReach(a_texture), SerosaFilm(a_texture));
+#endif
   gl_Position = u_projection * p;
 }
 )";
@@ -32,23 +38,10 @@ void main() {
 // Compiled once per Pattern, after "#version 330 core" and "#define PATTERN <n>": llvmpipe runs
 // both sides of a branch on a uniform, so one program with every pattern would cost every
 // fragment all of them.
-inline constexpr char kTissueFragmentShader[] = R"(
-uniform vec3 u_albedo;
-uniform float u_ambient;
-uniform float u_specular;
-uniform float u_shininess;
-uniform float u_sheen;
-uniform float u_sheen_shininess;
-uniform float u_metallic;
-uniform float u_light_range;
-uniform float u_opacity;
-uniform vec3 u_vessel;
-uniform vec2 u_spot;       // cosines of the cone's inner and outer half angles; x <= y: no cone
-in vec3 v_position;
-in vec3 v_normal;
-in vec3 v_texture;
-out vec4 frag_colour;
-
+//
+// The noise, a line and the serosa's slow terms: before kTissueFragmentShader, and before the
+// vertex shader's body when SEROSA_PER_VERTEX is defined (after "#version 330 core").
+inline constexpr char kTissueNoise[] = R"(
 float Hash(vec3 p) {
   p = fract(p * 0.3183099 + vec3(0.71, 0.113, 0.419));
   p *= 17.0;
@@ -69,6 +62,34 @@ float Noise(vec3 p) {
 
 // 1 on the zero set of `n`, 0 beyond `width` of it.
 float Line(float n, float width) { return 1.0 - smoothstep(0.0, width, abs(n)); }
+
+// The serosa's slowly varying terms at p = (along the bowel, around it), m: how far round the
+// tube a vessel reaches (0 to 1) and the wet film's patches (-1 to 1).
+float SerosaReach(vec3 p) { return smoothstep(0.0, 0.5, Noise(vec3(p.x * 140.0, p.yz * 25.0))); }
+float SerosaFilm(vec3 p) { return Noise(p * 160.0 + 3.7); }
+)";
+
+// After "#version 330 core", "#define PATTERN <n>" (and "#define SEROSA_PER_VERTEX": the serosa's
+// slow terms, reach and film, computed per vertex and interpolated) and kTissueNoise.
+inline constexpr char kTissueFragmentShader[] = R"(
+uniform vec3 u_albedo;
+uniform float u_ambient;
+uniform float u_specular;
+uniform float u_shininess;
+uniform float u_sheen;
+uniform float u_sheen_shininess;
+uniform float u_metallic;
+uniform float u_light_range;
+uniform float u_opacity;
+uniform vec3 u_vessel;
+uniform vec2 u_spot;       // cosines of the cone's inner and outer half angles; x <= y: no cone
+in vec3 v_position;
+in vec3 v_normal;
+in vec3 v_texture;
+#ifdef SEROSA_PER_VERTEX
+in vec2 v_serosa;
+#endif
+out vec4 frag_colour;
 
 void main() {
   vec3 to_eye = normalize(-v_position);
@@ -100,10 +121,14 @@ void main() {
     // 7 mm, wavy, each fading out part of the way round; a patchy wet film
     float wave = Noise(p * 90.0);
     float band = Line(sin(3.14159 * (p.x / 0.007 + 0.35 * wave)), 0.22);
-    float reach = smoothstep(0.0, 0.5, Noise(vec3(p.x * 140.0, p.yz * 25.0)));
+#ifdef SEROSA_PER_VERTEX
+    float reach = v_serosa.x, film = v_serosa.y;
+#else
+    float reach = SerosaReach(p), film = SerosaFilm(p);
+#endif
     albedo *= 1.0 + 0.08 * wave;
     albedo = mix(albedo, u_vessel, 0.7 * band * reach);
-    specular *= 0.6 + 0.6 * Noise(p * 160.0 + 3.7);
+    specular *= 0.6 + 0.6 * film;
 #elif PATTERN == 3
     // mesentery: p = (along the bowel, from the root toward it), m. Straight vessels from the
     // root, every 2 cm, wavy; arcades joining them near the bowel; fat lobules

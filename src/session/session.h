@@ -112,6 +112,8 @@ class Session {
   void Touch() { last_touch_ns_ = MonotonicNanos(); }
   /// Renews the frame lease: someone watches the frames (any thread).
   void WatchFrames() { last_watch_ns_ = MonotonicNanos(); }
+  /// The mechanics' step slack (StatusBoard::step_slack): lock-free, for the render thread.
+  double step_slack() const { return board_.step_slack(); }
   /// True while a viewer renewed the frame lease within `lease_ns` of `now_ns` (monotonic).
   bool FramesWatched(int64_t now_ns, int64_t lease_ns) const {
     const int64_t last = last_watch_ns_.load();

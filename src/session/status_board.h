@@ -19,11 +19,11 @@ struct FrameStreamReport {
   std::string error;         ///< the render thread's last problem ("" if none)
   int64_t error_serial = 0;  ///< +1 per new error: Status() takes each one once
   std::string skin;
-  int width = 0, height = 0;                        ///< pixels
-  double rate_hz = 0.0;                             ///< configured (Hz)
-  double achieved_rate_hz = 0.0;                    ///< over about the last second (Hz)
-  int64_t frames = 0;                               ///< sent
-  int64_t dropped = 0;                              ///< skipped: the renderer was busy
+  int width = 0, height = 0;      ///< pixels
+  double rate_hz = 0.0;           ///< aimed at now (Hz): the configured rate, lowered under load
+  double achieved_rate_hz = 0.0;  ///< over about the last second (Hz)
+  int64_t frames = 0;             ///< sent
+  int64_t dropped = 0;            ///< skipped: the renderer was busy
   float skin_ms = 0, render_ms = 0, encode_ms = 0;  ///< medians over about the last second
   int32_t frame_bytes = 0;                          ///< JPEG size of the last frame rendered
 };
@@ -43,6 +43,10 @@ class StatusBoard {
   void SetError(const std::string& why);
   /// The render thread's latest figures and problems.
   void ReportFrames(const FrameStreamReport& report);
+  /// The mechanics' step slack over the last status period: 1 - longest step wall time / step
+  /// period (1 before any). Lock-free both ways: the render thread reads it every frame.
+  void SetStepSlack(double slack) { step_slack_.store(slack, std::memory_order_relaxed); }
+  double step_slack() const { return step_slack_.load(std::memory_order_relaxed); }
 
   /// The status last posted, with the counters, the last error and the latest frame figures
   /// the render thread's lock let through. Any thread.
@@ -57,6 +61,7 @@ class StatusBoard {
   void set_state(int8_t state) { state_ = state; }
 
  private:
+  std::atomic<double> step_slack_{1.0};
   std::atomic<int8_t> state_{viscera_proto::session_status_t::kRunning};
   std::atomic<int64_t> poses_{0};
   std::atomic<int64_t> rejected_{0};

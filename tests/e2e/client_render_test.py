@@ -148,8 +148,9 @@ def compare(page, session, label):
 
 
 def main():
-    procs.append(subprocess.Popen([viscerad, "--server-id", "render-test", "--lcm-url", URL, "--scene-dir", scene_dir],
-                                  stderr=open(f"{work}/viscerad.err", "w")))
+    # frames of the size asked for, whatever the load: they are compared with the page's
+    procs.append(subprocess.Popen([viscerad, "--server-id", "render-test", "--lcm-url", URL, "--scene-dir", scene_dir,
+                                   "--adaptive-frames", "off"], stderr=open(f"{work}/viscerad.err", "w")))
     server = procs[-1]
     created = cli("create", "cavity", "--skin", "parametric", "--width", "640", "--height", "480",
                   "--frame-rate", "25", "--json", "--timeout", "120")

@@ -52,7 +52,7 @@ double MeanAbsDifference(const cv::Mat& a, const cv::Mat& b) {
 // machine is bench/frames_bench.sh's to measure (docs/server-benchmarks.md, "Frame streams").
 TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
   const std::string dir = ScratchDir();
-  Daemon daemon("e2e-frames", {}, dir);
+  Daemon daemon("e2e-frames", {"--adaptive-frames", "off"}, dir);
   // a tube that swings for seconds: the frames show it moving whenever they are watched
   const int64_t id = Create(dir, "--scene-file " + std::string(VISCERA_SOURCE_DIR) +
                                      "/tests/e2e/scenes/swing.toml --width 640 --height 480 "
@@ -117,7 +117,7 @@ TEST(FramesE2E, FramesArriveDecodeAndAreAccountedFor) {
 // The client's camera moves the picture; a video of the stream plays back at its size.
 TEST(FramesE2E, TheCameraMovesThePictureAndARecordingPlaysBack) {
   const std::string dir = ScratchDir();
-  Daemon daemon("e2e-video", {}, dir);
+  Daemon daemon("e2e-video", {"--adaptive-frames", "off"}, dir);
   const std::string id =
       std::to_string(Create(dir, "hanging --width 320 --height 240")["session"].get<int64_t>());
   ASSERT_EQ(Viscera(dir, "pause " + id).rc, 0);  // a still tube: only the camera changes

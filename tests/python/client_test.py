@@ -29,7 +29,8 @@ class RoundTripTest(unittest.TestCase):
         with open(cls.key_file, "w") as f:
             f.write(os.urandom(32).hex() + "\n")
         # every message must carry the MAC of this key
-        cls.server = Server("py-rt", "--key-file", cls.key_file, "--max-sessions", "2")
+        cls.server = Server("py-rt", "--key-file", cls.key_file, "--max-sessions", "2",
+                            "--adaptive-frames", "off")  # frames of the size asked for
         cls.client = new_client(key_file=cls.key_file)
         wait_for_servers(cls.client, ["py-rt"])
 

@@ -115,6 +115,32 @@ TEST(FrameRenderer, IntestineWhereTheSkeletonProjectsBackgroundElsewhere) {
   }
 }
 
+// A stream made smaller (the frame governor's SetFrameSize) draws the picture a renderer of that
+// size draws, and back at full size the picture it drew before.
+TEST(FrameRenderer, ASmallerFrameSizeDrawsThePictureOfThatSize) {
+  const mechanics::ModelParams scene = Scene();
+  FrameOptions options;
+  options.width = kWidth;
+  options.height = kHeight;
+  FrameRenderer renderer(scene, options);
+  renderer.Render(scene.initial_q, {}, Scope());
+  const cv::Mat full = Decode(renderer.Encode());
+  renderer.SetFrameSize(kWidth / 2, kHeight / 2);
+  renderer.Render(scene.initial_q, {}, Scope());
+  const cv::Mat half = Decode(renderer.Encode());
+  options.width = kWidth / 2;
+  options.height = kHeight / 2;
+  FrameRenderer small(scene, options);
+  small.Render(scene.initial_q, {}, Scope());
+  const cv::Mat reference = Decode(small.Encode());
+  ASSERT_EQ(half.size(), reference.size());
+  EXPECT_EQ(cv::norm(half, reference, cv::NORM_L1), 0.0);
+  renderer.SetFrameSize(kWidth, kHeight);
+  renderer.Render(scene.initial_q, {}, Scope());
+  EXPECT_EQ(cv::norm(Decode(renderer.Encode()), full, cv::NORM_L1), 0.0);
+  EXPECT_THROW(renderer.SetFrameSize(kWidth + 2, kHeight), InputError);
+}
+
 TEST(FrameRenderer, MovingTheCameraChangesTheImage) {
   const mechanics::ModelParams scene = Scene();
   FrameOptions options;

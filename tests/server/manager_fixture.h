@@ -27,6 +27,9 @@ class SessionManagerTest : public ::testing::Test {
     // The load limit times real steps, which sanitizer builds run 5-15x slower (hanging.toml came
     // out at 1.4 cores under TSan). These tests are not about it; its own test sets 1e-6.
     config_.max_session_load = 0.0;
+    // The frame tests assert the size and rate they asked for, which a loaded machine would
+    // have the governor lower (FrameGovernor has its own test).
+    config_.adaptive_frames = false;
     manager_ = std::make_unique<SessionManager>(config_, &bus_, &bus_);  // memq: one bus
     bus_.Subscribe<viscera_proto::session_reply_t>(
         bus::kReplyChannel,

@@ -1,0 +1,91 @@
+#include "render/skin_culling.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/check.h"
+
+namespace viscera::render {
+
+Frustum::Frustum(const Eigen::Matrix4f& m) {
+  // Gribb and Hartmann: a clip-space point is inside when -w <= x, y, z <= w
+  const Eigen::Vector4f w = m.row(3).transpose();
+  for (int axis = 0; axis < 3; ++axis) {
+    const Eigen::Vector4f r = m.row(axis).transpose();
+    planes_[2 * axis] = w + r;
+    planes_[2 * axis + 1] = w - r;
+  }
+}
+
+bool Frustum::Outside(const Eigen::AlignedBox3f& box) const {
+  for (const Eigen::Vector4f& p : planes_) {
+    // the corner furthest along the plane's normal
+    const Eigen::Vector3f corner((p.x() >= 0.0f ? box.max() : box.min()).x(),
+                                 (p.y() >= 0.0f ? box.max() : box.min()).y(),
+                                 (p.z() >= 0.0f ? box.max() : box.min()).z());
+    if (p.head<3>().dot(corner) + p.w() < 0.0f) return true;
+  }
+  return false;
+}
+
+SkinCuller::SkinCuller(int chunk_triangles) : chunk_triangles_(chunk_triangles) {
+  VISCERA_DEMAND(chunk_triangles >= 1);
+}
+
+CullCounts SkinCuller::Append(const skin::Mesh& mesh, double length, double radius,
+                              const CameraMatrices& camera, TriMesh* out) {
+  const Frustum frustum(camera.projection * camera.view);
+  const Eigen::Vector4f depth_row = -camera.view.row(2).transpose();  // view -z: in front
+  const int num_triangles = mesh.num_triangles();
+  CullCounts counts;
+  counts.triangles = num_triangles;
+  visible_.clear();
+  for (int first = 0; first < num_triangles; first += chunk_triangles_) {
+    Chunk c;
+    c.first = first;
+    c.count = std::min(chunk_triangles_, num_triangles - first);
+    Eigen::AlignedBox3f box;
+    for (int t = first; t < first + c.count; ++t) {
+      for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.triangles[t][k]].cast<float>());
+    }
+    ++counts.chunks;
+    if (frustum.Outside(box)) continue;
+    c.depth = depth_row.head<3>().dot(box.center()) + depth_row.w();
+    visible_.push_back(c);
+  }
+  std::sort(visible_.begin(), visible_.end(),
+            [](const Chunk& a, const Chunk& b) { return a.depth < b.depth; });
+
+  const bool on_tissue = mesh.surface.size() == mesh.positions.size();
+  remap_.assign(mesh.positions.size(), -1);
+  out->texture.resize(out->positions.size(), Eigen::Vector3f::Zero());
+  const auto base = static_cast<int32_t>(out->positions.size());
+  for (const Chunk& c : visible_) {
+    ++counts.chunks_drawn;
+    counts.triangles_drawn += c.count;
+    for (int t = c.first; t < c.first + c.count; ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const int v = mesh.triangles[t][k];
+        int32_t& at = remap_[v];
+        if (at < 0) {
+          at = static_cast<int32_t>(out->positions.size()) - base;
+          out->positions.push_back(mesh.positions[v].cast<float>());
+          out->normals.push_back(mesh.normals[v].cast<float>());
+          if (on_tissue) {
+            // AppendSkin's texture space: the tube unrolled
+            const Eigen::Vector2d& sa = mesh.surface[v];
+            out->texture.emplace_back(static_cast<float>(sa.x() * length),
+                                      static_cast<float>(radius * std::cos(sa.y())),
+                                      static_cast<float>(radius * std::sin(sa.y())));
+          } else {
+            out->texture.push_back(out->positions.back());
+          }
+        }
+        out->indices.push_back(static_cast<uint32_t>(base + at));
+      }
+    }
+  }
+  return counts;
+}
+
+}  // namespace viscera::render

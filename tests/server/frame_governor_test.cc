@@ -1,0 +1,73 @@
+// FrameGovernor: down under sustained overload (rate first, then size), back up once calm,
+// and no oscillation in between (hysteresis).
+#include "server/frame_governor.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace viscera::server {
+namespace {
+
+constexpr double kPeriodMs = 40.0;  // 25 Hz configured
+
+double Period(const FrameGovernor& g) { return kPeriodMs / g.current().rate; }
+
+TEST(FrameGovernor, SustainedSlowFramesLowerTheRateThenTheSize) {
+  FrameGovernor g;
+  std::vector<FrameLevel> seen;
+  for (int i = 0; i < 200; ++i) {
+    // frames that cost 60 ms at full size, less at a smaller one (cost ~ pixels)
+    const double cost = 60.0 * g.current().scale * g.current().scale;
+    if (g.Update(cost, Period(g), 1.0)) seen.push_back(g.current());
+  }
+  ASSERT_GE(seen.size(), 2u);
+  EXPECT_LT(seen.front().rate, 1.0);  // the rate goes first
+  EXPECT_EQ(seen.front().scale, 1.0);
+  // it settles where the frames fit: 60 ms at 0.4 x 25 Hz (100 ms) is not overloaded
+  EXPECT_EQ(g.current().rate, 0.4);
+  EXPECT_EQ(g.current().scale, 1.0);
+}
+
+TEST(FrameGovernor, ShortMechanicsSlackLowersTheSizeToo) {
+  FrameGovernor g;
+  for (int i = 0; i < 100; ++i) g.Update(5.0, Period(g), 0.05);  // cheap frames, starved steps
+  EXPECT_LT(g.current().rate, 1.0);
+  EXPECT_LT(g.current().scale, 1.0);
+}
+
+TEST(FrameGovernor, RecoversWhenTheLoadGoes) {
+  FrameGovernor g;
+  for (int i = 0; i < 100; ++i) g.Update(5.0, Period(g), 0.05);
+  ASSERT_GT(g.level(), 0);
+  for (int i = 0; i < 1000; ++i)
+    g.Update(5.0 * g.current().scale * g.current().scale, Period(g), 0.9);
+  EXPECT_EQ(g.level(), 0);
+}
+
+TEST(FrameGovernor, OneSlowFrameOrAShortDipMovesNothing) {
+  FrameGovernor g;
+  for (int i = 0; i < 100; ++i) {
+    g.Update(i % 10 == 0 ? 60.0 : 10.0, kPeriodMs, 1.0);  // a spike every tenth frame
+    EXPECT_EQ(g.level(), 0);
+  }
+}
+
+TEST(FrameGovernor, FramesBetweenTheThresholdsHoldTheLevel) {
+  // 28 ms frames: not overloaded at 40 ms (70 %), but they would not be calm at 25 Hz either
+  // (0.5 x 40 = 20 ms): once lowered, the stream stays where it is instead of oscillating
+  FrameGovernor g;
+  for (int i = 0; i < 10; ++i) g.Update(60.0, Period(g), 1.0);
+  const int lowered = g.level();
+  ASSERT_GT(lowered, 0);
+  for (int i = 0; i < 100; ++i) g.Update(28.0, Period(g), 1.0);  // may climb where 28 ms is calm
+  const int settled = g.level();
+  EXPECT_GT(settled, 0);
+  EXPECT_LE(settled, lowered);
+  int changes = 0;
+  for (int i = 0; i < 1000; ++i) changes += g.Update(28.0, Period(g), 1.0) ? 1 : 0;
+  EXPECT_EQ(changes, 0);
+}
+
+}  // namespace
+}  // namespace viscera::server
