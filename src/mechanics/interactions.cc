@@ -4,9 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "mechanics/avx_clone.h"
-#include "mechanics/contact_window.h"
-
 namespace viscera::mechanics {
 namespace {
 
@@ -218,27 +215,6 @@ void Interactions::RefreshToolGeometry() {
   }
 }
 
-Vec3 Interactions::SphereVelocity(int sphere, const Points& qd) const {
-  const collision::Sphere& sp = chain_.spheres()[sphere];
-  Vec3 v = Vec3::Zero();
-  for (int a = 0; a < 4; ++a) v += sp.w[a] * qd.row(sp.first + a).transpose();
-  return v;
-}
-
-void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
-  const collision::Sphere& sp = chain_.spheres()[sphere];
-  contact_window::AddForce(F->data(), sp.first, sp.w, f);
-}
-
-VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w,
-                                                    const Mat3& hk, const Mat3* hd, BlockBand* K,
-                                                    BlockBand* D) const {
-  // The window's 10 upper blocks, K's and D's in one pass, by their symmetric entries.
-  const Sym3 k = ToSym3(hk);
-  const Sym3 d = hd ? ToSym3(*hd) : Sym3{};
-  contact_window::AddOuter(first, w, k, hd ? &d : nullptr, K, D);
-}
-
 bool Interactions::Held(const ContactCandidate& c) const {
   return c.kind == ContactKind::kTool && held_sphere_[c.b] >= 0 &&
          std::abs(c.a - held_sphere_[c.b]) <= held_span_;
@@ -384,9 +360,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       friction_d.setZero();
       AddStickSlip(c, &p, &friction_k, &friction_d);
     }
-    AddToWindow(c.a, p.force, F);
+    Window(c.a).Scatter(p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
-    if (self) AddToWindow(c.b, -p.force, F);
+    if (self) Window(c.b).Scatter(-p.force, F);
     // A tool's contact pushes its tip back, moved there by the lever rule (the shaft pivots at
     // the port, which takes the rest).
     const bool tool = c.kind == ContactKind::kTool;
@@ -411,10 +387,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (tool && tips_in_solve_) {
       // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
       // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.
-      const collision::Sphere& sa = chain_.spheres()[c.a];
       tip_rows_[c.b].k += (p.lever * p.lever) * kn;
       tip_rows_[c.b].d += (p.lever * p.lever) * dn;
-      tip_links_.push_back({c.b, sa.first, sa.w, -p.lever * kn, -p.lever * dn});
+      tip_links_.push_back({Window(c.a), c.b, -p.lever * kn, -p.lever * dn});
       tip_pairs_.push_back(
           {static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
     }
@@ -433,18 +408,13 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       sphere_k_[sphere] += scale * kn;
       sphere_d_[sphere] += scale * dn;
     }
-    if (self && cp.exact_pairs) {
-      const collision::Sphere& sa = chain_.spheres()[c.a];
-      const collision::Sphere& sb = chain_.spheres()[c.b];
-      pairs_.push_back({sa.first, sb.first, sa.w, sb.w, kn, dn});
-    }
+    if (self && cp.exact_pairs) pairs_.push_back({Window(c.a), Window(c.b), kn, dn});
   }
   if (K) {
     for (int k = 0; k < chain_.size(); ++k) {
       if (!sphere_touched_[k]) continue;
       sphere_touched_[k] = 0;
-      const collision::Sphere& sp = chain_.spheres()[k];
-      AddWindowOuter(sp.first, sp.w, sphere_k_[k], D ? &sphere_d_[k] : nullptr, K, D);
+      Window(k).AddOuter(sphere_k_[k], D ? &sphere_d_[k] : nullptr, K, D);
     }
   }
   // Grasps: a stiff spring from the jaws to the grasped curve point.
@@ -453,18 +423,15 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
     const Vec3 x = GraspStretch(static_cast<int>(t), q);
     energy += 0.5 * k * x.squaredNorm();
-    for (int a = 0; a < 4; ++a)
-      F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
+    const ContactWindow at = ContactWindow::Of(grasp_at_[t]);
+    at.Scatter(k * x, F);
     tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
     tip_rows_[t].tissue += k * x;
     if (K) {
-      const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2),
-                                    grasp_at_[t].w(3)};
-      AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), nullptr, K, nullptr);
+      at.AddOuter(k * Mat3::Identity(), nullptr, K, nullptr);
       if (tips_in_solve_) {
         tip_rows_[t].k += k * Mat3::Identity();
-        tip_links_.push_back(
-            {static_cast<int>(t), grasp_at_[t].first, w, -k * Mat3::Identity(), Mat3::Zero()});
+        tip_links_.push_back({at, static_cast<int>(t), -k * Mat3::Identity(), Mat3::Zero()});
       }
     }
   }
@@ -481,32 +448,15 @@ void Interactions::AddCommonModeTerms(const double* xd, double* yd) const {
   // sums in the same order per component.
   using Pair2 = Eigen::Vector2d;
   using In2 = Eigen::Map<const Pair2>;
-  using Out2 = Eigen::Map<Pair2>;
   for (const PairCoupling& pair : pairs_) {
-    const double* xa = xd + 3 * pair.first_a;
-    const double* xb = xd + 3 * pair.first_b;
-    // (J_a + J_b) x
-    Pair2 common_xy = Pair2::Zero();
-    double common_z = 0.0;
-    for (int i = 0; i < 4; ++i) {
-      common_xy += pair.w_a[i] * In2(xa + 3 * i) + pair.w_b[i] * In2(xb + 3 * i);
-      common_z += pair.w_a[i] * xa[3 * i + 2] + pair.w_b[i] * xb[3 * i + 2];
-    }
+    const Vec3 common = GatherCommon(pair.a, pair.b, xd);  // (J_a + J_b) x
     const Mat3& m = pair.weighed;
     const double* mc = m.data();  // column-major
-    const Pair2 f_xy =
-        (In2(mc) * common_xy(0) + In2(mc + 3) * common_xy(1)) + In2(mc + 6) * common_z;
-    const double f_z = (m(2, 0) * common_xy(0) + m(2, 1) * common_xy(1)) + m(2, 2) * common_z;
-    double* ya = yd + 3 * pair.first_a;
-    double* yb = yd + 3 * pair.first_b;
-    for (int i = 0; i < 4; ++i) {
-      Out2(ya + 3 * i) += pair.w_a[i] * f_xy;
-      ya[3 * i + 2] += pair.w_a[i] * f_z;
-    }
-    for (int i = 0; i < 4; ++i) {
-      Out2(yb + 3 * i) += pair.w_b[i] * f_xy;
-      yb[3 * i + 2] += pair.w_b[i] * f_z;
-    }
+    const Pair2 f_xy = (In2(mc) * common(0) + In2(mc + 3) * common(1)) + In2(mc + 6) * common(2);
+    const double f_z = (m(2, 0) * common(0) + m(2, 1) * common(1)) + m(2, 2) * common(2);
+    const Vec3 f(f_xy(0), f_xy(1), f_z);
+    pair.a.Scatter(f, yd);
+    pair.b.Scatter(f, yd);
   }
 }
 

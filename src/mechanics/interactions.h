@@ -16,6 +16,7 @@
 #include "collision/verlet_list.h"
 #include "common/check.h"
 #include "mechanics/block_band.h"
+#include "mechanics/contact_window.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
@@ -102,9 +103,8 @@ class Interactions {
   /// One contact's or grasp's coupling between a tip and a sphere's window: the window's
   /// force changes by -w_i (k dx_tip + d dv_tip) at its point first + i (K's and D's
   /// off-diagonal blocks; symmetric, so also the tip's by the window's motion).
-  struct TipLink {
-    int tool = 0, first = 0;
-    std::array<double, 4> w{};
+  struct TipLink : ContactWindow {
+    int tool = 0;
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
   };
   /// Before the forces: the tips where state->tools has them, the coupling's target at
@@ -235,7 +235,8 @@ class Interactions {
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
   // The force law on a candidate's geometry, at the velocities last gathered.
   Penalty Evaluate(const collision::ContactCandidate& c, const Penalty& geometry) const;
-  Vec3 SphereVelocity(int sphere, const Points& qd) const;
+  ContactWindow Window(int sphere) const { return ContactWindow::Of(chain_.spheres()[sphere]); }
+  Vec3 SphereVelocity(int sphere, const Points& qd) const { return Window(sphere).Gather(qd); }
   void GatherVelocities(const Points& qd);
   // The chain at q: re-placed along its arc length if `place`, else its spheres moved with the
   // curve. Nothing is redone for the configuration the chain already has; the geometry is
@@ -259,11 +260,6 @@ class Interactions {
   double ImpactSpeed();
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
-  void AddToWindow(int sphere, const Vec3& f, Points* F) const;
-  // K += (w w^T) (x) hk on the window from `first`, and D the same with hd if given.
-  // @pre hk, hd symmetric (as every contact's blocks are).
-  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
-                      BlockBand* K, BlockBand* D) const;
   // What both AdvanceTool and PrepareTool do first: a tool's first active target places its tip,
   // the coupling fades toward on (active) or off, the jaws and orientation follow the target.
   // Returns false for a tool never yet active (nothing more to do); *active: the target's.
@@ -323,8 +319,7 @@ class Interactions {
   // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
   // The spheres' windows are copied in: AddCommonModeTerms runs at every CG product.
   struct PairCoupling {
-    int first_a = 0, first_b = 0;
-    std::array<double, 4> w_a{}, w_b{};
+    ContactWindow a, b;
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
     Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
   };
@@ -392,8 +387,8 @@ class Interactions {
   struct FrictionPair {
     uint64_t key = 0;
     collision::ContactKind kind = collision::ContactKind::kSelf;
-    int tool = 0, first_a = 0, first_b = 0;
-    std::array<double, 4> w_a{}, w_b{};
+    int tool = 0;
+    ContactWindow a, b;  // b: a self pair's other side
     double lever = 0.0;
     Vec3 normal = Vec3::Zero();
     Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane

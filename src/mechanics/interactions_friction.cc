@@ -103,17 +103,11 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
     force = -limit * direction;
   }
   p->force += force;
-  const collision::Sphere& sa = chain_.spheres()[c.a];
   FrictionPair pair;
   pair.key = key;
   pair.kind = c.kind;
-  pair.first_a = sa.first;
-  pair.w_a = sa.w;
-  if (c.kind == ContactKind::kSelf) {
-    const collision::Sphere& sb = chain_.spheres()[c.b];
-    pair.first_b = sb.first;
-    pair.w_b = sb.w;
-  }
+  pair.a = Window(c.a);
+  if (c.kind == ContactKind::kSelf) pair.b = Window(c.b);
   pair.tool = c.kind == ContactKind::kTool ? c.b : 0;
   pair.lever = p->lever;
   pair.normal = n;
@@ -126,17 +120,8 @@ void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, 
 
 Vec3 Interactions::PairMotion(const FrictionPair& pair, const Points& x, const double* dx,
                               const Vec3& tip) {
-  auto window = [&](int first, const std::array<double, 4>& w) {
-    Vec3 m = Vec3::Zero();
-    for (int i = 0; i < 4; ++i) {
-      Vec3 point = x.row(first + i).transpose();
-      if (dx != nullptr) point += Eigen::Map<const Vec3>(dx + 3 * (first + i));
-      m += w[i] * point;
-    }
-    return m;
-  };
-  Vec3 relative = window(pair.first_a, pair.w_a);
-  if (pair.kind == ContactKind::kSelf) relative -= window(pair.first_b, pair.w_b);
+  Vec3 relative = pair.a.Gather(x, dx);
+  if (pair.kind == ContactKind::kSelf) relative -= pair.b.Gather(x, dx);
   if (pair.kind == ContactKind::kTool) relative -= pair.lever * tip;
   return relative - pair.normal.dot(relative) * pair.normal;
 }

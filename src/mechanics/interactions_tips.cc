@@ -83,15 +83,7 @@ void Interactions::PlaceTips(const State& state, double fraction) {
 bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv,
                                      const VecX& tip_v) {
   const double damping = model_.params().contacts.damping;
-  auto end_velocity = [&](int sphere_index) {
-    const collision::Sphere& sp = chain_.spheres()[sphere_index];
-    Vec3 sphere = Vec3::Zero();
-    for (int a = 0; a < 4; ++a) {
-      sphere += sp.w[a] *
-                (v.row(sp.first + a).transpose() + Eigen::Map<const Vec3>(dv + 3 * (sp.first + a)));
-    }
-    return sphere;
-  };
+  auto end_velocity = [&](int sphere) { return Window(sphere).Gather(v, dv); };
   bool revised = false;
   // Pairs that did not act and end in contact act in the next solve.
   const auto& list = candidates();

@@ -25,7 +25,7 @@ bool SameBits(const BlockBand& a, const BlockBand& b) {
   return true;
 }
 
-class ContactWindow : public ::testing::Test {
+class ContactWindowLanes : public ::testing::Test {
  protected:
   // Magnitudes spread over many binades, signs mixed: roundings differ for any other order.
   double Random() { return std::ldexp(u_(rng_), e_(rng_)); }
@@ -49,7 +49,7 @@ class ContactWindow : public ::testing::Test {
   std::uniform_int_distribution<int> e_{-8, 8};
 };
 
-TEST_F(ContactWindow, AddOuterGivesAddSymmetricsBitsOnKAndD) {
+TEST_F(ContactWindowLanes, AddOuterGivesAddSymmetricsBitsOnKAndD) {
   constexpr int kN = 12;
   for (int trial = 0; trial < 2000; ++trial) {
     const BlockBand k0 = RandomBand(kN), d0 = RandomBand(kN);
@@ -73,7 +73,7 @@ TEST_F(ContactWindow, AddOuterGivesAddSymmetricsBitsOnKAndD) {
   }
 }
 
-TEST_F(ContactWindow, AddForceGivesTheRowSumsBits) {
+TEST_F(ContactWindowLanes, AddForceGivesTheRowSumsBits) {
   constexpr int kN = 10;
   for (int trial = 0; trial < 2000; ++trial) {
     Points f0(kN, 3);
