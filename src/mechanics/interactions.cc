@@ -24,31 +24,10 @@ int SelfSkip(const collision::SphereChain& chain) {
   return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
 }
 
-// The contact law's stiffening: linear (k) up to impact_depth (fraction of R), then
-// f = k d + s (d - d1)^2 with s such that the slope reaches kStiffening k at 10 % of R. Its energy
-// k d^2 / 2 + s (d - d1)^3 / 3 is the force's integral, so it stores what it takes and returns it.
-constexpr double kStiffening = 100.0;  // the depth goal: Interactions::kDepthGoal
-
 // Series stiffness of the coupling and a contact: what the hand feels through the tool.
 double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
 
 }  // namespace
-
-Interactions::Law Interactions::ContactLaw(double depth) const {
-  const ContactParams& cp = model_.params().contacts;
-  Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
-  const double d1 = cp.impact_depth * radius_;
-  // Tools' contacts too: linear, a tool pressing a loop into the wall sank by its force over k
-  // (80 % of R at 5 N; docs/tool-coupling.md).
-  if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
-  const double s =
-      (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
-  const double e = depth - d1;
-  law.force += s * e * e;
-  law.slope += 2.0 * s * e;
-  law.energy += s * e * e * e / 3.0;
-  return law;
-}
 
 bool Interactions::Needed(const Model& model) {
   const ModelParams& p = model.params();
@@ -57,6 +36,7 @@ bool Interactions::Needed(const Model& model) {
 
 Interactions::Interactions(const Model& model)
     : model_(model),
+      law_(model.params().contacts, model.params().radius),
       radius_(model.params().radius),
       margin_(Margin(model)),
       chain_(model.curve(), model.params().length, model.params().radius),
@@ -199,8 +179,8 @@ void Interactions::SelfGeometry(const std::array<int, 4>& batch, int count) {
   for (int l = 0; l < count; ++l) geometry_[batch[l]] = SelfPenalty(separation[l]);
 }
 
-Interactions::Penalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
-  Penalty p;
+ContactPenalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
+  ContactPenalty p;
   p.normal = separation.normal;
   p.clearance = separation.distance - 2.0 * radius_;
   p.depth = -p.clearance;
@@ -220,17 +200,17 @@ bool Interactions::Held(const ContactCandidate& c) const {
          std::abs(c.a - held_sphere_[c.b]) <= held_span_;
 }
 
-Interactions::Penalty Interactions::Geometry(const ContactCandidate& c) const {
+ContactPenalty Interactions::Geometry(const ContactCandidate& c) const {
   if (!Held(c)) return RawGeometry(c);
-  Penalty p;
+  ContactPenalty p;
   p.clearance = 1.0;  // m: never a contact, never within any margin
   p.depth = -p.clearance;
   return p;
 }
 
-Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const {
+ContactPenalty Interactions::RawGeometry(const ContactCandidate& c) const {
   const collision::Sphere& sa = chain_.spheres()[c.a];
-  Penalty p;
+  ContactPenalty p;
   double reach = radius_;
   double distance = 0.0;
   switch (c.kind) {
@@ -263,36 +243,13 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const 
   return Vec3::Zero();
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c,
-                                             const Penalty& geometry) const {
-  const ContactParams& cp = model_.params().contacts;
-  Penalty p = geometry;
+ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
+                                      const ContactPenalty& geometry) const {
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
-  if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
-  const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
-  const double vn = relative.dot(p.normal);
-  // A pair that is apart but closing fast enough to touch within the implicit step acts now: its
-  // linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of the
-  // contact being found a step late and deep (which creates energy at every impact).
-  const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
-  if (p.depth <= 0.0 && !speculative) return p;
-  // Penalty spring and damping along the normal; friction: the regularized law here, or the
-  // stick-slip law that AddForces adds (AddStickSlip).
-  const double spring = ContactLaw(p.depth).force;
-  const double fn = spring - cp.damping * vn;
-  if (fn <= 0.0 && !speculative) return p;
-  p.slip = relative - vn * p.normal;
-  p.force = fn * p.normal;
-  if (anchors_ == nullptr) {
-    const double friction = Friction(c.kind) * std::max(fn, 0.0);
-    p.force -= (friction / std::max(p.slip.norm(), kFrictionSlip)) * p.slip;
-  } else {
-    // The friction cone's normal force is the penalty spring's alone: an impact's damping pushes
-    // for a sub-step, and a cone widened by it stored its closing speed in the stuck springs.
-    p.normal_force = std::min(fn, spring);
-  }
-  p.active = true;
-  return p;
+  if (geometry.depth <= 0.0 && speculative_h_ == 0.0) return geometry;
+  // Friction: the regularized law here, or the stick-slip law that AddForces adds (AddStickSlip).
+  return law_.Evaluate(c.kind, geometry, sphere_velocity_[c.a] - OtherVelocity(c, geometry.lever),
+                       speculative_h_, anchors_ != nullptr);
 }
 
 void Interactions::GatherVelocities(const Points& qd) {
@@ -338,14 +295,14 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
             tip_released_.end()) {
       continue;
     }
-    Penalty p = Evaluate(c, geometry_[i]);
+    ContactPenalty p = Evaluate(c, geometry_[i]);
     if (activated && !p.active) {
       // Its law (linear while apart) from the start, as a speculative pair's.
       const double vn = (sphere_velocity_[c.a] - OtherVelocity(c, p.lever)).dot(p.normal);
-      p.force = (ContactLaw(p.depth).force - cp.damping * vn) * p.normal;
+      p.force = (law_.At(p.depth).force - cp.damping * vn) * p.normal;
       p.active = true;
     }
-    Law law = ContactLaw(p.depth);
+    ContactLaw::Law law = law_.At(p.depth);
     if (p.depth > 0.0) energy += law.energy;
     if (c.kind == ContactKind::kTool) {
       for (const auto& [candidate, slope] : tip_stiffened_) {
@@ -382,7 +339,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       kn += friction_k;
       dn += friction_d;
     } else {
-      dn += (Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+      dn += (law_.Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     }
     if (tool && tips_in_solve_) {
       // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
@@ -489,7 +446,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const Penalty& p = geometry_[i];
+    const ContactPenalty& p = geometry_[i];
     if (p.clearance >= margin) continue;  // the list's skin: too far to meet within the step
     // A tip in the solve meets the tube within it (its contacts act speculatively on both): the
     // step's rate, not the tool's approach, sets its sub-steps, so that the hand feels the same
@@ -568,7 +525,7 @@ void Interactions::EndStep(State* state) {
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const Penalty& p = geometry_[i];
+    const ContactPenalty& p = geometry_[i];
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) {
       stats.min_clearance = p.clearance;
       stats.deepest = c.kind == ContactKind::kSelf   ? "self"
@@ -607,9 +564,9 @@ void Interactions::EndStep(State* state) {
     for (size_t i = 0; i < list.size(); ++i) {
       const ContactCandidate& c = list[i];
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const Penalty& p = geometry_[i];
+      const ContactPenalty& p = geometry_[i];
       if (p.depth > 0.0)
-        k += Series(kc, p.lever * p.lever * ContactLaw(p.depth).slope) * p.normal *
+        k += Series(kc, p.lever * p.lever * law_.At(p.depth).slope) * p.normal *
              p.normal.transpose();
     }
     if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();

@@ -16,6 +16,7 @@
 #include "collision/verlet_list.h"
 #include "common/check.h"
 #include "mechanics/block_band.h"
+#include "mechanics/contact_law.h"
 #include "mechanics/contact_window.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
@@ -192,32 +193,12 @@ class Interactions {
   int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
-  // The stiffening law's goal (fraction of R): the slope reaches kStiffening k at this depth, and
-  // the held constraints bound depths short of it (interactions.cc, interactions_impacts.cc).
-  static constexpr double kDepthGoal = 0.10;
-  struct Penalty {
-    bool active = false;
-    Vec3 force = Vec3::Zero();  // on the sphere
-    Vec3 normal = Vec3::Zero();
-    double depth = 0.0;         // penetration (m), > 0 when active
-    double clearance = 0.0;     // signed distance beyond contact (m)
-    double lever = 1.0;         // tool contacts: fraction along the shaft from the port
-    double normal_force = 0.0;  // N, stick-slip: the friction cone's normal force when active
-    Vec3 slip = Vec3::Zero();   // tangential relative velocity (m/s) when active
-  };
-  // The penalty law at a penetration depth > 0: force (N), slope (N/m), stored energy (J).
-  struct Law {
-    double force, slope, energy;
-  };
-  // At `depth` (m); linear (k) at any depth up to impact_depth, apart (depth < 0) included: a
-  // speculative pair's force k depth and slope k.
-  Law ContactLaw(double depth) const;
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
-  Penalty Geometry(const collision::ContactCandidate& c) const;
-  Penalty RawGeometry(const collision::ContactCandidate& c) const;
+  ContactPenalty Geometry(const collision::ContactCandidate& c) const;
+  ContactPenalty RawGeometry(const collision::ContactCandidate& c) const;
   // A self pair's penalty from its centres' separation (RawGeometry's and SelfGeometry's).
-  Penalty SelfPenalty(const collision::PairSeparation& separation) const;
+  ContactPenalty SelfPenalty(const collision::PairSeparation& separation) const;
   bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres(State* state);
@@ -225,16 +206,16 @@ class Interactions {
   // that a step continues the state it is given, not this workspace's last one (a restored
   // state, another workspace's). Nothing changes for the state this workspace last stepped.
   void FollowState(const State& state);
-  // The Coulomb coefficient of a kind of pair.
-  double Friction(collision::ContactKind kind) const;
   // Stick-slip friction on an active pair (UseFriction's anchors): adds its tangential force to
   // p->force, its stiffness to *k and its damping to *d, and keeps the pair for AdvanceFriction.
-  void AddStickSlip(const collision::ContactCandidate& c, Penalty* p, Mat3* k, Mat3* d);
+  void AddStickSlip(const collision::ContactCandidate& c, ContactPenalty* p, Mat3* k, Mat3* d);
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
-  // The force law on a candidate's geometry, at the velocities last gathered.
-  Penalty Evaluate(const collision::ContactCandidate& c, const Penalty& geometry) const;
+  // The force law on a candidate's geometry, at the velocities last gathered (a pair apart is
+  // left as it is without them where nothing acts speculatively).
+  ContactPenalty Evaluate(const collision::ContactCandidate& c,
+                          const ContactPenalty& geometry) const;
   ContactWindow Window(int sphere) const { return ContactWindow::Of(chain_.spheres()[sphere]); }
   Vec3 SphereVelocity(int sphere, const Points& qd) const { return Window(sphere).Gather(qd); }
   void GatherVelocities(const Points& qd);
@@ -275,6 +256,7 @@ class Interactions {
   Vec3 GraspStretch(int index, const Points& q) const;
 
   const Model& model_;
+  ContactLaw law_;
   double radius_, margin_;
   // The implicit integrator's sub-step: pairs predicted to touch within it act already
   // (speculative contacts); 0 for RK4, which evaluates the true penetration at every stage.
@@ -291,7 +273,7 @@ class Interactions {
   collision::VerletList candidates_;
   Points configured_q_, gathered_qd_;
   bool configured_ = false, placed_ = false, gathered_ = false;
-  std::vector<Penalty> geometry_;  // per candidate, valid while geometry_valid_
+  std::vector<ContactPenalty> geometry_;  // per candidate, valid while geometry_valid_
   bool geometry_valid_ = false;
   double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
   std::vector<collision::ToolCapsule> capsules_;

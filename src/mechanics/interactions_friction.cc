@@ -19,16 +19,6 @@ namespace viscera::mechanics {
 using collision::ContactCandidate;
 using collision::ContactKind;
 
-double Interactions::Friction(ContactKind kind) const {
-  const ContactParams& cp = model_.params().contacts;
-  switch (kind) {
-    case ContactKind::kSelf: return cp.self_friction;
-    case ContactKind::kTool: return cp.tool_friction;
-    case ContactKind::kEnvironment: break;
-  }
-  return cp.friction;
-}
-
 namespace {
 // The bucket of a friction key: its kind and first sphere (Interactions::FrictionKey).
 size_t AnchorBucket(uint64_t key, int spheres) {
@@ -60,8 +50,8 @@ const FrictionAnchor* Interactions::FindAnchor(uint64_t key) const {
   return nullptr;
 }
 
-void Interactions::AddStickSlip(const ContactCandidate& c, Penalty* p, Mat3* k, Mat3* d) {
-  const double limit = Friction(c.kind) * std::max(p->normal_force, 0.0);
+void Interactions::AddStickSlip(const ContactCandidate& c, ContactPenalty* p, Mat3* k, Mat3* d) {
+  const double limit = law_.Friction(c.kind) * std::max(p->normal_force, 0.0);
   if (!(limit > 0.0)) return;
   const Vec3& n = p->normal;
   const Mat3 tangent = Mat3::Identity() - n * n.transpose();

@@ -89,7 +89,7 @@ bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const Penalty& g = geometry_[i];
+    const ContactPenalty& g = geometry_[i];
     if (c.kind != ContactKind::kTool || g.lever <= 0.0 || g.clearance > 2.0 * radius_) continue;
     const int index = static_cast<int>(i);
     bool acted = TipActivated(index);
@@ -113,7 +113,7 @@ bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv
       revised = true;
       continue;
     }
-    const Law end = ContactLaw(end_depth);
+    const ContactLaw::Law end = law_.At(end_depth);
     if (end_depth > 0.0 && end.force > 1.05 * linear && end.slope > pair.slope) {
       tip_stiffened_.push_back({pair.candidate, end.slope});
       revised = true;
