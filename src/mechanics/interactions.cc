@@ -43,7 +43,9 @@ Interactions::Interactions(const Model& model)
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
                                              SelfSkip(chain_)),
                   kVerletSkin * radius_),
-      impacts_(model, chain_.size()) {
+      impacts_(model, chain_.size()),
+      friction_(model.params().contacts, chain_,
+                model.params().mass * chain_.spacing() / model.params().length) {
   obstacles_.reserve(model.params().obstacles.size());
   for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();
@@ -78,16 +80,6 @@ Interactions::Interactions(const Model& model)
   pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
-  const ContactParams& cp = model.params().contacts;
-  tangential_stiffness_ =
-      cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : kTangentialShare * cp.stiffness;
-  friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  anchor_order_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  anchor_bucket_.assign(3 * static_cast<size_t>(chain_.size()) + 1, 0);
-  anchor_cursor_.assign(anchor_bucket_.size(), 0);
-  friction_stuck_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  friction_slid_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);
 }
 
@@ -247,9 +239,10 @@ ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
                                       const ContactPenalty& geometry) const {
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (geometry.depth <= 0.0 && speculative_h_ == 0.0) return geometry;
-  // Friction: the regularized law here, or the stick-slip law that AddForces adds (AddStickSlip).
+  // Friction: the regularized law here, or the stick-slip law that AddForces adds
+  // (StickSlipFriction).
   return law_.Evaluate(c.kind, geometry, sphere_velocity_[c.a] - OtherVelocity(c, geometry.lever),
-                       speculative_h_, anchors_ != nullptr);
+                       speculative_h_, friction_.active());
 }
 
 void Interactions::GatherVelocities(const Points& qd) {
@@ -272,9 +265,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   Configure(q, false);
   GatherVelocities(qd);
   EnsureGeometry();
-  double energy = friction_energy_;
+  double energy = friction_.energy();
   pairs_.clear();
-  friction_pairs_.clear();
+  friction_.ClearPairs();
   tip_links_.clear();
   tip_pairs_.clear();
   tip_rows_ = coupling_rows_;  // the coupling's part (PlaceTips); same size: no allocation
@@ -310,12 +303,12 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       }
     }
     if (!p.active) continue;
-    const bool stick_slip = anchors_ != nullptr;
+    const bool stick_slip = friction_.active();
     Mat3 friction_k, friction_d;
     if (stick_slip) {
       friction_k.setZero();
       friction_d.setZero();
-      AddStickSlip(c, &p, &friction_k, &friction_d);
+      friction_.Add(c, law_.Friction(c.kind), &p, &friction_k, &friction_d);
     }
     Window(c.a).Scatter(p.force, F);
     const bool self = c.kind == ContactKind::kSelf;

@@ -21,6 +21,7 @@
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
+#include "mechanics/stick_slip_friction.h"
 
 namespace viscera::mechanics {
 
@@ -123,8 +124,7 @@ class Interactions {
   /// ClearTipReleases starts a sub-step with every contact as its start's law has it.
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);
   void ClearTipReleases() {
-    friction_stuck_.clear();
-    friction_slid_.clear();
+    friction_.ClearRevisions();
     tip_released_.clear();
     tip_stiffened_.clear();
     tip_activated_.clear();
@@ -133,50 +133,21 @@ class Interactions {
   /// hand feels it, enters the step's impulse (EndStep reports its mean, then clamps it).
   void TipAdvanced(int index, double h, ToolState* ts);
 
-  /// Stick-slip friction (docs/friction.md) in the next force evaluations of a
+  /// Stick-slip friction (StickSlipFriction; docs/friction.md) in the next force evaluations of a
   /// sub-step of length h, from the anchors it starts from; nullptr: the regularized law (RK4, or
   /// the scene's friction_law). The anchors must outlive those evaluations.
-  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h);
-  /// Once a sub-step is accepted: each contact that friction held in the last force evaluation
-  /// moves its anchor by the contact's tangential motion over the sub-step (dq, #N by 3: how far
-  /// the sub-step moved q; a tool's tip moved by h times its new velocity), capped by the cone,
-  /// and is marked sliding or stuck as the sub-step ended it; the other anchors are dropped.
-  /// Replaces state->friction.
-  void AdvanceFriction(const Points& dq, double h, State* state);
-  /// After a solve whose end velocities are v + dv (#N by 3, dv's 3N values) and, for the tips,
-  /// their start velocities plus tip_dv (3 per tool; nullptr: none): a sliding contact that the
-  /// friction turned back (faster than kFrictionReversal, kFrictionReversalShare) sticks in the
-  /// next solve of the same sub-step (a constant force that overshoots would do work: energy
-  /// from nothing), and a stuck one held far beyond the cone (kFrictionOverload,
-  /// kFrictionOverloadSpeed) slides. Says whether any changed.
-  /// ClearTipReleases also starts a sub-step with every contact as its start has it.
-  bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
-  /// m/s: a slower reversal is left to the next sub-step, which starts it stuck (its energy,
-  /// m v^2 / 2, is about 1e-9 J for a 10 g contact).
-  static constexpr double kFrictionReversal = 5e-4;
-  /// A reversal is solved again only where the sliding force held constant differs from the
-  /// stuck spring's by more than this share of the cone (k_t h u): closer, the constant force is
-  /// the spring's at the cone, and the energy it gives, k_t (h u)^2 / 2, the spring's stretch
-  /// takes back in AdvanceFriction.
-  static constexpr double kFrictionReversalShare = 0.25;
-  /// A stuck contact whose spring and damper end the sub-step beyond this many times the cone
-  /// slides in the next solve of the same sub-step (closer to the cone, it slides from the next
-  /// sub-step on: a resting pile has many contacts at the cone's edge).
-  static constexpr double kFrictionOverload = 2.0;
-  /// m/s: the speed the force a stuck pair held beyond the cone must give its spheres within the
-  /// sub-step for the pair to be solved again as sliding. Slower, the one sub-step it was held
-  /// moved them by micrometres (25 µm at 100 Hz), and it slides from the next one on.
-  static constexpr double kFrictionOverloadSpeed = 5e-3;
-  /// A stuck contact's tangential spring, as a share of the normal stiffness (unless the scene
-  /// sets contacts.tangential_stiffness): stiff enough that a contact moves only micrometres
-  /// before it slides (mu f_n / k_t), soft enough that a stuck pair turning within a 10 ms
-  /// sub-step does not push itself deeper (at the normal stiffness, a jammed pile held by the
-  /// limiter alone gained 7 mJ in one 100 Hz step; docs/friction.md).
-  static constexpr double kTangentialShare = 0.2;
-  /// The key a pair's anchor is found by: its kind and its two sides' indices.
-  static uint64_t FrictionKey(collision::ContactKind kind, int a, int b) {
-    return (static_cast<uint64_t>(kind) << 42) | (static_cast<uint64_t>(a) << 21) |
-           static_cast<uint64_t>(b);
+  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h) {
+    friction_.Use(anchors, h);
+  }
+  /// Once a sub-step is accepted: StickSlipFriction::Advance. Replaces state->friction.
+  void AdvanceFriction(const Points& dq, double h, State* state) {
+    friction_.Advance(dq, h, state);
+  }
+  /// After a solve: StickSlipFriction::Revise with the tips' start velocities. Says whether any
+  /// contact changed. ClearTipReleases also starts a sub-step with every contact as its start has
+  /// it.
+  bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
+    return friction_.Revise(v, dv, tip_dv, tool_velocity_);
   }
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
@@ -206,9 +177,6 @@ class Interactions {
   // that a step continues the state it is given, not this workspace's last one (a restored
   // state, another workspace's). Nothing changes for the state this workspace last stepped.
   void FollowState(const State& state);
-  // Stick-slip friction on an active pair (UseFriction's anchors): adds its tangential force to
-  // p->force, its stiffness to *k and its damping to *d, and keeps the pair for AdvanceFriction.
-  void AddStickSlip(const collision::ContactCandidate& c, ContactPenalty* p, Mat3* k, Mat3* d);
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
@@ -307,6 +275,7 @@ class Interactions {
   };
   std::vector<PairCoupling> pairs_;
   ImpactLimiter impacts_;
+  StickSlipFriction friction_;
   std::vector<ImpactLimiter::Contact> impact_contacts_;
   std::vector<int> impact_set_;  // candidates in the impulse solve
   std::vector<char> in_impact_set_;
@@ -355,37 +324,6 @@ class Interactions {
     return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) !=
            tip_activated_.end();
   }
-  // Stick-slip friction: the anchors the sub-step starts from and its length (UseFriction), the
-  // pairs friction held in the last force evaluation, and the anchors being made from them.
-  const std::vector<FrictionAnchor>* anchors_ = nullptr;
-  // The anchors by the pair's kind and first sphere (a counting sort, made by UseFriction):
-  // bucket kind * spheres + a holds anchor_order_[anchor_bucket_[i] .. anchor_bucket_[i + 1]),
-  // a few pairs each, so that a contact finds its anchor in O(1) rather than by a search.
-  std::vector<int> anchor_bucket_, anchor_cursor_, anchor_order_;
-  const FrictionAnchor* FindAnchor(uint64_t key) const;
-  double friction_h_ = 0.0;
-  double tangential_stiffness_ = 0.0;
-  double friction_energy_ = 0.0;  // J: the tangential springs' as the last sub-step left them
-  struct FrictionPair {
-    uint64_t key = 0;
-    collision::ContactKind kind = collision::ContactKind::kSelf;
-    int tool = 0;
-    ContactWindow a, b;  // b: a self pair's other side
-    double lever = 0.0;
-    Vec3 normal = Vec3::Zero();
-    Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
-    double limit = 0.0;           // N: mu f_n, f_n at the sub-step's start (lagged)
-    bool stuck = false;
-    Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
-  };
-  std::vector<FrictionPair> friction_pairs_;
-  // A friction pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N
-  // values, or nullptr), less lever times the tool's `tip` for a tool pair.
-  static Vec3 PairMotion(const FrictionPair& pair, const Points& x, const double* dx,
-                         const Vec3& tip);
-  std::vector<uint64_t> friction_stuck_;  // pairs ReviseFriction made stick in this sub-step
-  std::vector<uint64_t> friction_slid_;   // ... and slide
-  std::vector<FrictionAnchor> next_anchors_;
   std::vector<Vec3> hand_impulse_;
   std::vector<double> hand_time_;
   std::vector<char> hand_saturated_;  // the coupling saturated in one of the step's sub-steps
