@@ -43,6 +43,7 @@ Interactions::Interactions(const Model& model)
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
                                              SelfSkip(chain_)),
                   kVerletSkin * radius_),
+      self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
       friction_(model.params().contacts, chain_,
                 model.params().mass * chain_.spacing() / model.params().length) {
@@ -77,7 +78,6 @@ Interactions::Interactions(const Model& model)
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
   end_velocity_.assign(chain_.size(), Vec3::Zero());
-  pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
   Configure(model.params().initial_q, true);
@@ -266,7 +266,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   GatherVelocities(qd);
   EnsureGeometry();
   double energy = friction_.energy();
-  pairs_.clear();
+  self_pairs_.Clear();
   friction_.ClearPairs();
   tip_links_.clear();
   tip_pairs_.clear();
@@ -358,7 +358,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       sphere_k_[sphere] += scale * kn;
       sphere_d_[sphere] += scale * dn;
     }
-    if (self && cp.exact_pairs) pairs_.push_back({Window(c.a), Window(c.b), kn, dn});
+    if (self && cp.exact_pairs) self_pairs_.Add(Window(c.a), Window(c.b), kn, dn);
   }
   if (K) {
     for (int k = 0; k < chain_.size(); ++k) {
@@ -386,28 +386,6 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
   }
   return energy;
-}
-
-void Interactions::WeighCommonModes(double ck, double cd) {
-  for (PairCoupling& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
-}
-
-void Interactions::AddCommonModeTerms(const double* xd, double* yd) const {
-  // Called at every CG product: each pair carries its windows, so this reads nothing else. The
-  // x and y components go two at a time (one SSE2 register), z alone: the same products and
-  // sums in the same order per component.
-  using Pair2 = Eigen::Vector2d;
-  using In2 = Eigen::Map<const Pair2>;
-  for (const PairCoupling& pair : pairs_) {
-    const Vec3 common = GatherCommon(pair.a, pair.b, xd);  // (J_a + J_b) x
-    const Mat3& m = pair.weighed;
-    const double* mc = m.data();  // column-major
-    const Pair2 f_xy = (In2(mc) * common(0) + In2(mc + 3) * common(1)) + In2(mc + 6) * common(2);
-    const double f_z = (m(2, 0) * common(0) + m(2, 1) * common(1)) + m(2, 2) * common(2);
-    const Vec3 f(f_xy(0), f_xy(1), f_z);
-    pair.a.Scatter(f, yd);
-    pair.b.Scatter(f, yd);
-  }
 }
 
 double Interactions::CandidateMargin(const State& state, double h) const {

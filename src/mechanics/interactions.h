@@ -20,6 +20,7 @@
 #include "mechanics/contact_window.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
+#include "mechanics/self_pair_coupling.h"
 #include "mechanics/state.h"
 #include "mechanics/stick_slip_friction.h"
 
@@ -54,7 +55,7 @@ class Interactions {
 
   /// Weighs the self pairs of the last AddForces with K for AddCommonModeTerms: C_p = ck K_p +
   /// cd D_p, once rather than at each of CG's products.
-  void WeighCommonModes(double ck, double cd);
+  void WeighCommonModes(double ck, double cd) { self_pairs_.Weigh(ck, cd); }
   /// y += sum over those pairs of (J_a + J_b)^T C_p (J_a + J_b) x (x, y #N by 3): what the band
   /// overstates. The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact
   /// implicit matrix is the band's M + h D + h^2 K minus this with (h^2, h).
@@ -66,9 +67,11 @@ class Interactions {
   /// The same on 3N values each, ordered x0 y0 z0 x1 ... (CG's vectors, without reshaping).
   /// @pre x and y each hold the chain's 3N values, and do not overlap (y is added to pair by
   /// pair while later pairs still read x).
-  void AddCommonModeTerms(const double* x, double* y) const;
+  void AddCommonModeTerms(const double* x, double* y) const {
+    self_pairs_.AddCommonModeTerms(x, y);
+  }
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
-  int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
+  int coupled_pairs() const { return self_pairs_.size(); }
 
   /// What the implicit solve's impulses hold (docs/impacts.md), at the end of a
   /// sub-step (the depth at its start minus h times the closing speed):
@@ -266,14 +269,7 @@ class Interactions {
   double fastest_sphere_ = 0.0;  // m/s, the largest of sphere_velocity_
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
-  // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
-  // The spheres' windows are copied in: AddCommonModeTerms runs at every CG product.
-  struct PairCoupling {
-    ContactWindow a, b;
-    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
-    Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
-  };
-  std::vector<PairCoupling> pairs_;
+  SelfPairCoupling self_pairs_;  // the last AddForces' self pairs (with K)
   ImpactLimiter impacts_;
   StickSlipFriction friction_;
   std::vector<ImpactLimiter::Contact> impact_contacts_;
