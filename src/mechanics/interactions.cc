@@ -4,9 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "mechanics/avx_clone.h"
-#include "mechanics/contact_window.h"
-
 namespace viscera::mechanics {
 namespace {
 
@@ -27,31 +24,10 @@ int SelfSkip(const collision::SphereChain& chain) {
   return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
 }
 
-// The contact law's stiffening: linear (k) up to impact_depth (fraction of R), then
-// f = k d + s (d - d1)^2 with s such that the slope reaches kStiffening k at 10 % of R. Its energy
-// k d^2 / 2 + s (d - d1)^3 / 3 is the force's integral, so it stores what it takes and returns it.
-constexpr double kStiffening = 100.0;  // the depth goal: Interactions::kDepthGoal
-
 // Series stiffness of the coupling and a contact: what the hand feels through the tool.
 double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
 
 }  // namespace
-
-Interactions::Law Interactions::ContactLaw(double depth) const {
-  const ContactParams& cp = model_.params().contacts;
-  Law law{cp.stiffness * depth, cp.stiffness, 0.5 * cp.stiffness * depth * depth};
-  const double d1 = cp.impact_depth * radius_;
-  // Tools' contacts too: linear, a tool pressing a loop into the wall sank by its force over k
-  // (80 % of R at 5 N; docs/tool-coupling.md).
-  if (!(cp.impact_depth > 0.0) || cp.impact_depth >= kDepthGoal || depth <= d1) return law;
-  const double s =
-      (kStiffening - 1.0) * cp.stiffness / (2.0 * (kDepthGoal - cp.impact_depth) * radius_);
-  const double e = depth - d1;
-  law.force += s * e * e;
-  law.slope += 2.0 * s * e;
-  law.energy += s * e * e * e / 3.0;
-  return law;
-}
 
 bool Interactions::Needed(const Model& model) {
   const ModelParams& p = model.params();
@@ -60,13 +36,17 @@ bool Interactions::Needed(const Model& model) {
 
 Interactions::Interactions(const Model& model)
     : model_(model),
+      law_(model.params().contacts, model.params().radius),
       radius_(model.params().radius),
       margin_(Margin(model)),
       chain_(model.curve(), model.params().length, model.params().radius),
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
                                              SelfSkip(chain_)),
                   kVerletSkin * radius_),
-      impacts_(model, chain_.size()) {
+      self_pairs_(static_cast<size_t>(chain_.size()) * 8),
+      impacts_(model, chain_.size()),
+      friction_(model.params().contacts, chain_,
+                model.params().mass * chain_.spacing() / model.params().length) {
   obstacles_.reserve(model.params().obstacles.size());
   for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();
@@ -98,19 +78,8 @@ Interactions::Interactions(const Model& model)
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
   end_velocity_.assign(chain_.size(), Vec3::Zero());
-  pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
   impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
-  const ContactParams& cp = model.params().contacts;
-  tangential_stiffness_ =
-      cp.tangential_stiffness > 0.0 ? cp.tangential_stiffness : kTangentialShare * cp.stiffness;
-  friction_pairs_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  next_anchors_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  anchor_order_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  anchor_bucket_.assign(3 * static_cast<size_t>(chain_.size()) + 1, 0);
-  anchor_cursor_.assign(anchor_bucket_.size(), 0);
-  friction_stuck_.reserve(static_cast<size_t>(chain_.size()) * 8);
-  friction_slid_.reserve(static_cast<size_t>(chain_.size()) * 8);
   Configure(model.params().initial_q, true);
 }
 
@@ -202,8 +171,8 @@ void Interactions::SelfGeometry(const std::array<int, 4>& batch, int count) {
   for (int l = 0; l < count; ++l) geometry_[batch[l]] = SelfPenalty(separation[l]);
 }
 
-Interactions::Penalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
-  Penalty p;
+ContactPenalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
+  ContactPenalty p;
   p.normal = separation.normal;
   p.clearance = separation.distance - 2.0 * radius_;
   p.depth = -p.clearance;
@@ -218,43 +187,22 @@ void Interactions::RefreshToolGeometry() {
   }
 }
 
-Vec3 Interactions::SphereVelocity(int sphere, const Points& qd) const {
-  const collision::Sphere& sp = chain_.spheres()[sphere];
-  Vec3 v = Vec3::Zero();
-  for (int a = 0; a < 4; ++a) v += sp.w[a] * qd.row(sp.first + a).transpose();
-  return v;
-}
-
-void Interactions::AddToWindow(int sphere, const Vec3& f, Points* F) const {
-  const collision::Sphere& sp = chain_.spheres()[sphere];
-  contact_window::AddForce(F->data(), sp.first, sp.w, f);
-}
-
-VISCERA_AVX_CLONE void Interactions::AddWindowOuter(int first, const std::array<double, 4>& w,
-                                                    const Mat3& hk, const Mat3* hd, BlockBand* K,
-                                                    BlockBand* D) const {
-  // The window's 10 upper blocks, K's and D's in one pass, by their symmetric entries.
-  const Sym3 k = ToSym3(hk);
-  const Sym3 d = hd ? ToSym3(*hd) : Sym3{};
-  contact_window::AddOuter(first, w, k, hd ? &d : nullptr, K, D);
-}
-
 bool Interactions::Held(const ContactCandidate& c) const {
   return c.kind == ContactKind::kTool && held_sphere_[c.b] >= 0 &&
          std::abs(c.a - held_sphere_[c.b]) <= held_span_;
 }
 
-Interactions::Penalty Interactions::Geometry(const ContactCandidate& c) const {
+ContactPenalty Interactions::Geometry(const ContactCandidate& c) const {
   if (!Held(c)) return RawGeometry(c);
-  Penalty p;
+  ContactPenalty p;
   p.clearance = 1.0;  // m: never a contact, never within any margin
   p.depth = -p.clearance;
   return p;
 }
 
-Interactions::Penalty Interactions::RawGeometry(const ContactCandidate& c) const {
+ContactPenalty Interactions::RawGeometry(const ContactCandidate& c) const {
   const collision::Sphere& sa = chain_.spheres()[c.a];
-  Penalty p;
+  ContactPenalty p;
   double reach = radius_;
   double distance = 0.0;
   switch (c.kind) {
@@ -287,36 +235,14 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const 
   return Vec3::Zero();
 }
 
-Interactions::Penalty Interactions::Evaluate(const ContactCandidate& c,
-                                             const Penalty& geometry) const {
-  const ContactParams& cp = model_.params().contacts;
-  Penalty p = geometry;
+ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
+                                      const ContactPenalty& geometry) const {
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
-  if (p.depth <= 0.0 && speculative_h_ == 0.0) return p;
-  const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
-  const double vn = relative.dot(p.normal);
-  // A pair that is apart but closing fast enough to touch within the implicit step acts now: its
-  // linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of the
-  // contact being found a step late and deep (which creates energy at every impact).
-  const bool speculative = p.depth <= 0.0 && p.depth - speculative_h_ * vn > 0.0;
-  if (p.depth <= 0.0 && !speculative) return p;
-  // Penalty spring and damping along the normal; friction: the regularized law here, or the
-  // stick-slip law that AddForces adds (AddStickSlip).
-  const double spring = ContactLaw(p.depth).force;
-  const double fn = spring - cp.damping * vn;
-  if (fn <= 0.0 && !speculative) return p;
-  p.slip = relative - vn * p.normal;
-  p.force = fn * p.normal;
-  if (anchors_ == nullptr) {
-    const double friction = Friction(c.kind) * std::max(fn, 0.0);
-    p.force -= (friction / std::max(p.slip.norm(), kFrictionSlip)) * p.slip;
-  } else {
-    // The friction cone's normal force is the penalty spring's alone: an impact's damping pushes
-    // for a sub-step, and a cone widened by it stored its closing speed in the stuck springs.
-    p.normal_force = std::min(fn, spring);
-  }
-  p.active = true;
-  return p;
+  if (geometry.depth <= 0.0 && speculative_h_ == 0.0) return geometry;
+  // Friction: the regularized law here, or the stick-slip law that AddForces adds
+  // (StickSlipFriction).
+  return law_.Evaluate(c.kind, geometry, sphere_velocity_[c.a] - OtherVelocity(c, geometry.lever),
+                       speculative_h_, friction_.active());
 }
 
 void Interactions::GatherVelocities(const Points& qd) {
@@ -339,9 +265,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   Configure(q, false);
   GatherVelocities(qd);
   EnsureGeometry();
-  double energy = friction_energy_;
-  pairs_.clear();
-  friction_pairs_.clear();
+  double energy = friction_.energy();
+  self_pairs_.Clear();
+  friction_.ClearPairs();
   tip_links_.clear();
   tip_pairs_.clear();
   tip_rows_ = coupling_rows_;  // the coupling's part (PlaceTips); same size: no allocation
@@ -362,14 +288,14 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
             tip_released_.end()) {
       continue;
     }
-    Penalty p = Evaluate(c, geometry_[i]);
+    ContactPenalty p = Evaluate(c, geometry_[i]);
     if (activated && !p.active) {
       // Its law (linear while apart) from the start, as a speculative pair's.
       const double vn = (sphere_velocity_[c.a] - OtherVelocity(c, p.lever)).dot(p.normal);
-      p.force = (ContactLaw(p.depth).force - cp.damping * vn) * p.normal;
+      p.force = (law_.At(p.depth).force - cp.damping * vn) * p.normal;
       p.active = true;
     }
-    Law law = ContactLaw(p.depth);
+    ContactLaw::Law law = law_.At(p.depth);
     if (p.depth > 0.0) energy += law.energy;
     if (c.kind == ContactKind::kTool) {
       for (const auto& [candidate, slope] : tip_stiffened_) {
@@ -377,16 +303,16 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       }
     }
     if (!p.active) continue;
-    const bool stick_slip = anchors_ != nullptr;
+    const bool stick_slip = friction_.active();
     Mat3 friction_k, friction_d;
     if (stick_slip) {
       friction_k.setZero();
       friction_d.setZero();
-      AddStickSlip(c, &p, &friction_k, &friction_d);
+      friction_.Add(c, law_.Friction(c.kind), &p, &friction_k, &friction_d);
     }
-    AddToWindow(c.a, p.force, F);
+    Window(c.a).Scatter(p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
-    if (self) AddToWindow(c.b, -p.force, F);
+    if (self) Window(c.b).Scatter(-p.force, F);
     // A tool's contact pushes its tip back, moved there by the lever rule (the shaft pivots at
     // the port, which takes the rest).
     const bool tool = c.kind == ContactKind::kTool;
@@ -406,15 +332,14 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       kn += friction_k;
       dn += friction_d;
     } else {
-      dn += (Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
+      dn += (law_.Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     }
     if (tool && tips_in_solve_) {
       // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
       // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.
-      const collision::Sphere& sa = chain_.spheres()[c.a];
       tip_rows_[c.b].k += (p.lever * p.lever) * kn;
       tip_rows_[c.b].d += (p.lever * p.lever) * dn;
-      tip_links_.push_back({c.b, sa.first, sa.w, -p.lever * kn, -p.lever * dn});
+      tip_links_.push_back({Window(c.a), c.b, -p.lever * kn, -p.lever * dn});
       tip_pairs_.push_back(
           {static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
     }
@@ -433,18 +358,13 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       sphere_k_[sphere] += scale * kn;
       sphere_d_[sphere] += scale * dn;
     }
-    if (self && cp.exact_pairs) {
-      const collision::Sphere& sa = chain_.spheres()[c.a];
-      const collision::Sphere& sb = chain_.spheres()[c.b];
-      pairs_.push_back({sa.first, sb.first, sa.w, sb.w, kn, dn});
-    }
+    if (self && cp.exact_pairs) self_pairs_.Add(Window(c.a), Window(c.b), kn, dn);
   }
   if (K) {
     for (int k = 0; k < chain_.size(); ++k) {
       if (!sphere_touched_[k]) continue;
       sphere_touched_[k] = 0;
-      const collision::Sphere& sp = chain_.spheres()[k];
-      AddWindowOuter(sp.first, sp.w, sphere_k_[k], D ? &sphere_d_[k] : nullptr, K, D);
+      Window(k).AddOuter(sphere_k_[k], D ? &sphere_d_[k] : nullptr, K, D);
     }
   }
   // Grasps: a stiff spring from the jaws to the grasped curve point.
@@ -453,61 +373,19 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
     const Vec3 x = GraspStretch(static_cast<int>(t), q);
     energy += 0.5 * k * x.squaredNorm();
-    for (int a = 0; a < 4; ++a)
-      F->row(grasp_at_[t].first + a) += grasp_at_[t].w(a) * (k * x).transpose();
+    const ContactWindow at = ContactWindow::Of(grasp_at_[t]);
+    at.Scatter(k * x, F);
     tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
     tip_rows_[t].tissue += k * x;
     if (K) {
-      const std::array<double, 4> w{grasp_at_[t].w(0), grasp_at_[t].w(1), grasp_at_[t].w(2),
-                                    grasp_at_[t].w(3)};
-      AddWindowOuter(grasp_at_[t].first, w, k * Mat3::Identity(), nullptr, K, nullptr);
+      at.AddOuter(k * Mat3::Identity(), nullptr, K, nullptr);
       if (tips_in_solve_) {
         tip_rows_[t].k += k * Mat3::Identity();
-        tip_links_.push_back(
-            {static_cast<int>(t), grasp_at_[t].first, w, -k * Mat3::Identity(), Mat3::Zero()});
+        tip_links_.push_back({at, static_cast<int>(t), -k * Mat3::Identity(), Mat3::Zero()});
       }
     }
   }
   return energy;
-}
-
-void Interactions::WeighCommonModes(double ck, double cd) {
-  for (PairCoupling& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
-}
-
-void Interactions::AddCommonModeTerms(const double* xd, double* yd) const {
-  // Called at every CG product: each pair carries its windows, so this reads nothing else. The
-  // x and y components go two at a time (one SSE2 register), z alone: the same products and
-  // sums in the same order per component.
-  using Pair2 = Eigen::Vector2d;
-  using In2 = Eigen::Map<const Pair2>;
-  using Out2 = Eigen::Map<Pair2>;
-  for (const PairCoupling& pair : pairs_) {
-    const double* xa = xd + 3 * pair.first_a;
-    const double* xb = xd + 3 * pair.first_b;
-    // (J_a + J_b) x
-    Pair2 common_xy = Pair2::Zero();
-    double common_z = 0.0;
-    for (int i = 0; i < 4; ++i) {
-      common_xy += pair.w_a[i] * In2(xa + 3 * i) + pair.w_b[i] * In2(xb + 3 * i);
-      common_z += pair.w_a[i] * xa[3 * i + 2] + pair.w_b[i] * xb[3 * i + 2];
-    }
-    const Mat3& m = pair.weighed;
-    const double* mc = m.data();  // column-major
-    const Pair2 f_xy =
-        (In2(mc) * common_xy(0) + In2(mc + 3) * common_xy(1)) + In2(mc + 6) * common_z;
-    const double f_z = (m(2, 0) * common_xy(0) + m(2, 1) * common_xy(1)) + m(2, 2) * common_z;
-    double* ya = yd + 3 * pair.first_a;
-    double* yb = yd + 3 * pair.first_b;
-    for (int i = 0; i < 4; ++i) {
-      Out2(ya + 3 * i) += pair.w_a[i] * f_xy;
-      ya[3 * i + 2] += pair.w_a[i] * f_z;
-    }
-    for (int i = 0; i < 4; ++i) {
-      Out2(yb + 3 * i) += pair.w_b[i] * f_xy;
-      yb[3 * i + 2] += pair.w_b[i] * f_z;
-    }
-  }
 }
 
 double Interactions::CandidateMargin(const State& state, double h) const {
@@ -539,7 +417,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const Penalty& p = geometry_[i];
+    const ContactPenalty& p = geometry_[i];
     if (p.clearance >= margin) continue;  // the list's skin: too far to meet within the step
     // A tip in the solve meets the tube within it (its contacts act speculatively on both): the
     // step's rate, not the tool's approach, sets its sub-steps, so that the hand feels the same
@@ -618,7 +496,7 @@ void Interactions::EndStep(State* state) {
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const Penalty& p = geometry_[i];
+    const ContactPenalty& p = geometry_[i];
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) {
       stats.min_clearance = p.clearance;
       stats.deepest = c.kind == ContactKind::kSelf   ? "self"
@@ -657,9 +535,9 @@ void Interactions::EndStep(State* state) {
     for (size_t i = 0; i < list.size(); ++i) {
       const ContactCandidate& c = list[i];
       if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const Penalty& p = geometry_[i];
+      const ContactPenalty& p = geometry_[i];
       if (p.depth > 0.0)
-        k += Series(kc, p.lever * p.lever * ContactLaw(p.depth).slope) * p.normal *
+        k += Series(kc, p.lever * p.lever * law_.At(p.depth).slope) * p.normal *
              p.normal.transpose();
     }
     if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();

@@ -16,9 +16,13 @@
 #include "collision/verlet_list.h"
 #include "common/check.h"
 #include "mechanics/block_band.h"
+#include "mechanics/contact_law.h"
+#include "mechanics/contact_window.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
+#include "mechanics/self_pair_coupling.h"
 #include "mechanics/state.h"
+#include "mechanics/stick_slip_friction.h"
 
 namespace viscera::mechanics {
 
@@ -51,7 +55,7 @@ class Interactions {
 
   /// Weighs the self pairs of the last AddForces with K for AddCommonModeTerms: C_p = ck K_p +
   /// cd D_p, once rather than at each of CG's products.
-  void WeighCommonModes(double ck, double cd);
+  void WeighCommonModes(double ck, double cd) { self_pairs_.Weigh(ck, cd); }
   /// y += sum over those pairs of (J_a + J_b)^T C_p (J_a + J_b) x (x, y #N by 3): what the band
   /// overstates. The exact K is the band's K minus this with (ck, cd) = (1, 0); the exact
   /// implicit matrix is the band's M + h D + h^2 K minus this with (h^2, h).
@@ -63,9 +67,11 @@ class Interactions {
   /// The same on 3N values each, ordered x0 y0 z0 x1 ... (CG's vectors, without reshaping).
   /// @pre x and y each hold the chain's 3N values, and do not overlap (y is added to pair by
   /// pair while later pairs still read x).
-  void AddCommonModeTerms(const double* x, double* y) const;
+  void AddCommonModeTerms(const double* x, double* y) const {
+    self_pairs_.AddCommonModeTerms(x, y);
+  }
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
-  int coupled_pairs() const { return static_cast<int>(pairs_.size()); }
+  int coupled_pairs() const { return self_pairs_.size(); }
 
   /// What the implicit solve's impulses hold (docs/impacts.md), at the end of a
   /// sub-step (the depth at its start minus h times the closing speed):
@@ -102,9 +108,8 @@ class Interactions {
   /// One contact's or grasp's coupling between a tip and a sphere's window: the window's
   /// force changes by -w_i (k dx_tip + d dv_tip) at its point first + i (K's and D's
   /// off-diagonal blocks; symmetric, so also the tip's by the window's motion).
-  struct TipLink {
-    int tool = 0, first = 0;
-    std::array<double, 4> w{};
+  struct TipLink : ContactWindow {
+    int tool = 0;
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
   };
   /// Before the forces: the tips where state->tools has them, the coupling's target at
@@ -122,8 +127,7 @@ class Interactions {
   /// ClearTipReleases starts a sub-step with every contact as its start's law has it.
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);
   void ClearTipReleases() {
-    friction_stuck_.clear();
-    friction_slid_.clear();
+    friction_.ClearRevisions();
     tip_released_.clear();
     tip_stiffened_.clear();
     tip_activated_.clear();
@@ -132,50 +136,21 @@ class Interactions {
   /// hand feels it, enters the step's impulse (EndStep reports its mean, then clamps it).
   void TipAdvanced(int index, double h, ToolState* ts);
 
-  /// Stick-slip friction (docs/friction.md) in the next force evaluations of a
+  /// Stick-slip friction (StickSlipFriction; docs/friction.md) in the next force evaluations of a
   /// sub-step of length h, from the anchors it starts from; nullptr: the regularized law (RK4, or
   /// the scene's friction_law). The anchors must outlive those evaluations.
-  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h);
-  /// Once a sub-step is accepted: each contact that friction held in the last force evaluation
-  /// moves its anchor by the contact's tangential motion over the sub-step (dq, #N by 3: how far
-  /// the sub-step moved q; a tool's tip moved by h times its new velocity), capped by the cone,
-  /// and is marked sliding or stuck as the sub-step ended it; the other anchors are dropped.
-  /// Replaces state->friction.
-  void AdvanceFriction(const Points& dq, double h, State* state);
-  /// After a solve whose end velocities are v + dv (#N by 3, dv's 3N values) and, for the tips,
-  /// their start velocities plus tip_dv (3 per tool; nullptr: none): a sliding contact that the
-  /// friction turned back (faster than kFrictionReversal, kFrictionReversalShare) sticks in the
-  /// next solve of the same sub-step (a constant force that overshoots would do work: energy
-  /// from nothing), and a stuck one held far beyond the cone (kFrictionOverload,
-  /// kFrictionOverloadSpeed) slides. Says whether any changed.
-  /// ClearTipReleases also starts a sub-step with every contact as its start has it.
-  bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv);
-  /// m/s: a slower reversal is left to the next sub-step, which starts it stuck (its energy,
-  /// m v^2 / 2, is about 1e-9 J for a 10 g contact).
-  static constexpr double kFrictionReversal = 5e-4;
-  /// A reversal is solved again only where the sliding force held constant differs from the
-  /// stuck spring's by more than this share of the cone (k_t h u): closer, the constant force is
-  /// the spring's at the cone, and the energy it gives, k_t (h u)^2 / 2, the spring's stretch
-  /// takes back in AdvanceFriction.
-  static constexpr double kFrictionReversalShare = 0.25;
-  /// A stuck contact whose spring and damper end the sub-step beyond this many times the cone
-  /// slides in the next solve of the same sub-step (closer to the cone, it slides from the next
-  /// sub-step on: a resting pile has many contacts at the cone's edge).
-  static constexpr double kFrictionOverload = 2.0;
-  /// m/s: the speed the force a stuck pair held beyond the cone must give its spheres within the
-  /// sub-step for the pair to be solved again as sliding. Slower, the one sub-step it was held
-  /// moved them by micrometres (25 µm at 100 Hz), and it slides from the next one on.
-  static constexpr double kFrictionOverloadSpeed = 5e-3;
-  /// A stuck contact's tangential spring, as a share of the normal stiffness (unless the scene
-  /// sets contacts.tangential_stiffness): stiff enough that a contact moves only micrometres
-  /// before it slides (mu f_n / k_t), soft enough that a stuck pair turning within a 10 ms
-  /// sub-step does not push itself deeper (at the normal stiffness, a jammed pile held by the
-  /// limiter alone gained 7 mJ in one 100 Hz step; docs/friction.md).
-  static constexpr double kTangentialShare = 0.2;
-  /// The key a pair's anchor is found by: its kind and its two sides' indices.
-  static uint64_t FrictionKey(collision::ContactKind kind, int a, int b) {
-    return (static_cast<uint64_t>(kind) << 42) | (static_cast<uint64_t>(a) << 21) |
-           static_cast<uint64_t>(b);
+  void UseFriction(const std::vector<FrictionAnchor>* anchors, double h) {
+    friction_.Use(anchors, h);
+  }
+  /// Once a sub-step is accepted: StickSlipFriction::Advance. Replaces state->friction.
+  void AdvanceFriction(const Points& dq, double h, State* state) {
+    friction_.Advance(dq, h, state);
+  }
+  /// After a solve: StickSlipFriction::Revise with the tips' start velocities. Says whether any
+  /// contact changed. ClearTipReleases also starts a sub-step with every contact as its start has
+  /// it.
+  bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
+    return friction_.Revise(v, dv, tip_dv, tool_velocity_);
   }
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
@@ -192,32 +167,12 @@ class Interactions {
   int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
-  // The stiffening law's goal (fraction of R): the slope reaches kStiffening k at this depth, and
-  // the held constraints bound depths short of it (interactions.cc, interactions_impacts.cc).
-  static constexpr double kDepthGoal = 0.10;
-  struct Penalty {
-    bool active = false;
-    Vec3 force = Vec3::Zero();  // on the sphere
-    Vec3 normal = Vec3::Zero();
-    double depth = 0.0;         // penetration (m), > 0 when active
-    double clearance = 0.0;     // signed distance beyond contact (m)
-    double lever = 1.0;         // tool contacts: fraction along the shaft from the port
-    double normal_force = 0.0;  // N, stick-slip: the friction cone's normal force when active
-    Vec3 slip = Vec3::Zero();   // tangential relative velocity (m/s) when active
-  };
-  // The penalty law at a penetration depth > 0: force (N), slope (N/m), stored energy (J).
-  struct Law {
-    double force, slope, energy;
-  };
-  // At `depth` (m); linear (k) at any depth up to impact_depth, apart (depth < 0) included: a
-  // speculative pair's force k depth and slope k.
-  Law ContactLaw(double depth) const;
   // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
   // tool's contact with the part of the tube its jaws hold is no contact (far away).
-  Penalty Geometry(const collision::ContactCandidate& c) const;
-  Penalty RawGeometry(const collision::ContactCandidate& c) const;
+  ContactPenalty Geometry(const collision::ContactCandidate& c) const;
+  ContactPenalty RawGeometry(const collision::ContactCandidate& c) const;
   // A self pair's penalty from its centres' separation (RawGeometry's and SelfGeometry's).
-  Penalty SelfPenalty(const collision::PairSeparation& separation) const;
+  ContactPenalty SelfPenalty(const collision::PairSeparation& separation) const;
   bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres(State* state);
@@ -225,17 +180,15 @@ class Interactions {
   // that a step continues the state it is given, not this workspace's last one (a restored
   // state, another workspace's). Nothing changes for the state this workspace last stepped.
   void FollowState(const State& state);
-  // The Coulomb coefficient of a kind of pair.
-  double Friction(collision::ContactKind kind) const;
-  // Stick-slip friction on an active pair (UseFriction's anchors): adds its tangential force to
-  // p->force, its stiffness to *k and its damping to *d, and keeps the pair for AdvanceFriction.
-  void AddStickSlip(const collision::ContactCandidate& c, Penalty* p, Mat3* k, Mat3* d);
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
   Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
-  // The force law on a candidate's geometry, at the velocities last gathered.
-  Penalty Evaluate(const collision::ContactCandidate& c, const Penalty& geometry) const;
-  Vec3 SphereVelocity(int sphere, const Points& qd) const;
+  // The force law on a candidate's geometry, at the velocities last gathered (a pair apart is
+  // left as it is without them where nothing acts speculatively).
+  ContactPenalty Evaluate(const collision::ContactCandidate& c,
+                          const ContactPenalty& geometry) const;
+  ContactWindow Window(int sphere) const { return ContactWindow::Of(chain_.spheres()[sphere]); }
+  Vec3 SphereVelocity(int sphere, const Points& qd) const { return Window(sphere).Gather(qd); }
   void GatherVelocities(const Points& qd);
   // The chain at q: re-placed along its arc length if `place`, else its spheres moved with the
   // curve. Nothing is redone for the configuration the chain already has; the geometry is
@@ -259,11 +212,6 @@ class Interactions {
   double ImpactSpeed();
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
-  void AddToWindow(int sphere, const Vec3& f, Points* F) const;
-  // K += (w w^T) (x) hk on the window from `first`, and D the same with hd if given.
-  // @pre hk, hd symmetric (as every contact's blocks are).
-  void AddWindowOuter(int first, const std::array<double, 4>& w, const Mat3& hk, const Mat3* hd,
-                      BlockBand* K, BlockBand* D) const;
   // What both AdvanceTool and PrepareTool do first: a tool's first active target places its tip,
   // the coupling fades toward on (active) or off, the jaws and orientation follow the target.
   // Returns false for a tool never yet active (nothing more to do); *active: the target's.
@@ -279,6 +227,7 @@ class Interactions {
   Vec3 GraspStretch(int index, const Points& q) const;
 
   const Model& model_;
+  ContactLaw law_;
   double radius_, margin_;
   // The implicit integrator's sub-step: pairs predicted to touch within it act already
   // (speculative contacts); 0 for RK4, which evaluates the true penetration at every stage.
@@ -295,7 +244,7 @@ class Interactions {
   collision::VerletList candidates_;
   Points configured_q_, gathered_qd_;
   bool configured_ = false, placed_ = false, gathered_ = false;
-  std::vector<Penalty> geometry_;  // per candidate, valid while geometry_valid_
+  std::vector<ContactPenalty> geometry_;  // per candidate, valid while geometry_valid_
   bool geometry_valid_ = false;
   double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
   std::vector<collision::ToolCapsule> capsules_;
@@ -320,16 +269,9 @@ class Interactions {
   double fastest_sphere_ = 0.0;  // m/s, the largest of sphere_velocity_
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
-  // Each self pair's linearization: -dF_a/d(x_a - x_b) (k) and -dF_a/d(v_a - v_b) (d).
-  // The spheres' windows are copied in: AddCommonModeTerms runs at every CG product.
-  struct PairCoupling {
-    int first_a = 0, first_b = 0;
-    std::array<double, 4> w_a{}, w_b{};
-    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
-    Mat3 weighed = Mat3::Zero();  // ck k + cd d (WeighCommonModes)
-  };
-  std::vector<PairCoupling> pairs_;
+  SelfPairCoupling self_pairs_;  // the last AddForces' self pairs (with K)
   ImpactLimiter impacts_;
+  StickSlipFriction friction_;
   std::vector<ImpactLimiter::Contact> impact_contacts_;
   std::vector<int> impact_set_;  // candidates in the impulse solve
   std::vector<char> in_impact_set_;
@@ -378,37 +320,6 @@ class Interactions {
     return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) !=
            tip_activated_.end();
   }
-  // Stick-slip friction: the anchors the sub-step starts from and its length (UseFriction), the
-  // pairs friction held in the last force evaluation, and the anchors being made from them.
-  const std::vector<FrictionAnchor>* anchors_ = nullptr;
-  // The anchors by the pair's kind and first sphere (a counting sort, made by UseFriction):
-  // bucket kind * spheres + a holds anchor_order_[anchor_bucket_[i] .. anchor_bucket_[i + 1]),
-  // a few pairs each, so that a contact finds its anchor in O(1) rather than by a search.
-  std::vector<int> anchor_bucket_, anchor_cursor_, anchor_order_;
-  const FrictionAnchor* FindAnchor(uint64_t key) const;
-  double friction_h_ = 0.0;
-  double tangential_stiffness_ = 0.0;
-  double friction_energy_ = 0.0;  // J: the tangential springs' as the last sub-step left them
-  struct FrictionPair {
-    uint64_t key = 0;
-    collision::ContactKind kind = collision::ContactKind::kSelf;
-    int tool = 0, first_a = 0, first_b = 0;
-    std::array<double, 4> w_a{}, w_b{};
-    double lever = 0.0;
-    Vec3 normal = Vec3::Zero();
-    Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
-    double limit = 0.0;           // N: mu f_n, f_n at the sub-step's start (lagged)
-    bool stuck = false;
-    Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
-  };
-  std::vector<FrictionPair> friction_pairs_;
-  // A friction pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N
-  // values, or nullptr), less lever times the tool's `tip` for a tool pair.
-  static Vec3 PairMotion(const FrictionPair& pair, const Points& x, const double* dx,
-                         const Vec3& tip);
-  std::vector<uint64_t> friction_stuck_;  // pairs ReviseFriction made stick in this sub-step
-  std::vector<uint64_t> friction_slid_;   // ... and slide
-  std::vector<FrictionAnchor> next_anchors_;
   std::vector<Vec3> hand_impulse_;
   std::vector<double> hand_time_;
   std::vector<char> hand_saturated_;  // the coupling saturated in one of the step's sub-steps

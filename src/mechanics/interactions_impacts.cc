@@ -50,7 +50,7 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
       // from under a pressing tool); the tip is integrated against its contacts so it cannot
       // tunnel (docs/tool-coupling.md).
       if (in_impact_set_[i] || list[i].kind == ContactKind::kTool) continue;
-      const Penalty& p = geometry_[i];
+      const ContactPenalty& p = geometry_[i];
       const double un =
           (sphere_velocity_[list[i].a] - OtherVelocity(list[i], p.lever)).dot(p.normal);
       // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
@@ -73,7 +73,7 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
     impact_contacts_.clear();
     for (int i : impact_set_) {
       const ContactCandidate& c = list[i];
-      const Penalty& p = geometry_[i];
+      const ContactPenalty& p = geometry_[i];
       const Vec3 other = OtherVelocity(c, p.lever);
       const double un = (sphere_velocity_[c.a] - other).dot(p.normal);
       // The velocity whose kinetic energy counts (the step's end), when it is not u itself.
@@ -95,18 +95,19 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   const ContactParams& cp = model_.params().contacts;
   const bool impact = kind == EndConstraint::kImpact;
   if (!(cp.impact_depth > 0.0) || !cp.impact_constraints ||
-      (!impact && cp.impact_depth >= kDepthGoal))
+      (!impact && cp.impact_depth >= ContactLaw::kDepthGoal))
     return false;
   // The depth bound sits a quarter of the way from impact_depth to the goal: the linearized end
   // depth misses up to ~3.5 % of R (pairs that appear or turn within the sub-step), and a pile
   // held where the law is 25 k stiff, not 50 k (half-way), gains no energy from its single
   // linearization per sub-step (docs/impacts.md).
   const double allowed =
-      (impact ? cp.impact_depth : cp.impact_depth + 0.25 * (kDepthGoal - cp.impact_depth)) *
+      (impact ? cp.impact_depth
+              : cp.impact_depth + 0.25 * (ContactLaw::kDepthGoal - cp.impact_depth)) *
       radius_;
   const double impact_speed = impact ? ImpactSpeed() : 0.0;
   // The least normal speed that ends the sub-step within `allowed`; impacts are never pushed apart.
-  auto target = [&](const Penalty& p) {
+  auto target = [&](const ContactPenalty& p) {
     return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h;
   };
   EnsureGeometry();  // the sub-step's start, as the forces saw it
@@ -116,7 +117,7 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
     in_end_impact_set_.assign(list.size(), 0);  // grows with the list's high-water mark only
   }
   // Sphere velocities straight from v_check and v_base: the gathered ones are the step's.
-  auto normal_speed = [&](const ContactCandidate& c, const Penalty& p, const Points& v) {
+  auto normal_speed = [&](const ContactCandidate& c, const ContactPenalty& p, const Points& v) {
     const Vec3 other =
         c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v) : OtherVelocity(c, p.lever);
     return (SphereVelocity(c.a, v) - other).dot(p.normal);
@@ -159,7 +160,7 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
     if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool)
       continue;  // tools: their coupling
     const ContactCandidate& c = list[i];
-    const Penalty& p = geometry_[i];
+    const ContactPenalty& p = geometry_[i];
     if (p.depth <= shallow) continue;
     const Vec3 other =
         c.kind == ContactKind::kSelf ? end_velocity_[c.b] : OtherVelocity(c, p.lever);
@@ -173,7 +174,7 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   contacts->clear();
   for (int i : end_impact_set_) {
     const ContactCandidate& c = list[i];
-    const Penalty& p = geometry_[i];
+    const ContactPenalty& p = geometry_[i];
     const double un = normal_speed(c, p, v_base);
     contacts->push_back(
         {c.a, c.kind == ContactKind::kSelf ? c.b : -1, p.normal, un, target(p), un});

@@ -83,21 +83,13 @@ void Interactions::PlaceTips(const State& state, double fraction) {
 bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv,
                                      const VecX& tip_v) {
   const double damping = model_.params().contacts.damping;
-  auto end_velocity = [&](int sphere_index) {
-    const collision::Sphere& sp = chain_.spheres()[sphere_index];
-    Vec3 sphere = Vec3::Zero();
-    for (int a = 0; a < 4; ++a) {
-      sphere += sp.w[a] *
-                (v.row(sp.first + a).transpose() + Eigen::Map<const Vec3>(dv + 3 * (sp.first + a)));
-    }
-    return sphere;
-  };
+  auto end_velocity = [&](int sphere) { return Window(sphere).Gather(v, dv); };
   bool revised = false;
   // Pairs that did not act and end in contact act in the next solve.
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const Penalty& g = geometry_[i];
+    const ContactPenalty& g = geometry_[i];
     if (c.kind != ContactKind::kTool || g.lever <= 0.0 || g.clearance > 2.0 * radius_) continue;
     const int index = static_cast<int>(i);
     bool acted = TipActivated(index);
@@ -121,7 +113,7 @@ bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv
       revised = true;
       continue;
     }
-    const Law end = ContactLaw(end_depth);
+    const ContactLaw::Law end = law_.At(end_depth);
     if (end_depth > 0.0 && end.force > 1.05 * linear && end.slope > pair.slope) {
       tip_stiffened_.push_back({pair.candidate, end.slope});
       revised = true;

@@ -84,7 +84,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     if (c.kind != ContactKind::kTool || c.b != index) continue;
-    const Penalty p = Evaluate(c, geometry_[i]);
+    const ContactPenalty p = Evaluate(c, geometry_[i]);
     if (!p.active) continue;
     tip_contacts_.push_back(
         {p.normal, p.lever, p.depth, sphere_velocity_[c.a] - OtherVelocity(c, p.lever)});
@@ -139,12 +139,12 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       const double depth = tc.depth + axis.dot(moved);
       const Vec3 relative = tc.relative - tc.lever * (ts->tip_velocity - tip_velocity0);
       const double vn = relative.dot(tc.normal);
-      const Law law = ContactLaw(depth);
+      const ContactLaw::Law law = law_.At(depth);
       const double fn = law.force - cp.damping * vn;
       if (!(fn > 0.0) || tc.lever <= 0.0)
         continue;  // it would pull: the tube does not hold the tool
       const Vec3 vt = relative - vn * tc.normal;
-      const double mu = Friction(ContactKind::kTool);
+      const double mu = law_.Friction(ContactKind::kTool);
       const double slip_slope = mu * fn / kFrictionSlip;  // the viscous slope, as AddForces
       const Vec3 on_sphere = fn * tc.normal - (mu * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
       tissue -= tc.lever * on_sphere;  // on the tool, moved to the tip by the lever rule

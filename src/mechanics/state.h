@@ -28,7 +28,7 @@ struct ContactStats {
 /// A contact that friction holds (docs/friction.md): the stretch of its tangential
 /// spring, from where the contact stuck (sticking) or as far as the cone lets it (sliding).
 struct FrictionAnchor {
-  uint64_t key = 0;             ///< the pair: Interactions::FrictionKey(kind, a, b)
+  uint64_t key = 0;             ///< the pair: StickSlipFriction::Key(kind, a, b)
   Vec3 stretch = Vec3::Zero();  ///< m, in the contact's tangent plane when last stepped
   bool sliding = false;         ///< it slid in the last sub-step (the next one starts so)
 };

@@ -25,7 +25,7 @@ bool SameBits(const BlockBand& a, const BlockBand& b) {
   return true;
 }
 
-class ContactWindow : public ::testing::Test {
+class ContactWindowLanes : public ::testing::Test {
  protected:
   // Magnitudes spread over many binades, signs mixed: roundings differ for any other order.
   double Random() { return std::ldexp(u_(rng_), e_(rng_)); }
@@ -49,7 +49,7 @@ class ContactWindow : public ::testing::Test {
   std::uniform_int_distribution<int> e_{-8, 8};
 };
 
-TEST_F(ContactWindow, AddOuterGivesAddSymmetricsBitsOnKAndD) {
+TEST_F(ContactWindowLanes, AddOuterGivesAddSymmetricsBitsOnKAndD) {
   constexpr int kN = 12;
   for (int trial = 0; trial < 2000; ++trial) {
     const BlockBand k0 = RandomBand(kN), d0 = RandomBand(kN);
@@ -57,7 +57,7 @@ TEST_F(ContactWindow, AddOuterGivesAddSymmetricsBitsOnKAndD) {
     const std::array<double, 4> w = RandomWeights();
     const Sym3 hk = RandomSym(), hd = RandomSym();
     const bool with_d = trial % 3 != 0;
-    // The scalar code (Interactions::AddWindowOuter before the lanes).
+    // The scalar code (the window's outer product before the lanes).
     BlockBand k_ref = k0, d_ref = d0;
     for (int a = 0; a < 4; ++a) {
       for (int b = a; b < 4; ++b) {
@@ -73,7 +73,7 @@ TEST_F(ContactWindow, AddOuterGivesAddSymmetricsBitsOnKAndD) {
   }
 }
 
-TEST_F(ContactWindow, AddForceGivesTheRowSumsBits) {
+TEST_F(ContactWindowLanes, AddForceGivesTheRowSumsBits) {
   constexpr int kN = 10;
   for (int trial = 0; trial < 2000; ++trial) {
     Points f0(kN, 3);
@@ -86,6 +86,30 @@ TEST_F(ContactWindow, AddForceGivesTheRowSumsBits) {
     Points got = f0;
     contact_window::AddForce(got.data(), first, w, f);
     ASSERT_TRUE(SameBits(got.data(), ref.data(), ref.size())) << "trial " << trial;
+  }
+}
+
+TEST_F(ContactWindowLanes, GatherAndGatherCommonGiveTheScalarLoopsBits) {
+  constexpr int kN = 10;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Points x(kN, 3), dx(kN, 3);
+    for (int e = 0; e < x.size(); ++e) {
+      x.data()[e] = Random();
+      dx.data()[e] = Random();
+    }
+    const ContactWindow a{trial % (kN - 3), RandomWeights()};
+    const ContactWindow b{(trial / 3) % (kN - 3), RandomWeights()};
+    Vec3 ref = Vec3::Zero(), ref_dx = Vec3::Zero(), common = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) {
+      ref += a.w[i] * x.row(a.first + i).transpose();
+      ref_dx += a.w[i] * (x.row(a.first + i) + dx.row(a.first + i)).transpose();
+      common += a.w[i] * x.row(a.first + i).transpose() + b.w[i] * x.row(b.first + i).transpose();
+    }
+    const Vec3 got = a.Gather(x), got_dx = a.Gather(x, dx.data());
+    const Vec3 got_common = GatherCommon(a, b, x.data());
+    ASSERT_TRUE(SameBits(got.data(), ref.data(), 3)) << "trial " << trial;
+    ASSERT_TRUE(SameBits(got_dx.data(), ref_dx.data(), 3)) << "trial " << trial;
+    ASSERT_TRUE(SameBits(got_common.data(), common.data(), 3)) << "trial " << trial;
   }
 }
 
