@@ -183,12 +183,23 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
   const ToolParams& tp = model_.params().tools[index];
   const bool closing = active && ts->jaw < kGraspClose;
   const bool opening = !active || ts->jaw > kGraspOpen;
+  if (opening) slipped_[index] = 0;
+  // The grip grows as the jaws close past the grasping threshold (a grasper's ratchet).
+  const double grip = tp.jaw_force * std::clamp((kGraspClose - ts->jaw) / kGraspClose, 0.0, 1.0);
   if (grasping_[index]) {
     grasp_offset_[index] *= std::exp(-h / kGraspDraw);
-    if (opening) grasp_scale_[index] -= h / kGraspFade;
-    if (closing) grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
+    // Friction on two jaw faces holds at most 2 mu grip: a harder pull slides the tube out of
+    // them, and it fades out like a release (a slip).
+    const double pull = grasp_scale_[index] * tp.grasp_stiffness * GraspStretch(index, q).norm();
+    if (tp.jaw_force > 0.0 && !slipped_[index] && pull > 2.0 * tp.jaw_friction * grip) {
+      slipped_[index] = 1;
+      ++ts->slips;
+    }
+    if (opening || slipped_[index]) grasp_scale_[index] -= h / kGraspFade;
+    if (closing && !slipped_[index])
+      grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
     if (grasp_scale_[index] <= 0.0) grasping_[index] = false;
-  } else if (closing) {
+  } else if (closing && !slipped_[index]) {
     // Grasp the nearest part of the tube within reach of the jaws.
     const double reach = tp.grasp_reach > 0.0 ? tp.grasp_reach : 2.0 * (radius_ + tp.radius);
     double best = reach;
@@ -214,6 +225,8 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
   ts->grasp_offset = grasp_offset_[index];
   ts->grasp_scale = grasp_scale_[index];
   ts->held_sphere = held_sphere_[index];
+  ts->grip_force = grasping_[index] && !slipped_[index] ? grip : 0.0;
+  ts->slipped = slipped_[index];
 }
 
 }  // namespace viscera::mechanics
