@@ -140,24 +140,27 @@ std::string FormatRunning(const RunningReport& r) {
     dose += e.kind == "dose";
     traction += e.kind == "traction";
   }
-  std::snprintf(line, sizeof line,
-                "  tissue         grip max %.1f N (%.0f kPa); traction max %.1f N; dose max %.0f N s; "
-                "events: pinch %d, dose %d, traction %d; damaged segments %s\n",
-                r.max_grip, 1e-3 * r.max_pressure, r.max_traction, r.max_dose, pinch, dose,
-                traction, Join(r.damaged).c_str());
+  std::snprintf(
+      line, sizeof line,
+      "  tissue         grip max %.1f N (%.0f kPa); traction max %.1f N; dose max %.0f N s; "
+      "events: pinch %d, dose %d, traction %d; damaged segments %s\n",
+      r.max_grip, 1e-3 * r.max_pressure, r.max_traction, r.max_dose, pinch, dose, traction,
+      Join(r.damaged).c_str());
   out += line;
   for (const DamageEvent& e : r.events) {
-    std::snprintf(line, sizeof line, "  event          %-8s segment %d (%.0f-%.0f cm), %s, t = %.2f s, %.1f %s\n",
+    std::snprintf(line, sizeof line,
+                  "  event          %-8s segment %d (%.0f-%.0f cm), %s, t = %.2f s, %.1f %s\n",
                   e.kind.c_str(), e.segment, 100.0 * e.segment * r.segment_length,
                   100.0 * (e.segment + 1) * r.segment_length, e.tool.c_str(), e.t, e.value,
                   e.kind == "dose" ? "N s" : "N");
     out += line;
   }
   if (r.estimate_length > 0.0) {
-    std::snprintf(line, sizeof line,
-                  "  estimate       asked %.0f cm, ran %.1f cm: error %+.1f %% (pass within %.0f %%)\n",
-                  100.0 * r.estimate_length, 100.0 * r.run_length, 100.0 * r.estimate_error,
-                  100.0 * r.pass_estimate_error);
+    std::snprintf(
+        line, sizeof line,
+        "  estimate       asked %.0f cm, ran %.1f cm: error %+.1f %% (pass within %.0f %%)\n",
+        100.0 * r.estimate_length, 100.0 * r.run_length, 100.0 * r.estimate_error,
+        100.0 * r.pass_estimate_error);
     out += line;
   }
   std::snprintf(line, sizeof line,

@@ -102,8 +102,8 @@ TEST(RunningScore, SkippedSegmentsAreMissedAndOnlyThose) {
 }
 
 TEST(RunningScore, TurningBackCountsAReversalAndARetryInPlaceARegrasp) {
-  const RunningReport r = Score(Bowel(), {{0, 0.10}, {1, 0.15}, {0, 0.20}, {1, 0.12}, {0, 0.25},
-                                        {0, 0.26}});
+  const RunningReport r =
+      Score(Bowel(), {{0, 0.10}, {1, 0.15}, {0, 0.20}, {1, 0.12}, {0, 0.25}, {0, 0.26}});
   EXPECT_EQ(r.reversals, 2);  // forward, back at 12 cm, forward again at 25 cm
   EXPECT_EQ(r.regrasps, 1);   // the left jaws at 26 cm, a centimetre from where they let go
 }
@@ -133,8 +133,8 @@ TEST(TissueDamage, ThePullPastTheBreakingForceIsOneEventPerExcursion) {
 TEST(TissueDamage, GripTimesTimeAccumulatesPerSegmentUpToTheDamageDose) {
   // 8 N on segment 4 for 20 s = 160 N s, twice: 320 N s passes the 300 N s of Barrie 2018 during
   // the second hold, at 300 / 8 = 37.5 s of grip; 8 N on segment 5 for 30 s (240 N s) does not
-  const RunningReport r =
-      Score(Bowel(), {{0, 0.21, 8.0, 1.0, 20.0}, {1, 0.22, 8.0, 1.0, 20.0}, {0, 0.27, 8.0, 1.0, 30.0}});
+  const RunningReport r = Score(
+      Bowel(), {{0, 0.21, 8.0, 1.0, 20.0}, {1, 0.22, 8.0, 1.0, 20.0}, {0, 0.27, 8.0, 1.0, 30.0}});
   ASSERT_EQ(r.events.size(), 1u);
   EXPECT_EQ(r.events[0].kind, "dose");
   EXPECT_EQ(r.events[0].segment, 4);
