@@ -14,10 +14,10 @@ namespace viscera::mechanics {
 namespace {
 
 struct Lift {
-  double hold = 0.0;          // N the jaws hold
-  double pull_before = 0.0;   // N, the largest pull while the grasp held
+  double hold = 0.0;         // N the jaws hold
+  double pull_before = 0.0;  // N, the largest pull while the grasp held
   int slips = 0;
-  bool released = false;      // the grasp faded out after the slip
+  bool released = false;       // the grasp faded out after the slip
   bool grasped_again = false;  // a new grasp while the jaws stayed closed
 };
 
