@@ -25,6 +25,22 @@ double TissueDamage::max_dose() const {
   return dose_.empty() ? 0.0 : *std::max_element(dose_.begin(), dose_.end());
 }
 
+std::vector<std::pair<double, double>> TissueDamage::DamagedRanges() const {
+  std::vector<std::pair<double, double>> ranges;
+  for (int k = 0; k < segments(); ++k) {
+    if (!flags_[static_cast<size_t>(k)]) continue;
+    const double from = k * p_.segment / length_;
+    const double to = std::min(1.0, (k + 1) * p_.segment / length_);
+    if (!ranges.empty() && std::abs(ranges.back().second - from) < 1e-12) {
+      ranges.back().second = to;
+    } else {
+      ranges.emplace_back(from, to);
+    }
+  }
+  if (!ranges.empty() && segments() > 0 && flags_.back()) ranges.back().second = 1.0;
+  return ranges;
+}
+
 void TissueDamage::Event(DamageKind kind, int segment, int tool, double t, double value) {
   static const char* kNames[] = {"", "pinch", "dose", "", "traction"};
   flags_[static_cast<size_t>(segment)] |= kind;

@@ -5,6 +5,7 @@
 /// tool state at a time; allocation-free after construction.
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "assessment/report.h"
@@ -34,6 +35,9 @@ class TissueDamage {
   double max_grip() const { return max_grip_; }
   double max_traction() const { return max_traction_; }
   double max_dose() const;
+  /// The segments with a damage event as ranges [from, to] of the curve parameter s (0..1),
+  /// neighbours merged: what the frames draw in the damage colour.
+  std::vector<std::pair<double, double>> DamagedRanges() const;
 
  private:
   struct Tool {

@@ -188,10 +188,16 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
   const double grip = tp.jaw_force * std::clamp((kGraspClose - ts->jaw) / kGraspClose, 0.0, 1.0);
   if (grasping_[index]) {
     grasp_offset_[index] *= std::exp(-h / kGraspDraw);
+    ts->grasp_time += h;
+    ts->grasp_jaw = std::min(ts->grasp_jaw, ts->jaw);
+    // jaws opening let go: a release, not a slip
+    const bool letting_go = ts->jaw > ts->grasp_jaw + 0.01;
     // Friction on two jaw faces holds at most 2 mu grip: a harder pull slides the tube out of
-    // them, and it fades out like a release (a slip).
+    // them, and it fades out like a release (a slip). Judged once the jaws have drawn the tube
+    // in: while they close on it the grip is still growing from nothing.
     const double pull = grasp_scale_[index] * tp.grasp_stiffness * GraspStretch(index, q).norm();
-    if (tp.jaw_force > 0.0 && !slipped_[index] && pull > 2.0 * tp.jaw_friction * grip) {
+    if (tp.jaw_force > 0.0 && !slipped_[index] && !letting_go && ts->grasp_time > kGraspDraw &&
+        pull > 2.0 * tp.jaw_friction * grip) {
       slipped_[index] = 1;
       ++ts->slips;
     }
@@ -215,6 +221,8 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
       grasping_[index] = true;
       held_sphere_[index] = nearest;
       grasp_scale_[index] = 1.0;
+      ts->grasp_time = 0.0;
+      ts->grasp_jaw = ts->jaw;
       grasp_at_[index] = model_.MakeCurvePoint(NearestAlongChain(chain_, nearest, ts->tip));
       grasp_offset_[index] = ts->tip - Model::Evaluate(grasp_at_[index], q);
     }

@@ -63,6 +63,8 @@ struct ToolState {
   /// The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours are
   /// between the jaws, no contact of the shaft, until they are out of it after a release.
   int held_sphere = -1;
+  double grasp_time = 0.0;  ///< s since the grasp engaged
+  double grasp_jaw = 1.0;   ///< the narrowest jaw opening of this grasp: opening past it releases
   double grip_force = 0.0;  ///< the jaws' grip on the held tube (N; 0 without a grasp or jaw_force)
   /// The tube slipped out of the jaws and they are still closed: no grasp until they open.
   bool slipped = false;
