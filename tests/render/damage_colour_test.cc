@@ -27,7 +27,7 @@ mechanics::ModelParams Tube() {
 }
 
 struct Columns {
-  int tube_first = -1, tube_last = -1;    // columns with any bowel
+  int tube_first = -1, tube_last = -1;      // columns with any bowel
   int damage_first = -1, damage_last = -1;  // columns with the damage colour
   long damage_pixels = 0;
 };
