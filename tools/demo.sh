@@ -14,7 +14,7 @@
 #   the 190-point intestine fanned on its mesentery in the abdominal cavity, with the lesion
 #   that scenes/clearing.csv exposes); bowel_run: running the bowel hand over hand
 #   (docs/training.md), its three scripted runs offline with viscera-sim, their reports side by
-#   side and frames of the expert's run with the damage colour in out/demo/bowel_run
+#   side and frames of the rough run with the damage colour in out/demo/bowel_run
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${VISCERA_BUILD_DIR:-$root/build}"
