@@ -12,12 +12,32 @@
 # Usage: ./tools/demo.sh [SCENE] [POSE_RATE_HZ]
 #   SCENE: a scene of scenes/ with the clearing gesture's "right" grasper (default: cavity,
 #   the 190-point intestine fanned on its mesentery in the abdominal cavity, with the lesion
-#   that scenes/clearing.csv exposes)
+#   that scenes/clearing.csv exposes); bowel_run: running the bowel hand over hand
+#   (docs/training.md), its three scripted runs offline with viscera-sim, their reports side by
+#   side and frames of the rough run with the damage colour in out/demo/bowel_run
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${VISCERA_BUILD_DIR:-$root/build}"
 scene="${1:-cavity}"
 pose_rate="${2:-1000}"
+
+if [ "$scene" = bowel_run ]; then
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" --parallel "$(nproc)" --target viscera-sim
+  out="$root/out/demo/bowel_run"
+  rm -rf "$out" && mkdir -p "$out"
+  for run in expert rough careless; do
+    script="$root/scenes/bowel_run_$run.csv"
+    duration=$(tail -1 "$script" | cut -d, -f1)
+    echo "== running the bowel: the $run run ($duration s simulated, 100 Hz)"
+    frames=()
+    [ "$run" = rough ] && frames=(--render "$out/frames_$run" --render-every 500 --camera 0.0 -0.05 0.42 0.0 0.0 0.08)
+    "$build/tools/viscera-sim" "$root/scenes/bowel_run.toml" --duration "$duration" \
+      --tool-script "$script" --report "$out/$run.json" "${frames[@]}" | sed -n '/^running/,$p'
+  done
+  echo "== reports (JSON) and frames of the rough run (damage in blue-violet) in $out"
+  exit 0
+fi
 
 if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then
   "$root/tools/setup.sh"

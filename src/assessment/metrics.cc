@@ -39,7 +39,9 @@ Thresholds ThresholdsOf(const mechanics::AssessmentParams& a) {
 }
 
 SessionMetrics::SessionMetrics(const mechanics::ModelParams& params)
-    : params_(params), tools_(params.tools.size()) {}
+    : params_(params), tools_(params.tools.size()) {
+  if (params.task.running) running_ = std::make_unique<RunningScore>(params);
+}
 
 bool SessionMetrics::TouchesOrgan(const Vec3& tip, double radius) const {
   Vec3 normal;
@@ -94,6 +96,7 @@ void SessionMetrics::AddStep(const mechanics::State& state, double dt) {
     if (touching) t.organ_time += dt;
     t.touching_organ = touching;
   }
+  if (running_) running_->AddStep(state, dt);
 }
 
 void SessionMetrics::Fill(Report* report) const {
@@ -118,6 +121,8 @@ void SessionMetrics::Fill(Report* report) const {
   }
   report->sim_time = std::max(report->sim_time, time_);
   report->thresholds = ThresholdsOf(params_.task.assessment);
+  report->has_running = running_ != nullptr;
+  if (running_) running_->Fill(&report->running);
 }
 
 TargetTracker::TargetTracker(const mechanics::TaskParams& task)

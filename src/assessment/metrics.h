@@ -3,9 +3,11 @@
 /// leaves (tips, tissue forces, grasps), never inside Step. O(tools x obstacles) per step,
 /// allocation-free after construction; force percentiles from a fixed histogram (0.01 N bins).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "assessment/report.h"
+#include "assessment/running.h"
 #include "mechanics/model_params.h"
 #include "mechanics/state.h"
 
@@ -38,8 +40,15 @@ class SessionMetrics {
   /// Takes the state one step of `dt` seconds left.
   void AddStep(const mechanics::State& state, double dt);
 
-  /// Tool figures so far (targets are filled by TargetTracker).
+  /// Tool figures so far, and running the bowel's when the scene sets it (targets are filled by
+  /// TargetTracker).
   void Fill(Report* report) const;
+  /// The camera, for running the bowel's camera coverage and time out of view.
+  void SetView(const View& view) {
+    if (running_) running_->SetView(view);
+  }
+  /// Running the bowel's score (null when the scene has no [running]).
+  const RunningScore* running() const { return running_.get(); }
 
  private:
   struct Tool {
@@ -63,6 +72,7 @@ class SessionMetrics {
   const mechanics::ModelParams& params_;
   std::vector<Tool> tools_;
   double time_ = 0.0;
+  std::unique_ptr<RunningScore> running_;
 };
 
 /// Exposure over time of each target: the latest, the largest and when it first reached the

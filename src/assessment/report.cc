@@ -39,7 +39,8 @@ nlohmann::json ToJson(const Report& r) {
             {"regrasp_window_s", r.thresholds.regrasp_window},
             {"exposed_fraction", r.thresholds.exposed_fraction}}},
           {"tools", tools},
-          {"targets", targets}};
+          {"targets", targets},
+          {"running", r.has_running ? RunningToJson(r.running) : nlohmann::json(nullptr)}};
 }
 
 Report ReportFromJson(const nlohmann::json& j) {
@@ -79,6 +80,11 @@ Report ReportFromJson(const nlohmann::json& j) {
         t.at("time_to_expose_s").is_null() ? -1.0 : t.at("time_to_expose_s").get<double>();
     r.targets.push_back(x);
   }
+  // reports written before the running task have no "running"
+  if (j.contains("running") && !j.at("running").is_null()) {
+    r.has_running = true;
+    r.running = RunningFromJson(j.at("running"));
+  }
   return r;
 }
 
@@ -100,7 +106,8 @@ bool operator==(const Thresholds& a, const Thresholds& b) {
 bool operator==(const Report& a, const Report& b) {
   return a.session == b.session && a.scene == b.scene && a.sim_time == b.sim_time &&
          a.finished == b.finished && a.thresholds == b.thresholds && a.tools == b.tools &&
-         a.targets == b.targets;
+         a.targets == b.targets && a.has_running == b.has_running &&
+         (!a.has_running || a.running == b.running);
 }
 
 std::string FormatReport(const Report& r) {
@@ -141,6 +148,7 @@ std::string FormatReport(const Report& r) {
     }
     out += line;
   }
+  if (r.has_running) out += FormatRunning(r.running);
   return out;
 }
 

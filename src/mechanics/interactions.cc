@@ -56,6 +56,7 @@ Interactions::Interactions(const Model& model)
   grasp_at_.resize(tools);
   grasp_offset_.assign(tools, Vec3::Zero());
   grasp_scale_.assign(tools, 0.0);
+  slipped_.assign(tools, 0);
   held_sphere_.assign(tools, -1);
   tips_in_solve_ = model.params().integrator == IntegratorKind::kImplicitEuler &&
                    model.params().contacts.tips_in_solve;
@@ -121,6 +122,7 @@ void Interactions::FollowState(const State& state) {
     grasping_[t] = ts.grasping;
     grasp_offset_[t] = ts.grasp_offset;
     grasp_scale_[t] = ts.grasp_scale;
+    slipped_[t] = ts.slipped;
     if (ts.grasping) grasp_at_[t] = model_.MakeCurvePoint(ts.grasp_s);
   }
 }

@@ -258,6 +258,9 @@ class Interactions {
   // drawn into the jaws), and fades out on release: the force never jumps.
   std::vector<Vec3> grasp_offset_;
   std::vector<double> grasp_scale_;
+  // The tube slipped out of closed jaws (ToolState::slipped): it fades out and no grasp starts
+  // until they open.
+  std::vector<char> slipped_;
   // The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours within
   // held_span_ are between the jaws, where the shaft's contact would fight the grasp (the tube
   // sank half its radius into the tool). Kept after a release until they are out of the shaft.

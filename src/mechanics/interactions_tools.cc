@@ -183,12 +183,29 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
   const ToolParams& tp = model_.params().tools[index];
   const bool closing = active && ts->jaw < kGraspClose;
   const bool opening = !active || ts->jaw > kGraspOpen;
+  if (opening) slipped_[index] = 0;
+  // The grip grows as the jaws close past the grasping threshold (a grasper's ratchet).
+  const double grip = tp.jaw_force * std::clamp((kGraspClose - ts->jaw) / kGraspClose, 0.0, 1.0);
   if (grasping_[index]) {
     grasp_offset_[index] *= std::exp(-h / kGraspDraw);
-    if (opening) grasp_scale_[index] -= h / kGraspFade;
-    if (closing) grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
+    ts->grasp_time += h;
+    ts->grasp_jaw = std::min(ts->grasp_jaw, ts->jaw);
+    // jaws opening let go: a release, not a slip
+    const bool letting_go = ts->jaw > ts->grasp_jaw + 0.01;
+    // Friction on two jaw faces holds at most 2 mu grip: a harder pull slides the tube out of
+    // them, and it fades out like a release (a slip). Judged once the jaws have drawn the tube
+    // in: while they close on it the grip is still growing from nothing.
+    const double pull = grasp_scale_[index] * tp.grasp_stiffness * GraspStretch(index, q).norm();
+    if (tp.jaw_force > 0.0 && !slipped_[index] && !letting_go && ts->grasp_time > kGraspDraw &&
+        pull > 2.0 * tp.jaw_friction * grip) {
+      slipped_[index] = 1;
+      ++ts->slips;
+    }
+    if (opening || slipped_[index]) grasp_scale_[index] -= h / kGraspFade;
+    if (closing && !slipped_[index])
+      grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
     if (grasp_scale_[index] <= 0.0) grasping_[index] = false;
-  } else if (closing) {
+  } else if (closing && !slipped_[index]) {
     // Grasp the nearest part of the tube within reach of the jaws.
     const double reach = tp.grasp_reach > 0.0 ? tp.grasp_reach : 2.0 * (radius_ + tp.radius);
     double best = reach;
@@ -204,6 +221,8 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
       grasping_[index] = true;
       held_sphere_[index] = nearest;
       grasp_scale_[index] = 1.0;
+      ts->grasp_time = 0.0;
+      ts->grasp_jaw = ts->jaw;
       grasp_at_[index] = model_.MakeCurvePoint(NearestAlongChain(chain_, nearest, ts->tip));
       grasp_offset_[index] = ts->tip - Model::Evaluate(grasp_at_[index], q);
     }
@@ -214,6 +233,8 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
   ts->grasp_offset = grasp_offset_[index];
   ts->grasp_scale = grasp_scale_[index];
   ts->held_sphere = held_sphere_[index];
+  ts->grip_force = grasping_[index] && !slipped_[index] ? grip : 0.0;
+  ts->slipped = slipped_[index];
 }
 
 }  // namespace viscera::mechanics

@@ -3,6 +3,7 @@
 /// trocar port to the tip, jaws at the tip. The device (a client) sets a target pose; the
 /// simulated tool follows it through a virtual coupling (spring-damper), so it cannot tunnel
 /// through tissue, and the coupling force is the force feedback.
+#include <cstdint>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -22,7 +23,13 @@ struct ToolParams {
   double coupling_damping = 4.0;      ///< virtual coupling (N s/m)
   double mass = 0.05;                 ///< simulated tool tip mass (kg); its weight is not felt
   double grasp_stiffness = 500.0;     ///< jaw-to-tube spring while grasping (N/m)
-  double grasp_reach = 0.0;    ///< how far from the jaws a tube can be grasped (m); 0 = 2 radii
+  double grasp_reach = 0.0;  ///< how far from the jaws a tube can be grasped (m); 0 = 2 radii
+  /// Grip of fully closed jaws (N): the jaws grip with jaw_force (0.3 - jaw) / 0.3 once closed
+  /// below 0.3. 0: no grip model, the grasp holds whatever pulls it.
+  double jaw_force = 0.0;
+  /// Friction of a jaw face on the serosa: the grasp holds 2 jaw_friction grip (two faces) and
+  /// slips beyond it.
+  double jaw_friction = 0.1;
   double idle_timeout = 0.25;  ///< s without a target before the tool goes idle (server side)
 };
 
@@ -56,6 +63,12 @@ struct ToolState {
   /// The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours are
   /// between the jaws, no contact of the shaft, until they are out of it after a release.
   int held_sphere = -1;
+  double grasp_time = 0.0;  ///< s since the grasp engaged
+  double grasp_jaw = 1.0;   ///< the narrowest jaw opening of this grasp: opening past it releases
+  double grip_force = 0.0;  ///< the jaws' grip on the held tube (N; 0 without a grasp or jaw_force)
+  /// The tube slipped out of the jaws and they are still closed: no grasp until they open.
+  bool slipped = false;
+  int64_t slips = 0;  ///< times the tube slipped out of these jaws (the pull beat the hold)
   double coupling_scale = 1.0;  ///< 1 while active, fades to 0 when idle
   /// Force on the user's hand (N): pressing down into tissue gives an upward force. Clamped.
   Vec3 force = Vec3::Zero();

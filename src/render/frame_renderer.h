@@ -78,6 +78,11 @@ class FrameRenderer {
   /// until the next Encode.
   const std::vector<uint8_t>& Encode();
 
+  /// Parts of the bowel drawn in the damage colour (SceneRenderer::SetDamage).
+  void SetDamage(std::vector<std::pair<double, double>> ranges) {
+    scene_->SetDamage(std::move(ranges));
+  }
+
   const FrameTimings& timings() const { return timings_; }
   const skin::Mesh& mesh() const { return mesh_; }
   const skin::Skin& skin() const { return *skin_; }

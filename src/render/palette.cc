@@ -53,6 +53,7 @@ Palette DefaultPalette() {
   p.mesentery.vessel = {0.62f, 0.12f, 0.14f};
   p.tool = Make({0.62f, 0.64f, 0.68f}, 0.12f, 0.90f, 40.0f, 0.15f, 3.0f, 0.8f);
   p.target = Make({0.10f, 0.95f, 0.25f}, 0.60f, 0.0f, 1.0f);
+  p.damage = Make({0.30f, 0.10f, 0.95f}, 0.60f, 0.0f, 1.0f);
   p.named_organs = {
       {"liver", Make({0.40f, 0.13f, 0.18f}, 0.10f, 0.50f, 60.0f, 0.06f, 5.0f)},
       {"spleen", Make({0.40f, 0.12f, 0.20f}, 0.10f, 0.40f, 60.0f, 0.05f, 5.0f)},
@@ -75,7 +76,7 @@ Palette DefaultPalette() {
 
 void DropTextures(Palette* palette) {
   for (Material* m : {&palette->intestine, &palette->cavity_wall, &palette->mesentery,
-                      &palette->tool, &palette->target}) {
+                      &palette->tool, &palette->target, &palette->damage}) {
     m->pattern = Pattern::kPlain;
   }
   for (auto& named : palette->named_organs) named.second.pattern = Pattern::kPlain;

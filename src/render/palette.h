@@ -24,6 +24,9 @@ struct Palette {
   /// The training task's targets ([[target]]): a saturated green nothing else in the abdomen
   /// has, lit mostly by its ambient term, so a frame shows (and a test finds) every visible bit.
   Material target;
+  /// Bowel the handling damaged (running the bowel's damage events): a saturated blue-violet
+  /// bruise no tissue has, lit mostly by its ambient term, so the trainee (and a test) sees it.
+  Material damage;
   /// Organs by obstacle name (case-insensitive substring: "liver", "spine", ...).
   std::vector<std::pair<std::string, Material>> named_organs;
   /// Organs whose name matches none of the above, cycled in scene order.

@@ -101,16 +101,47 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   // near to far, roughly: the bowel and the tools before the wall and organs behind them, so the
   // depth test rejects the wall's hidden fragments before they are shaded
   intestine_cpu_.Clear();
-  if (options_.cull_intestine) {
-    intestine_counts_ = culler_.Append(intestine, length_, radius_, camera, &intestine_cpu_);
-  } else {
+  const Faces faces = options_.intestine_back_faces ? Faces::kBoth : Faces::kFront;
+  if (!damage_.empty() && !intestine.positions.empty() &&
+      intestine.surface.size() == intestine.positions.size()) {
+    // each triangle in one of the two colours, by where along the bowel its middle lies (the
+    // whole skin: a damaged bowel is drawn without culling)
     AppendSkin(intestine, length_, radius_, &intestine_cpu_);
     intestine_counts_ = {};
     intestine_counts_.triangles = intestine_counts_.triangles_drawn = intestine.num_triangles();
+    healthy_indices_.clear();
+    damaged_indices_.clear();
+    for (const Eigen::Vector3i& t : intestine.triangles) {
+      const double s = (intestine.surface[t[0]].x() + intestine.surface[t[1]].x() +
+                        intestine.surface[t[2]].x()) /
+                       3.0;
+      bool hurt = false;
+      for (const auto& [from, to] : damage_) hurt = hurt || (s >= from && s <= to);
+      std::vector<uint32_t>& out = hurt ? damaged_indices_ : healthy_indices_;
+      for (int k = 0; k < 3; ++k) out.push_back(static_cast<uint32_t>(t[k]));
+    }
+    const float* texture =
+        intestine_cpu_.texture.empty() ? nullptr : intestine_cpu_.texture[0].data();
+    const long n = intestine_cpu_.num_vertices();
+    intestine_gpu_.Upload(intestine_cpu_.positions[0].data(), intestine_cpu_.normals[0].data(), n,
+                          healthy_indices_.data(), static_cast<long>(healthy_indices_.size()),
+                          texture);
+    damaged_gpu_.Upload(intestine_cpu_.positions[0].data(), intestine_cpu_.normals[0].data(), n,
+                        damaged_indices_.data(), static_cast<long>(damaged_indices_.size()),
+                        texture);
+    renderer_.Draw(intestine_gpu_, camera, palette_.intestine, faces);
+    renderer_.Draw(damaged_gpu_, camera, palette_.damage, faces);
+  } else {
+    if (options_.cull_intestine) {
+      intestine_counts_ = culler_.Append(intestine, length_, radius_, camera, &intestine_cpu_);
+    } else {
+      AppendSkin(intestine, length_, radius_, &intestine_cpu_);
+      intestine_counts_ = {};
+      intestine_counts_.triangles = intestine_counts_.triangles_drawn = intestine.num_triangles();
+    }
+    intestine_gpu_.Upload(intestine_cpu_);
+    renderer_.Draw(intestine_gpu_, camera, palette_.intestine, faces);
   }
-  intestine_gpu_.Upload(intestine_cpu_);
-  renderer_.Draw(intestine_gpu_, camera, palette_.intestine,
-                 options_.intestine_back_faces ? Faces::kBoth : Faces::kFront);
 
   tools_cpu_.Clear();
   for (size_t i = 0; i < tools.size(); ++i) {

@@ -4,6 +4,7 @@
 /// OffscreenContext.
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "mechanics/model_params.h"
@@ -59,6 +60,10 @@ class SceneRenderer {
   void Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
             const CameraMatrices& camera, const Points* skeleton = nullptr);
 
+  /// Parts of the bowel drawn in the damage colour from the next Draw on: ranges [from, to] of
+  /// the curve parameter s (0..1). Needs a skin with surface coordinates (the ring-based ones).
+  void SetDamage(std::vector<std::pair<double, double>> ranges) { damage_ = std::move(ranges); }
+
   const Palette& palette() const { return palette_; }
   /// Triangles drawn in the last frame (obstacles, intestine, tools).
   long triangles() const { return triangles_; }
@@ -85,6 +90,10 @@ class SceneRenderer {
   TriMesh intestine_cpu_;  // reused: its float copy of the skin
   TriMesh tools_cpu_;
   GpuMesh intestine_gpu_;  // one buffer set per dynamic mesh: no upload waits for a draw
+  // the damaged parts of the bowel: the skin's triangles whose middle lies in a range of s
+  std::vector<std::pair<double, double>> damage_;
+  std::vector<uint32_t> healthy_indices_, damaged_indices_;
+  GpuMesh damaged_gpu_;
   GpuMesh tools_gpu_;
   // the mesentery: its root points and curve parameters (empty without [mesentery])
   std::vector<Vec3> membrane_root_, membrane_edge_;

@@ -356,6 +356,8 @@ void ReadTools(const toml::table& root, const SceneLimits& limits, ModelParams* 
     tool.mass = Within(r, "mass", tool.mass, 1e-3, 10.0, "kg");
     tool.grasp_stiffness = Within(r, "grasp_stiffness", tool.grasp_stiffness, 1e-3, 1e5, "N/m");
     tool.grasp_reach = Within(r, "grasp_reach", tool.grasp_reach, 0.0, 0.1, "m");
+    tool.jaw_force = Within(r, "jaw_force", tool.jaw_force, 0.0, 100.0, "N");
+    tool.jaw_friction = Within(r, "jaw_friction", tool.jaw_friction, 1e-3, 2.0, "");
     tool.idle_timeout = Within(r, "idle_timeout", tool.idle_timeout, 1e-3, 60.0, "s");
     r.Finish();
     p->tools.push_back(tool);
@@ -413,7 +415,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
     const std::string k(key.str());
     if (k == "simulation" || k == "intestine" || k == "attachment" || k == "obstacle" ||
         k == "contacts" || k == "tool" || k == "mesentery" || k == "target" || k == "assessment" ||
-        k == "camera") {
+        k == "running" || k == "camera") {
       continue;
     }
     scene.warnings.push_back(Cat("unknown top-level table [", k, "] ignored"));
@@ -432,6 +434,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   ReadTools(root, limits, &scene.model);
   ReadTask(TableArray(root, "target"),
            root.contains("assessment") ? &SubTable(root, "assessment") : nullptr, &scene.model);
+  if (root.contains("running")) ReadRunning(SubTable(root, "running"), &scene.model);
   scene.model.scope = ReadCamera(root);
   if (settle > 0.0) {
     // The settle runs without the linearization guard and with backward Euler alone, and is

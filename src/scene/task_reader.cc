@@ -96,4 +96,41 @@ void ReadTask(const std::vector<const toml::table*>& targets, const toml::table*
   r.Finish();
 }
 
+void ReadRunning(const toml::table& running, mechanics::ModelParams* p) {
+  const TomlReader r(running, "running");
+  mechanics::RunningParams g;
+  auto positive = [&](const char* key, double* value) {
+    *value = r.Double(key, *value);
+    ThrowUnless(*value > 0.0, r.Name(key), " = ", *value, ": must be > 0");
+  };
+  auto non_negative = [&](const char* key, double* value) {
+    *value = r.Double(key, *value);
+    ThrowUnless(*value >= 0.0, r.Name(key), " = ", *value, ": must be >= 0");
+  };
+  auto count = [&](const char* key, int* value) {
+    *value = r.Int(key, *value);
+    ThrowUnless(*value >= 0, r.Name(key), " = ", *value, ": must be >= 0");
+  };
+  positive("segment", &g.segment);
+  ThrowUnless(g.segment <= p->length, r.Name("segment"), " = ", g.segment,
+              " m: longer than the intestine (", p->length, " m)");
+  positive("jaw_area", &g.jaw_area);
+  positive("pinch_force", &g.pinch_force);
+  positive("damage_dose", &g.damage_dose);
+  positive("traction_break", &g.traction_break);
+  positive("camera_range", &g.camera_range);
+  non_negative("estimate_length", &g.estimate_length);
+  g.pass_coverage = r.Double("pass_coverage", g.pass_coverage);
+  ThrowUnless(g.pass_coverage >= 0.0 && g.pass_coverage <= 1.0, r.Name("pass_coverage"), " = ",
+              g.pass_coverage, ": must be in [0, 1]");
+  non_negative("pass_time", &g.pass_time);
+  non_negative("pass_path", &g.pass_path);
+  count("pass_reversals", &g.pass_reversals);
+  count("pass_slips", &g.pass_slips);
+  count("pass_damage_events", &g.pass_damage_events);
+  positive("pass_estimate_error", &g.pass_estimate_error);
+  r.Finish();
+  p->task.running = g;
+}
+
 }  // namespace viscera::scene

@@ -14,6 +14,10 @@ namespace viscera::scene {
 void ReadTask(const std::vector<const toml::table*>& targets, const toml::table* assessment,
               mechanics::ModelParams* p);
 
+/// Fills p->task.running from the [running] table (docs/training.md).
+/// @throws InputError naming the key, the value and the reason.
+void ReadRunning(const toml::table& running, mechanics::ModelParams* p);
+
 /// Most sample points a target may ask for (each costs one ray per exposure evaluation).
 inline constexpr int kMaxTargetSamples = 1024;
 /// Most targets a scene may declare.

@@ -9,7 +9,7 @@ ScriptPlayer::ScriptPlayer(ToolScript script) : script_(std::move(script)) {
     const std::vector<ToolKeyframe>& f = script_.frames(tool);
     frames_[tool] = f;
     std::vector<bool>& pending = pending_[tool];
-    for (const ToolKeyframe& k : f) pending.push_back(k.at_tube);
+    for (const ToolKeyframe& k : f) pending.push_back(k.at_tube || k.offset);
   }
 }
 
@@ -21,7 +21,15 @@ ToolKeyframe ScriptPlayer::At(const std::string& tool, double t, const Tube& tub
       const bool begun = i == 0 || t >= f[i - 1].t;
       if (!begun) break;
       if (!pending[i]) continue;
-      f[i].tip = AimOnTube(tube, script_.frames(tool)[i]);
+      const ToolKeyframe& row = script_.frames(tool)[i];
+      if (row.offset) {
+        // from where the last row aimed at the tube landed (resolved: rows resolve in order)
+        size_t j = i;
+        while (j > 0 && !script_.frames(tool)[j - 1].at_tube) --j;
+        f[i].tip = f[j - 1].tip + row.tip;
+      } else {
+        f[i].tip = AimOnTube(tube, row);
+      }
       pending[i] = false;
     }
   }

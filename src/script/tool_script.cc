@@ -92,9 +92,16 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
         ThrowUnless(aim.size() > 5 && end && *end == '\0' && k.along >= 0.0 && k.along <= 1.0,
                     source, ":", line_no, ": aim = \"", aim,
                     "\": expected tube@S with 0 <= S <= 1");
+      } else if (aim == "offset") {
+        k.offset = true;
+        bool aimed = false;
+        for (const ToolKeyframe& f : script.frames_[cells[1]]) aimed = aimed || f.at_tube;
+        ThrowUnless(aimed, source, ":", line_no,
+                    ": aim = \"offset\" needs an earlier row of the tool aimed at the tube");
       } else {
         ThrowUnless(aim.empty() || aim == "point" || aim == "tube", source, ":", line_no,
-                    ": aim = \"", aim, "\": expected \"point\", \"tube\" or \"tube@S\"");
+                    ": aim = \"", aim,
+                    "\": expected \"point\", \"tube\", \"tube@S\" or \"offset\"");
       }
       script.aims_at_tube_ = script.aims_at_tube_ || k.at_tube;
     }

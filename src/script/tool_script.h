@@ -5,11 +5,12 @@
 /// `tube`, which aims the row at the tube itself: its target is the point of the tube's surface
 /// nearest to the row's position, or `tube@S` (0 <= S <= 1), which aims it at one part of the
 /// bowel: the tube's surface at arc-length fraction S of its centre line, on the side facing
-/// the row's position. `tube` still depends on where the pile settled (the nearest loop to a
-/// fixed point); `tube@S` takes the same piece of bowel whatever the pile (ScriptPlayer resolves
-/// both). Between rows of a tool the target is interpolated
-/// (linearly, orientation by slerp); before its first row it holds the first, after its last the
-/// last.
+/// the row's position, or `offset`: the row's x, y, z are an offset from where the tool's last
+/// row aimed at the tube landed (lift what was grasped, whatever the pile). `tube` still depends on
+/// where the pile settled (the nearest loop to a fixed point); `tube@S` takes the same piece of
+/// bowel whatever the pile (ScriptPlayer resolves both). Between rows of a tool the target is
+/// interpolated (linearly, orientation by slerp); before its first row it holds the first, after
+/// its last the last.
 #include <limits>
 #include <map>
 #include <string>
@@ -28,6 +29,8 @@ struct ToolKeyframe {
   double jaw = 1.0;
   bool at_tube = false;  ///< aim at the tube: `along` or, if NaN, the surface point nearest `tip`
   double along = std::numeric_limits<double>::quiet_NaN();  ///< aim: the arc-length fraction S
+  /// aim = offset: `tip` is an offset from where the tool's last row aimed at the tube landed
+  bool offset = false;
 };
 
 /// The tube as a script aims at it: its centre line (e.g. the sphere centres, in order) and

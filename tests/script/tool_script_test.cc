@@ -130,5 +130,22 @@ TEST(ScriptPlayer, AnAimedRowIsResolvedOnTheTubeWhenItsSegmentBeginsAndThenHeld)
   EXPECT_EQ(NearestOnTube(tube, Vec3(0.0, 0.02, 0.072)), Vec3(0.0, 0.02, 0.072));
 }
 
+// Hand over hand lifts what the jaws grasped, wherever the pile put it: an offset row moves from
+// where the tool's last aimed row landed.
+TEST(ScriptPlayer, AnOffsetRowLiftsFromWhereTheLastAimedRowLanded) {
+  const ToolScript s = ToolScript::Parse(
+      "t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n"
+      "0,left,0,0,0.3,1,0,0,0,1,point\n"
+      "1,left,0,0,0.3,1,0,0,0,0,tube@0.5\n"
+      "2,left,0,0,0.04,1,0,0,0,0,offset\n");
+  ScriptPlayer player(s);
+  Tube tube{{Vec3(-0.1, 0.0, 0.05), Vec3(0.1, 0.0, 0.05)}, 0.01};
+  const Vec3 grasped = player.At("left", 1.0, tube).tip;
+  EXPECT_TRUE(grasped.isApprox(Vec3(0.0, 0.0, 0.06)));  // the top of the tube's middle
+  EXPECT_TRUE(player.At("left", 2.0, tube).tip.isApprox(grasped + Vec3(0, 0, 0.04)));
+  EXPECT_THROW(ToolScript::Parse("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,a,0,0,0,1,0,0,0,1,offset\n"),
+               InputError);
+}
+
 }  // namespace
 }  // namespace viscera::script

@@ -17,6 +17,7 @@ SimAssessment::SimAssessment(const mechanics::Model& model, const assessment::Vi
       chain_(model.curve(), model.params().length, model.params().radius) {
   const mechanics::ModelParams& p = model.params();
   every_ = std::max<int64_t>(1, std::llround(p.rate_hz / p.task.assessment.exposure_rate_hz));
+  metrics_.SetView(view_);
 }
 
 void SimAssessment::EvaluateExposure(const mechanics::State& state) {

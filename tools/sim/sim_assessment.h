@@ -3,6 +3,7 @@
 /// few steps (the scene's exposure_rate), the exposure of each target from the run's camera —
 /// what viscerad computes for a session, on the same code, for scripts and for checking a
 /// session's report against its record.
+#include <utility>
 #include <vector>
 
 #include "assessment/exposure.h"
@@ -24,6 +25,11 @@ class SimAssessment {
   void AddStep(const mechanics::State& state);
 
   assessment::Report Report(int64_t session, const std::string& scene) const;
+  /// Running the bowel's damaged segments as ranges of s, for the frames (empty without it).
+  std::vector<std::pair<double, double>> DamagedRanges() const {
+    return metrics_.running() ? metrics_.running()->damage().DamagedRanges()
+                              : std::vector<std::pair<double, double>>{};
+  }
   /// (simulated time, exposure of each target) at each evaluation.
   const std::vector<std::vector<double>>& exposure_series() const { return series_; }
   /// CPU time of the exposure evaluations (all targets), mean and max (us).

@@ -113,6 +113,10 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
     per_tool("grasp_s", [&](const mechanics::ToolState& ts) {
       Number(&line_, ts.grasping ? ts.grasp_s : -1.0);
     });
+    per_tool("grip", [&](const mechanics::ToolState& ts) { Number(&line_, ts.grip_force); });
+    per_tool("slips", [&](const mechanics::ToolState& ts) {
+      Number(&line_, static_cast<double>(ts.slips));
+    });
   }
   line_ += "}\n";
   std::fwrite(line_.data(), 1, line_.size(), file_);

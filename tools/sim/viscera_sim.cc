@@ -117,7 +117,8 @@ class FrameWriter {
     options.skin_options.hybrid.focus_radius = opt.focus_radius;
     renderer_ = std::make_unique<render::FrameRenderer>(model.params(), options);
   }
-  void Write(const State& state) {
+  void Write(const State& state, std::vector<std::pair<double, double>> damage = {}) {
+    renderer_->SetDamage(std::move(damage));
     renderer_->Render(state, scope_);
     sequence_.Write(renderer_->Encode());
     render_ms_ += renderer_->timings().skin_ms + renderer_->timings().render_ms +
@@ -292,7 +293,7 @@ int Run(const Options& opt) {
       max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
     assessed.AddStep(state);
     if (k % opt.trace_every == 0 || k == steps) record(us);
-    if (frames && k % render_every == 0) frames->Write(state);
+    if (frames && k % render_every == 0) frames->Write(state, assessed.DamagedRanges());
     progress.Update(k);
   }
 
