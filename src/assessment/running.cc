@@ -81,7 +81,7 @@ void RunningScore::AddStep(const mechanics::State& state, double dt) {
     t.grasping = holding;
     any_grasp = any_grasp || holding;
     t.slips = ts.slips;
-    const double pull = holding ? ts.tissue_force.norm() : 0.0;
+    const double pull = holding ? ts.grasp_pull : 0.0;
     damage_.Add(static_cast<int>(i), holding, ts.grasp_s, holding ? ts.grip_force : 0.0, pull,
                 time_, dt);
     if (view_ && ts.target.active && !InView(ts.tip)) out_of_view_ += dt;

@@ -184,6 +184,7 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
   const bool closing = active && ts->jaw < kGraspClose;
   const bool opening = !active || ts->jaw > kGraspOpen;
   if (opening) slipped_[index] = 0;
+  ts->grasp_pull = 0.0;
   // The grip grows as the jaws close past the grasping threshold (a grasper's ratchet).
   const double grip = tp.jaw_force * std::clamp((kGraspClose - ts->jaw) / kGraspClose, 0.0, 1.0);
   if (grasping_[index]) {
@@ -196,6 +197,7 @@ void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q
     // them, and it fades out like a release (a slip). Judged once the jaws have drawn the tube
     // in: while they close on it the grip is still growing from nothing.
     const double pull = grasp_scale_[index] * tp.grasp_stiffness * GraspStretch(index, q).norm();
+    ts->grasp_pull = pull;
     if (tp.jaw_force > 0.0 && !slipped_[index] && !letting_go && ts->grasp_time > kGraspDraw &&
         pull > 2.0 * tp.jaw_friction * grip) {
       slipped_[index] = 1;

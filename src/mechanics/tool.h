@@ -69,6 +69,9 @@ struct ToolState {
   /// The tube slipped out of the jaws and they are still closed: no grasp until they open.
   bool slipped = false;
   int64_t slips = 0;  ///< times the tube slipped out of these jaws (the pull beat the hold)
+  /// The grasp spring's pull on the held tube (N; 0 without a grasp): the traction the jaws put
+  /// on the bowel, without the shaft's and jaws' contacts pressing on it.
+  double grasp_pull = 0.0;
   double coupling_scale = 1.0;  ///< 1 while active, fades to 0 when idle
   /// Force on the user's hand (N): pressing down into tissue gives an upward force. Clamped.
   Vec3 force = Vec3::Zero();
