@@ -34,6 +34,7 @@ struct Hold {
   double grip = 5.0;     // N
   double pull = 2.0;     // N
   double seconds = 1.0;  // held
+  double press = 0.0;    // N: the tool's contacts pressing on the bowel besides the grasp's pull
 };
 
 State Idle(const ModelParams& p) {
@@ -56,10 +57,12 @@ RunningReport Score(const ModelParams& p, const std::vector<Hold>& holds) {
     t.grasping = true;
     t.grasp_s = h.s;
     t.grip_force = h.grip;
-    t.tissue_force = Vec3(0.0, 0.0, h.pull);
+    t.grasp_pull = h.pull;  // the grasp spring's pull: the traction the scorer reads
+    t.tissue_force = Vec3(0.0, 0.0, h.pull + h.press);
     for (int k = 0; k < static_cast<int>(h.seconds / kDt + 0.5); ++k) m.AddStep(s, kDt);
     t.grasping = false;
     t.grip_force = 0.0;
+    t.grasp_pull = 0.0;
     t.tissue_force.setZero();
     for (int k = 0; k < 50; ++k) m.AddStep(s, kDt);
   }
@@ -128,6 +131,16 @@ TEST(TissueDamage, ThePullPastTheBreakingForceIsOneEventPerExcursion) {
   EXPECT_EQ(r.events[0].kind, "traction");
   EXPECT_EQ(r.events[0].segment, 15);
   EXPECT_DOUBLE_EQ(r.max_traction, 15.0);
+}
+
+// Traction is the grasp's pull: the bowel pressed hard between the tools (40 N of contact on a
+// held part pulled with 5 N) tears nothing.
+TEST(TissueDamage, ContactsPressingOnTheHeldPartAreNotTraction) {
+  Hold pressed{0, 0.52, 5.0, 5.0, 2.0};
+  pressed.press = 40.0;
+  const RunningReport r = Score(Bowel(), {pressed});
+  EXPECT_TRUE(r.events.empty());
+  EXPECT_DOUBLE_EQ(r.max_traction, 5.0);
 }
 
 TEST(TissueDamage, GripTimesTimeAccumulatesPerSegmentUpToTheDamageDose) {
