@@ -67,19 +67,26 @@ struct Push {
   double centre_speed = 0.0;  // the tube's centre of mass's, over the same time (m/s)
   double hand = 0.0;          // impulse the hand gave along the push (N s)
   double momentum = 0.0;      // the tube's and the tip's momentum along the push (N s)
+  double tip_momentum = 0.0;  // the tip's alone (N s)
+  double lever = 1.0;         // where the tube's middle touches the shaft: 0 port .. 1 tip
 };
 
 // Pushes the tube's middle along +y at `speed` for long enough to move it 4 cm. The tube is
 // floppy: it drapes around the shaft, its ends trailing, so it is the pushed part that follows
-// the hand, and the whole tube's centre of mass that carries the hand's impulse.
-Push PushTube(const PushSetup& setup, double rate_hz, double speed, bool tips_in_solve) {
+// the hand, and the whole tube's centre of mass that carries the hand's impulse. With `below` >
+// 0 the tip passes that far under the tube, so the shaft pushes it, nearer the port.
+Push PushTube(const PushSetup& setup, double rate_hz, double speed, bool tips_in_solve,
+              double below = 0.0) {
   ModelParams params = scene::ParseScene(Scene(setup, rate_hz)).model;
   params.contacts.tips_in_solve = tips_in_solve;
   const Model model(params);
   State state = InitialState(model);
   Workspace workspace(model);
   const double reach = params.radius + params.tools[0].radius;
-  const Vec3 start(0.5 * setup.length, -reach - 0.001, 0.0);  // 1 mm short of the tube's side
+  // 1 mm short of the tube's side where the shaft crosses the tube's height
+  const double port_height = setup.port.z(), tube_y = 0.0 - reach - 0.001;
+  const double slant = (tube_y - setup.port.y()) / port_height;  // shaft's y per metre down
+  const Vec3 start(0.5 * setup.length, tube_y + slant * below, -below);
   const double duration = 0.04 / speed + 0.1;
   const int steps = static_cast<int>(std::lround(duration * rate_hz));
   const double dt = 1.0 / rate_hz;
@@ -106,7 +113,11 @@ Push PushTube(const PushSetup& setup, double rate_hz, double speed, bool tips_in
   const double half = (steps - steps / 2) * dt;
   push.tube_speed = (model.curve().Position(state.q, 0.5).y() - middle_half) / half;
   push.centre_speed = (tube_centre() - centre_half) / half;
-  push.momentum = tube_momentum() + params.tools[0].mass * state.tools[0].tip_velocity.y();
+  push.tip_momentum = params.tools[0].mass * state.tools[0].tip_velocity.y();
+  push.momentum = tube_momentum() + push.tip_momentum;
+  const Vec3 port = setup.port, tip = state.tools[0].tip,
+             middle = model.curve().Position(state.q, 0.5);
+  push.lever = (middle - port).dot(tip - port) / (tip - port).squaredNorm();
   EXPECT_TRUE(state.q.allFinite());
   return push;
 }
@@ -132,6 +143,26 @@ TEST(ToolThirdLaw, AFreeTubeFollowsThePushAndTheHandsImpulseIsItsMomentum) {
         EXPECT_NEAR(p.hand, p.momentum, 0.1 * std::abs(p.momentum))
             << rate << " Hz, " << speed << " m/s";
       }
+    }
+  }
+}
+
+TEST(ToolThirdLaw, PushedByTheShaftThePortTakesItsShare) {
+  // The shaft pivots at the port: a contact at lever l from the port moves at l times the tip's
+  // speed and moves l of its force to the tip, the port (the abdominal wall) taking the rest.
+  // So the hand's impulse is the tip's momentum and l of the tube's, not all of it.
+  for (double rate : {100.0, 1000.0}) {
+    for (double speed : {0.02, 0.08, 0.2}) {
+      const Push p = PushTube(kSlanted, rate, speed, true, 0.2);
+      const double tube = p.momentum - p.tip_momentum;
+      std::printf(
+          "shaft, %4.0f Hz %4.0f cm/s: lever %.3f, pushed part %.4f m/s (%.3f of the hand's), "
+          "hand impulse %.5f N s, tip %.5f + lever x tube %.5f = %.5f N s (tube %.5f)\n",
+          rate, 100 * speed, p.lever, p.tube_speed, p.tube_speed / speed, p.hand, p.tip_momentum,
+          p.lever * tube, p.tip_momentum + p.lever * tube, tube);
+      EXPECT_NEAR(p.tube_speed, p.lever * speed, 0.1 * p.lever * speed) << rate << " Hz, " << speed;
+      EXPECT_NEAR(p.hand, p.tip_momentum + p.lever * tube, 0.05 * tube) << rate << " Hz, " << speed;
+      EXPECT_LT(p.hand, p.momentum - 0.5 * (1.0 - p.lever) * tube) << "the port took no share";
     }
   }
 }

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "common/check.h"
+#include "mechanics/banded_cholesky.h"
 
 namespace viscera::tools {
 namespace {
@@ -53,6 +54,16 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
   Points("qd", state.qd);
   line_ += ",\"length\":";
   Number(&line_, length);
+  // The tube's linear momentum, sum of M q̇ over the points: the consistent mass matrix's, not
+  // the control points' velocities times a share of the mass (they are not material points).
+  weighted_.resize(state.qd.rows(), 3);
+  mechanics::BandMultiply(model.mass_band(), state.qd, &weighted_);
+  line_ += ",\"momentum\":[";
+  for (int a = 0; a < 3; ++a) {
+    if (a) line_ += ',';
+    Number(&line_, weighted_.col(a).sum());
+  }
+  line_ += ']';
   line_ += ",\"energy\":{";
   const std::pair<const char*, double> terms[] = {
       {"kinetic", e.kinetic}, {"gravity", e.gravity},       {"stretch", e.stretch},
@@ -110,6 +121,7 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
     };
     per_tool("tool_force", [&](const mechanics::ToolState& ts) { vector(ts.force); });
     per_tool("tool_tip", [&](const mechanics::ToolState& ts) { vector(ts.tip); });
+    per_tool("tool_tip_velocity", [&](const mechanics::ToolState& ts) { vector(ts.tip_velocity); });
     per_tool("grasp_s", [&](const mechanics::ToolState& ts) {
       Number(&line_, ts.grasping ? ts.grasp_s : -1.0);
     });
