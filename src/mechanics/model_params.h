@@ -98,6 +98,16 @@ struct ContactParams {
 /// Below this tangential speed friction is viscous (m/s): no stick-slip chatter at 100 Hz.
 inline constexpr double kFrictionSlip = 0.01;
 
+/// The intestine's defaults: the human small intestine's measured values (docs/mechanics.md,
+/// "Tissue card", has the ranges and their sources). A scene's [intestine] that leaves a key out
+/// gets these, not a tube without stiffness.
+struct TissueCard {
+  static constexpr double kRadius = 0.0125;           ///< m: 2.5 cm across (2.5-3 cm measured)
+  static constexpr double kLinearDensity = 0.25;      ///< kg/m with contents (0.15-0.33 measured)
+  static constexpr double kStretchStiffness = 100.0;  ///< EA (N): 48 at low strain, 350 at high
+  static constexpr double kBendStiffness = 1.0e-4;  ///< EI (N m^2): 1.6e-5 collapsed, 3e-3 inflated
+};
+
 struct ModelParams {
   // [simulation]
   double rate_hz = 100.0;  ///< steps per simulated second

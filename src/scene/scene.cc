@@ -27,6 +27,7 @@ using mechanics::ContinuousScope;
 using mechanics::IntegratorKind;
 using mechanics::MassSolverKind;
 using mechanics::ModelParams;
+using mechanics::TissueCard;
 
 const toml::table& SubTable(const toml::table& root, const std::string& name) {
   const toml::node* node = root.get(name);
@@ -89,6 +90,12 @@ double Positive(const TomlReader& r, const std::string& key) {
   return v;
 }
 
+double Positive(const TomlReader& r, const std::string& key, double fallback) {
+  const double v = r.Double(key, fallback);
+  ThrowUnless(v > 0.0, r.Name(key), " = ", v, ": must be > 0");
+  return v;
+}
+
 // A parameter within [lo, hi]: for a tool, what a haptic device and the coupling can render (a
 // stiffness of 1e308 or a mass of 1e-300 made every force sent non-finite).
 double Within(const TomlReader& r, const std::string& key, double fallback, double lo, double hi,
@@ -128,8 +135,8 @@ std::vector<double> ReadPinned(const TomlReader& r) {
 void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelParams* p) {
   const TomlReader r(table, "intestine");
   p->length = Positive(r, "length");
-  p->radius = Positive(r, "radius");
-  p->mass = Positive(r, "mass");
+  p->radius = Positive(r, "radius", TissueCard::kRadius);
+  p->mass = Positive(r, "mass", TissueCard::kLinearDensity * p->length);
   // the collision chain's size, known before anything is built (a tiny radius asked for
   // gigabytes of spheres and their pairs)
   const double spheres = std::ceil(p->length / p->radius) + 1.0;
@@ -139,8 +146,8 @@ void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelPar
               " (a shorter or wider tube)");
   const int n = r.Int("control_points", 0);
   WithinLimit("intestine.control_points", n, limits.max_control_points);
-  p->stretch_stiffness = NonNegative(r, "stretch_stiffness", 0.0);
-  p->bend_stiffness = NonNegative(r, "bend_stiffness", 0.0);
+  p->stretch_stiffness = NonNegative(r, "stretch_stiffness", TissueCard::kStretchStiffness);
+  p->bend_stiffness = NonNegative(r, "bend_stiffness", TissueCard::kBendStiffness);
   p->bend_reference_curvature = NonNegative(r, "bend_reference_curvature", 0.0);
   p->continuous_stretch = NonNegative(r, "continuous_stretch", 0.0);
   p->continuous_scope = r.Choice<ContinuousScope>(

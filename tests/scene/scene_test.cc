@@ -108,10 +108,27 @@ TEST(Scene, ReadsEverySimulationKey) {
 }
 
 TEST(Scene, MissingKeysAreNamed) {
-  ExpectError(Replace(kIntestine, "mass = 0.5\n", ""), {"test.toml", "intestine.mass", "missing"});
+  ExpectError(Replace(kIntestine, "length = 2.0\n", ""),
+              {"test.toml", "intestine.length", "missing"});
   ExpectError(Replace(kIntestine, "kind = \"straight\"\n", ""),
               {"intestine.shape.kind", "missing"});
   ExpectError("[simulation]\nrate_hz = 100\n", {"[intestine]", "missing"});
+}
+
+TEST(Scene, AnIntestineLeftUnsaidIsTheTissueCards) {
+  // A tube without stiffness would stretch like a thread under a tool: the keys left out take the
+  // measured human small intestine's values, and the mass follows the length.
+  std::string scene = kIntestine;
+  for (const char* key : {"radius", "mass", "stretch_stiffness", "bend_stiffness"}) {
+    const size_t at = scene.find(std::string("\n") + key + " = ");
+    if (at != std::string::npos) scene.erase(at + 1, scene.find('\n', at + 1) - at);
+  }
+  const mechanics::ModelParams p = ParseScene(scene).model;
+  EXPECT_EQ(p.radius, mechanics::TissueCard::kRadius);
+  EXPECT_DOUBLE_EQ(p.mass, mechanics::TissueCard::kLinearDensity * p.length);
+  EXPECT_EQ(p.stretch_stiffness, mechanics::TissueCard::kStretchStiffness);
+  EXPECT_EQ(p.bend_stiffness, mechanics::TissueCard::kBendStiffness);
+  EXPECT_GT(p.stretch_stiffness, 0.0);
 }
 
 TEST(Scene, WrongTypesAreNamedWithTheirValue) {
