@@ -46,6 +46,11 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Sub-steps whose BDF2 step would have needed impact or depth constraints, done again as
   /// backward Euler, whose end velocity moves q as those constraints assume.
   int64_t impact_redos() const { return impact_redos_; }
+  /// BDF2 sub-steps whose motion its linearization saw too little of
+  /// (LinearizationGuard::kMaxUnseenStretchBdf2), done again as backward Euler.
+  int64_t stretch_redos() const { return stretch_redos_; }
+  /// Whether that is done (on by default; off only to show it is needed, in tests).
+  void set_stretch_redo(bool on) { stretch_redo_ = on; }
   /// Solves done again because a contact's stick or slip was revised
   /// (Interactions::ReviseFriction).
   int64_t friction_redos() const { return friction_redos_; }
@@ -223,7 +228,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   int tip_rounds_ = 0;  // solves of this sub-step redone without pulling tip contacts
   mutable VecX tip_tmp_, tip_tmp2_;
   double tip_end_ = 1.0, tip_span_ = 1.0;
-  int64_t impact_redos_ = 0, bdf2_substeps_ = 0, friction_redos_ = 0;
+  int64_t impact_redos_ = 0, bdf2_substeps_ = 0, friction_redos_ = 0, stretch_redos_ = 0;
+  bool stretch_redo_ = true;
 };
 
 }  // namespace viscera::mechanics

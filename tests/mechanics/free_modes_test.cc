@@ -178,8 +178,11 @@ Swing Simulate(const ModelParams& p, const Points& q_eq, const Mode& mode) {
   Workspace ws(model);
   std::vector<double> t{0.0}, amp{scale};
   const int steps = static_cast<int>(std::lround(kSeconds * p.rate_hz));
+  // A tool in the scene is held still where its target is, away from the loop.
+  std::vector<ToolTarget> targets(p.tools.size());
+  for (ToolTarget& target : targets) target.tip = Vec3(0.0, 0.15, 0.0);
   for (int k = 0; k < steps; ++k) {
-    Step(model, {}, &s, &ws);
+    Step(model, {{}, targets}, &s, &ws);
     const Points dq = s.q - q_eq;
     t.push_back(s.t);
     amp.push_back(m_shape.dot(Eigen::Map<const VecX>(dq.data(), 3 * kPoints)) /
@@ -265,6 +268,21 @@ TEST(FreeModes, TheImplicitStepKeepsThePeriodWithin2PercentAndTheDecayWithin30Pe
   for (double rate : {100.0, 1000.0}) {
     const Swing swing = Implicit(rate, ImplicitScheme::kBdf2);
     EXPECT_NEAR(swing.period, Physics().mode.period, 0.02 * Physics().mode.period) << rate << " Hz";
+    EXPECT_NEAR(swing.decay, Physics().mode.decay, 0.3 * Physics().mode.decay) << rate << " Hz";
+  }
+}
+
+// A tool in the scene that touches nothing leaves the tube's step BDF2's: its tip moves alone
+// (backward Euler, as the tips' rows are), and only a sub-step in which it touches or holds the
+// tube is backward Euler.
+TEST(FreeModes, AToolTouchingNothingLeavesTheDecayTheScenes) {
+  for (double rate : {100.0, 1000.0}) {
+    ModelParams p = HangingLoop(IntegratorKind::kImplicitEuler, rate);
+    ToolParams tool;
+    tool.name = "idle";
+    tool.port = Vec3(0.0, 0.15, 0.3);
+    p.tools.push_back(tool);
+    const Swing swing = Simulate(p, Physics().q_eq, Physics().mode);
     EXPECT_NEAR(swing.decay, Physics().mode.decay, 0.3 * Physics().mode.decay) << rate << " Hz";
   }
 }

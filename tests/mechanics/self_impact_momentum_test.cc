@@ -32,6 +32,7 @@ struct Hairpin {
   std::string contacts;       // extra [contacts] keys
   std::string simulation;     // extra [simulation] keys
   bool momentum_kept = true;  // ImplicitEulerIntegrator::set_impact_momentum_kept
+  bool stretch_redo = true;   // ImplicitEulerIntegrator::set_stretch_redo
 };
 
 // The control points of the laid-out hairpin: arm one along +x at y = +gap/2, the half turn
@@ -98,8 +99,9 @@ ImpactRun Simulate(const Hairpin& h, bool verbose = false) {
   const Model model(params);
   State state = InitialState(model);
   Workspace workspace(model);
-  dynamic_cast<ImplicitEulerIntegrator&>(workspace.integrator())
-      .set_impact_momentum_kept(h.momentum_kept);
+  auto& integrator = dynamic_cast<ImplicitEulerIntegrator&>(workspace.integrator());
+  integrator.set_impact_momentum_kept(h.momentum_kept);
+  integrator.set_stretch_redo(h.stretch_redo);
   Interactions* in = workspace.interactions();
   Points mqd(model.num_points(), 3);
   ImpactRun run;
@@ -186,8 +188,9 @@ TEST(SelfImpactMomentum, AHairpinSnappingShutKeepsItsMomentumAndGainsNoEnergy) {
       h.rate_hz = rate;
       const ImpactRun r = Simulate(h);
       // the impact is there: the arms hit hard enough for the impact constraints to hold them
+      // (at 100 Hz the snap's sub-steps are backward Euler, whose damping softens it to 1.4 %)
       EXPECT_GE(r.max_self, 5) << Describe(h, r);
-      EXPECT_GT(r.deepest, 0.025) << Describe(h, r);
+      EXPECT_GT(r.deepest, 0.01) << Describe(h, r);
       EXPECT_GT(r.arm_peak, 0.03) << Describe(h, r);
       EXPECT_LT(r.momentum_error, 0.01 * r.arm_peak) << Describe(h, r);
       EXPECT_LE(r.largest_gain, kRoundOff * r.start_energy) << Describe(h, r);
@@ -207,6 +210,28 @@ TEST(SelfImpactMomentum, WithoutContactsTheMomentumIsKeptToRoundOff) {
       EXPECT_LT(r.momentum_error, 1e-9 * r.arm_peak) << Describe(h, r);
     }
   }
+}
+
+// Free motion gains no energy either: without contacts, stretched hairpins snap straight and
+// ring, stepped by BDF2 wherever its linearization saw the motion and by backward Euler where it
+// did not. The control: BDF2 everywhere gains at 500 Hz and 1 kHz (0.9 % and 0.2 % of the energy
+// in one step).
+TEST(SelfImpactMomentum, WithoutContactsASnapGainsNoEnergyAtAnyRate) {
+  const Hairpin snaps[] = {{0.3, 0.035, 1.1}, {0.4, 0.035, 1.05}, {0.2, 0.035, 1.2}};
+  double control_gain = 0.0;
+  for (Hairpin h : snaps) {
+    h.contacts = "self = false\n";
+    for (double rate : {100.0, 250.0, 500.0, 1000.0}) {
+      h.rate_hz = rate;
+      h.stretch_redo = true;
+      const ImpactRun r = Simulate(h);
+      EXPECT_LE(r.largest_gain, kRoundOff * r.start_energy) << Describe(h, r);
+      h.stretch_redo = false;
+      const ImpactRun off = Simulate(h);
+      control_gain = std::max(control_gain, off.largest_gain / off.start_energy);
+    }
+  }
+  EXPECT_GT(control_gain, 1e-3) << "BDF2 everywhere gained no energy";
 }
 
 // The safeguard, switched off: the impulses and depth corrections held inside the solve act

@@ -353,6 +353,7 @@ int Run(const Options& opt) {
   // sub-steps taken as BDF2, and those done again as backward Euler for their impacts
   summary["bdf2_substeps"] = implicit ? implicit->bdf2_substeps() : 0;
   summary["impact_redos"] = implicit ? implicit->impact_redos() : 0;
+  summary["stretch_redos"] = implicit ? implicit->stretch_redos() : 0;
   summary["friction_redos"] = implicit ? implicit->friction_redos() : 0;
   summary["final_energy"]["contact"] = e.contact;
   assessment::Report report = assessed.Report(0, opt.scene);
