@@ -45,8 +45,7 @@ Interactions::Interactions(const Model& model)
                   kVerletSkin * radius_),
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
-      friction_(model.params().contacts, chain_,
-                model.params().mass * chain_.spacing() / model.params().length) {
+      friction_(model.params().contacts, chain_, SphereMass()) {
   obstacles_.reserve(model.params().obstacles.size());
   for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();

@@ -210,6 +210,11 @@ class Interactions {
   void LimitImpacts(double h, Points* u, Points* v);
   // Closing speeds below this are the penalty's (m/s): LimitImpacts.
   double ImpactSpeed();
+  // One collision sphere's share of the tube's mass (kg): what an impact or a friction
+  // overload moves.
+  double SphereMass() const {
+    return model_.params().mass * chain_.spacing() / model_.params().length;
+  }
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
   // What both AdvanceTool and PrepareTool do first: a tool's first active target places its tip,

@@ -19,8 +19,7 @@ double Interactions::ImpactSpeed() {
   // carried its loop with 1 % less force, so impulses were absorbing what the hand should feel.
   if (impact_speed_ < 0.0) {
     const double allowed = model_.params().contacts.impact_depth * radius_;
-    const double sphere_mass = model_.params().mass * chain_.spacing() / model_.params().length;
-    impact_speed_ = 2.0 * allowed * std::sqrt(model_.params().contacts.stiffness / sphere_mass);
+    impact_speed_ = 2.0 * allowed * std::sqrt(model_.params().contacts.stiffness / SphereMass());
   }
   return impact_speed_;
 }

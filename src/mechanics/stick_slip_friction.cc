@@ -88,9 +88,9 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   // poor guess at 100 Hz: k_t h v_t exceeds the cone at 2 mm/s, and contacts that friction stops
   // within a sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at
   // mu 0.3.)
+  const double trial_force = (kt * trial + ct * p->slip).norm();
   const bool stuck =
-      ((anchored ? !found->sliding && (kt * trial + ct * p->slip).norm() <= kOverload * limit
-                 : (kt * trial + ct * p->slip).norm() <= limit) &&
+      ((anchored ? !found->sliding && trial_force <= kOverload * limit : trial_force <= limit) &&
        std::find(slid_.begin(), slid_.end(), key) == slid_.end()) ||
       std::find(stuck_.begin(), stuck_.end(), key) != stuck_.end();
   Vec3 force, direction = Vec3::Zero();
