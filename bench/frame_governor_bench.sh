@@ -8,29 +8,17 @@
 # Inside a loopback-only namespace.
 # Usage: bench/frame_governor_bench.sh [BUILD (build)] [SKIN (parametric)] [S (20)] [LOAD (2)] [ROUNDS (1)]
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(cd "$here/.." && pwd)
-if [[ "${VISCERA_IN_NETNS:-}" != 1 ]]; then
-  exec sh "$root/tests/e2e/in_netns.sh" bash "$0" "$@"
-fi
+. "$(dirname "$0")/netns_server.sh"
 build=$(cd "${1:-$root/build}" && pwd) skin=${2:-parametric} seconds=${3:-20} load=${4:-2}
 rounds=${5:-1}
-url='udpm://239.255.76.67:7667?ttl=0'
-work=$(mktemp -d)
-export VISCERA_SESSIONS="$work/sessions.json"
-server_pid=""
-trap '[[ -n $server_pid ]] && kill -TERM $server_pid 2>/dev/null; wait 2>/dev/null; rm -rf "$work"' EXIT
-v() { "$build/client/viscera" "$@" --lcm-url "$url"; }
 
 echo "== $(nproc) cores ($(lscpu | sed -n 's/^Model name: *//p')), load average" \
   "$(cut -d' ' -f1-3 /proc/loadavg); $skin, $load busy loops, $seconds s per run"
 run() {  # on|off
-  "$build/server/viscerad" --server-id "governor-$1" --lcm-url "$url" --scene-dir "$root/scenes" \
-    --max-sessions 2 --adaptive-frames "$1" 2>"$work/viscerad.err" &
-  server_pid=$!
+  start_server --server-id "governor-$1" --max-sessions 2 --adaptive-frames "$1"
   local id
-  id=$(v create cavity --skin "$skin" --rate 100 --width 640 --height 480 --frame-rate 25 \
-    --json --timeout 120 | python3 -c 'import json, sys; print(json.load(sys.stdin)["session"])')
+  id=$(new_session cavity --skin "$skin" --rate 100 --width 640 --height 480 --frame-rate 25 \
+    --timeout 120)
   local busy=()
   for _ in $(seq "$load"); do
     timeout $((seconds + 15)) sh -c 'while :; do :; done' &
@@ -55,9 +43,7 @@ print(f"adaptive {sys.argv[4]:3s}: misses {m} of {s} steps ({100.0 * m / max(1, 
       f"render {fr['render_ms']:.1f} + encode {fr['encode_ms']:.1f} ms")
 PY
   v destroy "$id" >/dev/null
-  kill -TERM "$server_pid"
-  wait "$server_pid" || true
-  server_pid=""
+  stop_server
   rm -rf "$work/warm" "$work/frames"
 }
 for _ in $(seq "$rounds"); do

@@ -8,30 +8,17 @@
 # Inside a loopback-only namespace. Prints cores per session = CPU s / wall s.
 # Usage: bench/frame_lease_bench.sh [BUILD (build)] [SCENE (cavity)] [SKIN (convolution)] [S (20)] [ROUNDS (2)]
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(cd "$here/.." && pwd)
-if [[ "${VISCERA_IN_NETNS:-}" != 1 ]]; then
-  exec sh "$root/tests/e2e/in_netns.sh" bash "$0" "$@"
-fi
+. "$(dirname "$0")/netns_server.sh"
 build=$(cd "${1:-$root/build}" && pwd) scene=${2:-cavity} skin=${3:-convolution} seconds=${4:-20} rounds=${5:-2}
-url='udpm://239.255.76.67:7667?ttl=0'
-work=$(mktemp -d)
-export VISCERA_SESSIONS="$work/sessions.json"
-server_pid=""
-trap '[[ -n $server_pid ]] && kill -TERM $server_pid 2>/dev/null; wait 2>/dev/null; rm -rf "$work"' EXIT
-v() { "$build/client/viscera" "$@" --lcm-url "$url"; }
 cpu_s() {  # utime + stime of a process, in seconds
   awk -v hz="$(getconf CLK_TCK)" '{ print ($14 + $15) / hz }' "/proc/$1/stat"
 }
 
-"$build/server/viscerad" --server-id lease-bench --lcm-url "$url" --scene-dir "$root/scenes" \
-  --max-sessions 4 --adaptive-frames off 2>"$work/viscerad.err" &  # the stream as asked
-server_pid=$!
+start_server --server-id lease-bench --max-sessions 4 --adaptive-frames off  # the stream as asked
 measure() {  # label create-args...
   local label=$1; shift
   local id
-  id=$(v create "$scene" --rate 100 --skin "$skin" --width 640 --height 480 "$@" --json --timeout 120 |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["session"])')
+  id=$(new_session "$scene" --rate 100 --skin "$skin" --width 640 --height 480 "$@" --timeout 120)
   sleep 3  # past the first steps and frames
   local watcher=""
   if [[ $label == watched ]]; then

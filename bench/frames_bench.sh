@@ -10,25 +10,15 @@
 # Usage: bench/frames_bench.sh [BUILD_DIR] [SECONDS] [SECTIONS]
 #   SECTIONS: any of "client misses buffers" (default: all three)
 set -eu
-root=$(cd "$(dirname "$0")/.." && pwd)
+. "$(dirname "$0")/netns_server.sh"
 build=${1:-$root/build}
 seconds=${2:-10}
 sections=${3:-client misses buffers}
-if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then
-  exec "$root/tests/e2e/in_netns.sh" env VISCERA_IN_NETNS=1 sh "$0" "$build" "$seconds" "$sections"
-fi
 wants() { case " $sections " in *" $1 "*) return 0 ;; esac; return 1; }
 echo "== $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), $seconds s per figure"
-work=$(mktemp -d)
-export VISCERA_SESSIONS="$work/sessions.json"
-url='udpm://239.255.76.67:7667?ttl=0'
-v() { "$build/client/viscera" "$@" --lcm-url "${lcm_url:-$url}"; }
 # the rates and sizes asked for, whatever the load (bench/frame_governor_bench.sh: the governor)
-"$build/server/viscerad" --server-id bench --max-sessions 8 --max-frame-rate 120 --scene-dir "$root/scenes" \
-  --lcm-url "$url" --adaptive-frames off 2>"$work/viscerad.err" &
-pid=$!
-trap 'kill $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$work"' EXIT
-session() { v create "$@" --timeout 60 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])'; }
+start_server --server-id bench --max-sessions 8 --max-frame-rate 120 --adaptive-frames off
+session() { new_session "$@" --timeout 60; }
 status() { v status "$1" --json >"$2"; }
 
 report() {  # frames.json status-before.json status-after.json label
@@ -104,7 +94,8 @@ for i in 1 2 3 4; do ids="$ids $(session fall --frame-rate 25)"; done
 first=${ids# }; first=${first%% *}
 sleep 2
 for buf in 212992 2097152; do
-  lcm_url="$url&recv_buf_size=$buf" v frames "$first" --out "$work/frames" --seconds "$seconds" --json >"$work/frames.json"
+  "$build/client/viscera" frames "$first" --out "$work/frames" --seconds "$seconds" --json \
+    --lcm-url "$url&recv_buf_size=$buf" >"$work/frames.json"
   python3 - "$work/frames.json" "$buf" <<'PY'
 import json, sys
 f = json.load(open(sys.argv[1]))

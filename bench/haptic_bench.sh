@@ -10,22 +10,13 @@
 #     delay, against the zero-delay run (logs kept in OUT_DIR for tools/plot_transparency.py).
 # Usage: bench/haptic_bench.sh [BUILD_DIR] [OUT_DIR]
 set -eu
-root=$(cd "$(dirname "$0")/.." && pwd)
+. "$(dirname "$0")/netns_server.sh"
 build=${1:-$root/build}
 out=${2:-$root/out/haptic_bench}
-if [ "${VISCERA_IN_NETNS:-}" != 1 ]; then
-  exec "$root/tests/e2e/in_netns.sh" env VISCERA_IN_NETNS=1 sh "$0" "$build" "$out"
-fi
 mkdir -p "$out"
 echo "== $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), commit $(git -C "$root" rev-parse --short HEAD)"
-export VISCERA_SESSIONS="$out/sessions.json"
-url='udpm://239.255.76.67:7667?ttl=0'
-v() { "$build/client/viscera" "$@" --lcm-url "$url"; }
 spin=${VISCERA_SPIN_US:--1}
-"$build/server/viscerad" --server-id hbench --max-sessions 8 --spin-us "$spin" --scene-dir "$root/scenes" \
-  --lcm-url "$url" 2>"$out/viscerad.err" &
-pid=$!
-trap 'kill $pid 2>/dev/null; wait $pid 2>/dev/null' EXIT
+start_server --server-id hbench --max-sessions 8 --spin-us "$spin"
 cat >"$out/press.csv" <<'CSV'
 t,tool,x,y,z,qw,qx,qy,qz,jaw
 0,grasper,0,0,0.06,1,0,0,0,1
@@ -50,7 +41,7 @@ print(f"{sys.argv[1]}: {d['achieved_rate_hz']:.1f} Hz, period error p50 {d['peri
       f"model age p50 {d['model_age_p50_ms']:.1f} ms; peak {d['peak_force_n']:.2f} N")
 PY
 summary() { python3 "$out/summary.py" "$1"; }
-push=$(v create --scene-file "$root/tests/e2e/scenes/push.toml" --rate 1000 --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+push=$(new_session --scene-file "$root/tests/e2e/scenes/push.toml" --rate 1000 --frame-rate -1)
 
 echo "== 1. device loop at 1 kHz (push scene, 1 kHz session, 5 s)"
 v haptic "$push" --tool grasper --device sim --script "$out/press.csv" --json --quiet | summary "as is      "
@@ -67,7 +58,7 @@ v destroy "$push" >/dev/null
 
 echo "== 2. round trip on scenes/cavity.toml (the clearing gesture's first 3 s, left grasper)"
 for rate in 100 1000; do
-  id=$(v create cavity --rate $rate --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  id=$(new_session cavity --rate $rate --frame-rate -1)
   sleep 1
   v haptic "$id" --tool left --device sim --script "$root/scenes/clearing.csv" --seconds 3 --json --quiet | summary "cavity $rate Hz"
   v status "$id" --json | summary status
@@ -75,7 +66,7 @@ for rate in 100 1000; do
 done
 
 echo "== 3. transparency (push scene, 1 kHz session): the press through one-way delays"
-push=$(v create --scene-file "$root/tests/e2e/scenes/push.toml" --rate 1000 --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+push=$(new_session --scene-file "$root/tests/e2e/scenes/push.toml" --rate 1000 --frame-rate -1)
 for d in 0 10 20 50 100; do
   v haptic "$push" --tool grasper --device sim --script "$out/press.csv" --delay-ms "$d" --log "$out/delay_$d.jsonl" --json --quiet \
     | summary "delay $d ms"

@@ -9,25 +9,15 @@
 #  4. how many concurrent 100 Hz sessions of scenes/fall.toml run without deadline misses.
 # Sessions here stream no frames (--frame-rate -1): bench/frames_bench.sh measures those.
 # Usage: bench/server_bench.sh [BUILD_DIR] [MAX_SESSIONS] [REALTIME_PRIORITY]
+# VISCERA_BENCH_NETNS=0 runs on the host's network (ttl=0: nothing leaves the machine): the
+# namespace is a user namespace here, which refuses --realtime's SCHED_FIFO.
 set -eu
-root=$(cd "$(dirname "$0")/.." && pwd)
+. "$(dirname "$0")/netns_server.sh"
 build=${1:-$root/build}
 max_sessions=${2:-12}
 realtime=${3:-0}
-# VISCERA_BENCH_NETNS=0 runs on the host's network (ttl=0: nothing leaves the machine): the
-# namespace is a user namespace here, which refuses --realtime's SCHED_FIFO.
-if [ "${VISCERA_IN_NETNS:-}" != 1 ] && [ "${VISCERA_BENCH_NETNS:-1}" != 0 ]; then
-  exec "$root/tests/e2e/in_netns.sh" env VISCERA_IN_NETNS=1 sh "$0" "$build" "$max_sessions" "$realtime"
-fi
 echo "== $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), viscerad --realtime $realtime"
-work=$(mktemp -d)
-export VISCERA_SESSIONS="$work/sessions.json"
-url='udpm://239.255.76.67:7667?ttl=0'
-v() { "$build/client/viscera" "$@" --lcm-url "$url"; }
-"$build/server/viscerad" --server-id bench --max-sessions 64 --realtime "$realtime" --scene-dir "$root/scenes" \
-  --lcm-url "$url" 2>"$work/viscerad.err" &
-pid=$!
-trap 'kill $pid 2>/dev/null; wait $pid 2>/dev/null; rm -rf "$work"' EXIT
+start_server --server-id bench --max-sessions 64 --realtime "$realtime"
 
 # the 250-point fall with a grasper pressing down into the pile as it lands
 { cat "$root/scenes/fall.toml"; printf '\n[[tool]]\nname = "probe"\nport = [0.0, 0.0, 0.4]\n'; } >"$work/fall_tool.toml"
@@ -41,7 +31,7 @@ CSV
 
 echo "== round trip and deadline misses (250 points, contacts, 1 tool, poses at 1 kHz for 6 s)"
 for rate in 100 1000; do
-  id=$(v create --scene-file "$work/fall_tool.toml" --rate $rate --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  id=$(new_session --scene-file "$work/fall_tool.toml" --rate $rate --frame-rate -1)
   sleep 1
   v drive "$id" --script "$work/press.csv" --pose-rate 1000 --json >"$work/drive.json"
   python3 - "$work/drive.json" "$rate" <<'PY'
@@ -58,7 +48,7 @@ done
 
 echo "== the clinical scene: scenes/cavity.toml played with scenes/clearing.csv (poses at 1 kHz)"
 for rate in 100 1000; do
-  id=$(v create cavity --rate $rate --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  id=$(new_session cavity --rate $rate --frame-rate -1)
   sleep 1
   v drive "$id" --script "$root/scenes/clearing.csv" --pose-rate 1000 --json >"$work/drive.json"
   python3 - "$work/drive.json" "$rate" <<'PY'
@@ -77,7 +67,7 @@ ids=""
 n=0
 while [ $n -lt "$max_sessions" ]; do
   n=$((n + 1))
-  id=$(v create fall --frame-rate -1 --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["session"])')
+  id=$(new_session fall --frame-rate -1)
   ids="$ids $id"
   sleep 1.5
   v list --json >"$work/before.json"

@@ -11,7 +11,8 @@ namespace viscera::server {
 
 struct FrameGovernorConfig {
   /// A frame is overloaded when it took more than this share of its period, or when the
-  /// mechanics' slack (1 - longest step wall time / step period) is below `slack_low`.
+  /// mechanics' slack (session::StepSlack: 1 - the 90th percentile step wall time / step period
+  /// over the last status period) is below `slack_low`.
   double busy_high = 0.8;
   double slack_low = 0.1;
   /// A frame is calm when it took less than this share of the period the level above would

@@ -175,7 +175,7 @@ void MechanicsLoop::AddFigures(int64_t now_ns, bool summarize, session_status_t*
     s.step_cost_p99_us = sum.step_cost_p99_us;
     s.jitter_p99_us = sum.jitter_p99_us;
     s.step_wall_max_us = sum.wall_max_us;
-    parts_.board->SetStepSlack(s.rate_hz > 0.0 ? 1.0 - sum.wall_max_us * 1e-6 * s.rate_hz : 1.0);
+    parts_.board->SetStepSlack(StepSlack(sum, s.rate_hz));
   }
   if (paused_) s.achieved_rate_hz = 0.0;  // the periodic statuses and the one a pause publishes
   s.deadline_misses = stats_.deadline_misses();

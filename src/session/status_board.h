@@ -43,8 +43,9 @@ class StatusBoard {
   void SetError(const std::string& why);
   /// The render thread's latest figures and problems.
   void ReportFrames(const FrameStreamReport& report);
-  /// The mechanics' step slack over the last status period: 1 - longest step wall time / step
-  /// period (1 before any). Lock-free both ways: the render thread reads it every frame.
+  /// The mechanics' step slack over the last status period (StepSlack: 1 - the 90th percentile
+  /// step wall time / step period; 1 before any). Lock-free both ways: the render thread reads
+  /// it every frame.
   void SetStepSlack(double slack) { step_slack_.store(slack, std::memory_order_relaxed); }
   double step_slack() const { return step_slack_.load(std::memory_order_relaxed); }
 

@@ -6,12 +6,49 @@
 
 #include <vector>
 
+#include "session/loop_stats.h"
+
 namespace viscera::server {
 namespace {
 
 constexpr double kPeriodMs = 40.0;  // 25 Hz configured
 
 double Period(const FrameGovernor& g) { return kPeriodMs / g.current().rate; }
+
+/// A governor fed as the render thread feeds it, for 10 s: 40 status periods of 100 Hz
+/// mechanics (25 steps with a 10 ms period each), of which `long_steps` take 9.5 ms of wall time
+/// and the others 3 ms; six cheap frames (10 ms at full size) per status period, each read with
+/// the slack (session::StepSlack) of the status period before.
+FrameGovernor FedWithLongSteps(int long_steps) {
+  FrameGovernor g;
+  session::LoopStats stats;
+  double slack = 1.0;
+  for (int period = 0; period < 40; ++period) {
+    for (int frame = 0; frame < 6; ++frame) {
+      g.Update(10.0 * g.current().scale * g.current().scale, Period(g), slack);
+    }
+    for (int step = 0; step < 25; ++step) {
+      const bool long_step = (step + 7 * period) % 25 < long_steps;  // anywhere in the period
+      stats.RecordWall(long_step ? 9'500'000 : 3'000'000);
+    }
+    slack = session::StepSlack(stats.Summarize(/*elapsed_ns=*/250'000'000), 100.0);
+  }
+  return g;
+}
+
+TEST(FrameGovernor, AStrayLongStepOrTwoLowerNothing) {
+  // a machine busy with other work delays a step or two of every status period: the stream
+  // stays as asked
+  EXPECT_EQ(FedWithLongSteps(1).level(), 0);
+  EXPECT_EQ(FedWithLongSteps(2).level(), 0);
+}
+
+TEST(FrameGovernor, ManyLongStepsLowerTheStream) {
+  // 6 of every 25 steps within 0.5 ms of their deadline: the slack is short, the stream goes
+  // down to its lowest level, cheap as its frames are
+  const FrameGovernor g = FedWithLongSteps(6);
+  EXPECT_EQ(g.level(), static_cast<int>(kFrameLevels.size()) - 1);
+}
 
 TEST(FrameGovernor, SustainedSlowFramesLowerTheRateThenTheSize) {
   FrameGovernor g;
