@@ -25,6 +25,16 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
   for (size_t i = 0; i < static_cast<size_t>(s.num_targets) && i < s.target_exposed.size(); ++i) {
     targets[s.target_names[i]] = s.target_exposed[i];
   }
+  // running the bowel's figures (the whole score: viscera report); null without [running]
+  nlohmann::ordered_json running = nullptr;
+  if (s.running_segments > 0) {
+    running = {{"coverage", s.running_coverage},
+               {"missed", s.running_missed},
+               {"grasps", s.running_grasps},
+               {"slips", s.running_slips},
+               {"damage_events", s.running_num_events},
+               {"damaged", s.running_damaged}};
+  }
   return {{"session", s.header.session_id},
           {"server_id", s.server_id},
           {"scene", s.scene},
@@ -53,6 +63,7 @@ nlohmann::ordered_json StatusToJson(const session_status_t& s) {
           {"record_failures", s.record_failures},
           {"unconverged_solves", s.unconverged_solves},
           {"target_exposed", targets},
+          {"running", running},
           {"frames",
            {{"skin", s.skin},
             {"size", std::to_string(s.frame_width) + "x" + std::to_string(s.frame_height)},

@@ -15,7 +15,9 @@ std::string StateName(int8_t state);
 /// Hz), configured_rate_hz, deadline_misses, jitter_p99_us, step_cost_p50_us,
 /// step_cost_p99_us, step_wall_max_us, contacts, energy (J), tools, poses, rejected, replayed,
 /// lease_s, lease_left_s, recoveries, idle_events, messages_dropped, nonfinite_dropped,
-/// record_failures, unconverged_solves, target_exposed, frames, last_error.
+/// record_failures, unconverged_solves, target_exposed, running (running the bowel: coverage
+/// 0..1, missed, grasps, slips, damage_events, damaged; null without [running]), frames,
+/// last_error.
 nlohmann::ordered_json StatusToJson(const viscera_proto::session_status_t& s);
 
 /// A header line and one line per session (UNCONV: unconverged_solves).

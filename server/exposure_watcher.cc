@@ -53,9 +53,12 @@ void ExposureWatcher::Run() {
         const assessment::View view{scope.eye.cast<double>(), scope.target.cast<double>(),
                                     scope.up.cast<double>(), scope.fov_y_degrees,
                                     static_cast<double>(config_.width) / config_.height};
-        chain.Place(snapshot->q);
-        centres.clear();
-        for (const collision::Sphere& s : chain.spheres()) centres.push_back(s.centre);
+        session_->ReportView(view);
+        if (evaluator.num_targets() > 0) {
+          chain.Place(snapshot->q);
+          centres.clear();
+          for (const collision::Sphere& s : chain.spheres()) centres.push_back(s.centre);
+        }
         for (int i = 0; i < evaluator.num_targets(); ++i) {
           session_->ReportExposure(i, evaluator.Evaluate(i, view, centres).fraction, snapshot->t);
         }

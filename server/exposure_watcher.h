@@ -2,7 +2,8 @@
 /// ExposureWatcher: a session's target-exposure thread (docs/assessment.md). At the scene's
 /// [assessment] exposure_rate it takes the mechanics thread's latest snapshot and the camera
 /// the frames are drawn from (session_view.h), places the sphere chain on it and casts a ray to
-/// every sample of every target; the session keeps the results for its status and report. It
+/// every sample of every target; the session keeps the results for its status and report, and
+/// the camera for running the bowel's camera coverage (Session::ReportView). It
 /// only reads what the session hands off, off the mechanics thread, at nice 10 (a few hundred
 /// microseconds per evaluation: it is never starved, and never delays a step).
 #include <atomic>
@@ -19,7 +20,7 @@ struct ExposureWatchConfig {
 
 class ExposureWatcher {
  public:
-  /// @pre session outlives the watcher; its scene has targets.
+  /// @pre session outlives the watcher; its scene has targets or [running].
   ExposureWatcher(session::Session* session, ExposureWatchConfig config);
   ~ExposureWatcher();
   ExposureWatcher(const ExposureWatcher&) = delete;

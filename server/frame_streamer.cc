@@ -159,6 +159,7 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
       bool ok = true;
       if (!unchanged) {
         try {
+          renderer.SetDamage(snapshot->damaged);  // running the bowel's damaged parts
           renderer.Render(snapshot->q, snapshot->tools, SessionScope(pose, framing));
           const std::vector<uint8_t>& jpeg = renderer.Encode();
           frame.data.assign(jpeg.begin(), jpeg.end());

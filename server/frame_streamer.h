@@ -1,7 +1,8 @@
 #pragma once
 /// FrameStreamer: a session's skin+render thread. At its frame rate it takes the mechanics
 /// thread's latest snapshot and the session's camera, skins and draws them through its own
-/// OSMesa context, encodes a JPEG and publishes it on VISCERA_FRAME_<id>. It only reads
+/// OSMesa context (running the bowel's damaged parts, which the snapshot carries, in the damage
+/// colour), encodes a JPEG and publishes it on VISCERA_FRAME_<id>. It only reads
 /// what the session hands off (snapshot, camera), and never holds a lock the mechanics
 /// thread waits for, so a slow frame never delays a step: the ticks that pass while a frame
 /// is being made are dropped and counted. It runs on the CPU time nothing else in viscerad

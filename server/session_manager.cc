@@ -403,8 +403,9 @@ void SessionManager::FinishCreate(const session_request_t& request, session::Ses
     running.frames = std::make_unique<FrameStreamer>(session, frame_bus_, frames);
     running.frames->Start();
   }
-  if (!scene.model->params().task.targets.empty()) {
-    // the exposure counts what the frames show: the same camera, framed for the same size
+  if (!scene.model->params().task.targets.empty() || scene.model->params().task.running) {
+    // the exposure and running the bowel's camera coverage count what the frames show: the
+    // same camera, framed for the same size
     running.exposure = std::make_unique<ExposureWatcher>(
         session, ExposureWatchConfig{frames.options.width, frames.options.height});
     running.exposure->Start();

@@ -153,9 +153,10 @@ class SessionManager {
   struct Running {
     std::unique_ptr<session::Session> session;
     std::unique_ptr<FrameStreamer> frames;
-    std::unique_ptr<ExposureWatcher> exposure;  // scenes with [[target]]; ends before the session
-    double frame_mpix_per_s = 0.0;              // its share of max_frame_mpix_per_s
-    double cores = 0.0;                         // what admission charged it (SetCapacity)
+    // scenes with [[target]] or [running]; ends before the session
+    std::unique_ptr<ExposureWatcher> exposure;
+    double frame_mpix_per_s = 0.0;  // its share of max_frame_mpix_per_s
+    double cores = 0.0;             // what admission charged it (SetCapacity)
   };
 
   bus::LcmBus* frame_bus_;

@@ -51,6 +51,7 @@ void FillStatus(const Report& report, session_status_t* s) {
   s->traction_hold = report.thresholds.traction_hold;
   s->regrasp_window = report.thresholds.regrasp_window;
   s->exposed_fraction = report.thresholds.exposed_fraction;
+  FillRunningStatus(report, s);
 }
 
 Report ReportFromStatus(const session_status_t& s) {
@@ -81,6 +82,7 @@ Report ReportFromStatus(const session_status_t& s) {
     r.targets.push_back({s.target_names[i], s.target_exposed[i], s.target_max_exposed[i],
                          s.target_time_to_expose[i]});
   }
+  r.has_running = RunningFromStatus(s, &r.running);
   return r;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 /// The assessment in session_status_t (protocol 5): a Report written into a status and read
-/// back from one, exactly (all figures travel as doubles or integers).
+/// back from one, exactly (all figures travel as doubles, integers or strings); running the
+/// bowel's score in its running_ fields.
 #include <viscera_proto/session_status_t.hpp>
 
 #include "assessment/report.h"
@@ -13,7 +14,14 @@ namespace viscera::assessment {
 void FillStatus(const Report& report, viscera_proto::session_status_t* status);
 
 /// The report a status carries: session, scene and time from its header and fields;
-/// finished when the status says kStopped or kFaulted.
+/// finished when the status says kStopped or kFaulted; running the bowel's score when the
+/// status carries one.
 Report ReportFromStatus(const viscera_proto::session_status_t& status);
+
+/// The running_ fields of `status` from report.running (all 0 and empty without has_running).
+void FillRunningStatus(const Report& report, viscera_proto::session_status_t* status);
+/// Running the bowel's score a status carries; false (and `running` empty) when it carries none
+/// (running_segments 0).
+bool RunningFromStatus(const viscera_proto::session_status_t& status, RunningReport* running);
 
 }  // namespace viscera::assessment

@@ -83,6 +83,31 @@ constexpr int kToolTargetBytes = 8 * 8 + 1 + 8;
 constexpr int kHeaderMinBytes = 2 + 4 * 8 + 4 + 4;
 constexpr int kStatusMinBytes = kHeaderMinBytes + 4 * kStringMinBytes + 4;  // 4 strings, num_tools
 
+// A count of strings and the strings.
+void Strings(WireCursor& c) {
+  const int32_t n = c.Count(kStringMinBytes);
+  for (int32_t i = 0; i < n && c.ok(); ++i) c.String();
+}
+
+// session_status_t's running_ fields, in proto/session_status_t.lcm's order
+void Running(WireCursor& c) {
+  c.Skip(4 + 2 * 8);  // running_segments, segment_length, coverage
+  c.FixedArray(4);    // missed
+  // reversals, grasps, regrasps, slips; path_length; instrument_collisions; out_of_view_time,
+  // time, max_grip, max_pressure, max_traction, max_dose
+  c.Skip(4 * 4 + 8 + 4 + 6 * 8);
+  // events: kinds and tools (strings), segments (int32), times and values (doubles)
+  const int32_t events = c.Count(2 * kStringMinBytes + 4 + 2 * 8);
+  for (int32_t i = 0; i < events && c.ok(); ++i) c.String();
+  c.Skip(static_cast<int64_t>(events) * 4);
+  for (int32_t i = 0; i < events && c.ok(); ++i) c.String();
+  c.Skip(static_cast<int64_t>(events) * 2 * 8);
+  c.FixedArray(4);        // damaged
+  c.Skip(3 * 8 + 1);      // run_length, estimate_length, estimate_error; passed
+  Strings(c);             // failed
+  c.Skip(8 * 8 + 3 * 4);  // the thresholds and pass marks
+}
+
 // session_status_t, nested (no fingerprint): the fields in proto/session_status_t.lcm's order
 void Status(WireCursor& c) {
   c.Header();
@@ -106,6 +131,7 @@ void Status(WireCursor& c) {
   c.Skip(4 * 8);  // traction_force, traction_hold, regrasp_window, exposed_fraction
   // messages_dropped, nonfinite_dropped, record_failures, unconverged_solves
   c.Skip(4 * 8);
+  Running(c);
 }
 
 // Messages whose only arrays are the header's (and no strings).

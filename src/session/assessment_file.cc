@@ -22,6 +22,22 @@ void TargetExposures::FillForStatus(bool may_wait, assessment::Report* report) {
   report->targets = seen_.targets;
 }
 
+void TargetExposures::SetView(const assessment::View& view) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  view_ = view;
+  views_.fetch_add(1, std::memory_order_release);
+}
+
+bool TargetExposures::TakeView(assessment::View* view) {
+  const int64_t views = views_.load(std::memory_order_acquire);
+  if (views == views_taken_) return false;
+  std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return false;  // the next step tries again
+  *view = view_;
+  views_taken_ = views_.load(std::memory_order_relaxed);
+  return true;
+}
+
 std::string AssessmentPathFor(const std::string& record_path) {
   std::string path = record_path;
   const std::string ext = ".lcmlog";

@@ -1,7 +1,9 @@
 #pragma once
-/// The assessment a session keeps beside its record: the exposures of its targets (reported
-/// by the exposure watcher's thread, read by the mechanics thread without waiting), and the
-/// JSON file written when the session stops.
+/// The assessment a session keeps beside its record: the exposures of its targets and the
+/// camera they were judged from (reported by the exposure watcher's thread, read by the
+/// mechanics thread without waiting), and the JSON file written when the session stops.
+#include <atomic>
+#include <cstdint>
 #include <mutex>
 #include <string>
 
@@ -23,10 +25,20 @@ class TargetExposures {
   /// the ones last read.
   void FillForStatus(bool may_wait, assessment::Report* report);
 
+  /// Keeps the camera the frames are drawn from (the exposure watcher's thread): running the
+  /// bowel's camera coverage and time out of view are judged from it.
+  void SetView(const assessment::View& view);
+  /// The camera last set, into `*view`, when one was set since the last call and the watcher
+  /// does not hold the lock (mechanics thread: it never waits); else false.
+  bool TakeView(assessment::View* view);
+
  private:
   std::mutex mutex_;                   // the exposure watcher; the mechanics thread try_locks
   assessment::TargetTracker tracker_;  // guarded by mutex_
+  assessment::View view_;              // guarded by mutex_
+  std::atomic<int64_t> views_{0};      // views set so far
   assessment::Report seen_;            // mechanics thread: the targets it last could read
+  int64_t views_taken_ = 0;            // mechanics thread: views_ at its last TakeView
 };
 
 /// Where the final assessment of a session recorded at `record_path` is written: the path

@@ -88,13 +88,13 @@ void MechanicsLoop::Run(const std::atomic<bool>& stop, bool realtime) {
                                    " s: restored the last good state"));
       }
       stats_.RecordStep(ThreadCpuNanos() - cpu0, wake - next);
-      metrics_.AddStep(stepper_.state(), model.step_size());
+      AssessStep();
       PublishForces();
     }
 
     const int64_t now = MonotonicNanos();
     if (now >= next_snapshot) {
-      parts_.snapshots->Publish(stepper_.state());
+      parts_.snapshots->Publish(stepper_.state(), damaged_);
       next_snapshot = std::max(next_snapshot + snapshot_period, now);
     }
     if (send_skeleton && now >= next_skeleton) {
@@ -113,6 +113,18 @@ void MechanicsLoop::Run(const std::atomic<bool>& stop, bool realtime) {
       stats_.RecordWall(done - next);
       if (missed) stats_.RecordMiss();
     }
+  }
+}
+
+void MechanicsLoop::AssessStep() {
+  // the camera the frames are drawn from, when the exposure watcher reported a new one
+  if (assessment::View view; parts_.targets->TakeView(&view)) metrics_.SetView(view);
+  metrics_.AddStep(stepper_.state(), parts_.model->step_size());
+  // running the bowel's damaged parts for the frames, anew only when a damage event came
+  if (const assessment::RunningScore* running = metrics_.running();
+      running != nullptr && running->damage().events().size() != damage_events_) {
+    damage_events_ = running->damage().events().size();
+    damaged_ = running->damage().DamagedRanges();
   }
 }
 

@@ -10,6 +10,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <viscera_proto/force_feedback_t.hpp>
@@ -68,6 +69,9 @@ class MechanicsLoop {
 
  private:
   void ApplyCommands();
+  /// Feeds the step just taken to the assessment (with the latest camera), and keeps running
+  /// the bowel's damaged parts for the snapshots.
+  void AssessStep();
   void PublishForces();
   /// Records the step (or reset) about to happen, when the session keeps a record.
   void PushStepRecord(int8_t kind, std::span<const mechanics::ToolTarget> targets,
@@ -82,6 +86,10 @@ class MechanicsLoop {
   std::vector<bool> was_active_;
   /// The assessment's per-step figures (fed after each step, never inside it).
   assessment::SessionMetrics metrics_;
+  /// Running the bowel's damaged parts (ranges of s) handed to readers with each snapshot, and
+  /// the damage events they were taken at.
+  std::vector<std::pair<double, double>> damaged_;
+  size_t damage_events_ = 0;
   bool paused_ = false;
   int64_t idle_events_ = 0;
   int64_t force_seq_ = 0, record_seq_ = 0;

@@ -96,6 +96,10 @@ class Session {
   /// Keeps an exposure of target `index` (0..1) evaluated on the pose at simulated time
   /// `sim_time` (the exposure watcher's thread). The mechanics thread never waits for it.
   void ReportExposure(int index, double exposure, double sim_time);
+  /// Keeps the camera the frames are drawn from, as the exposure watcher judges the targets
+  /// from it (its thread): running the bowel's camera coverage and time out of view are judged
+  /// from it too. The mechanics thread never waits for it.
+  void ReportView(const assessment::View& view) { targets_.SetView(view); }
   /// The assessment so far (any thread; the final one once Stop() returned). Also written as
   /// JSON next to the session's record when the session stops (AssessmentPath()).
   assessment::Report Assessment() const;

@@ -14,7 +14,8 @@ SnapshotExchange::~SnapshotExchange() {
   for (const std::unique_ptr<Buffer>& b : pool_) VISCERA_DEMAND(b->readers.load() == 0);
 }
 
-void SnapshotExchange::Publish(const mechanics::State& state) {
+void SnapshotExchange::Publish(const mechanics::State& state,
+                               const std::vector<std::pair<double, double>>& damaged) {
   Buffer* free = nullptr;
   for (const std::unique_ptr<Buffer>& b : pool_) {
     if (b.get() != latest_ && b->readers.load(std::memory_order_acquire) == 0) {
@@ -35,6 +36,7 @@ void SnapshotExchange::Publish(const mechanics::State& state) {
   next.q = state.q;  // same size: no allocation
   next.tools = state.tools;
   next.contacts = state.contacts;
+  next.damaged.assign(damaged.begin(), damaged.end());
   // never wait for a reader (the render thread runs SCHED_IDLE and may be preempted while it
   // holds the lock): if one holds it, this snapshot is skipped and its buffer refilled next time
   std::unique_lock<std::mutex> lock(mutex_, std::try_to_lock);

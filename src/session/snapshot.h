@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #include "mechanics/state.h"
@@ -20,6 +21,9 @@ struct Snapshot {
   Points q;                                 ///< control points (m), #N by 3
   std::vector<mechanics::ToolState> tools;  ///< tool tips, jaws, forces
   mechanics::ContactStats contacts;
+  /// Running the bowel's damaged parts as ranges [from, to] of the curve parameter s (0..1):
+  /// drawn in the damage colour (empty without damage or without [running]).
+  std::vector<std::pair<double, double>> damaged;
 };
 
 class SnapshotExchange {
@@ -34,8 +38,10 @@ class SnapshotExchange {
   /// very moment: then this snapshot is skipped (the next step's will do), so the mechanics
   /// thread never waits for a reader. It fills a buffer that is neither the latest nor held
   /// by a reader: with one reader (the render thread) holding one snapshot at a time, three
-  /// buffers always leave one free, so publishing every step never allocates.
-  void Publish(const mechanics::State& state);
+  /// buffers always leave one free, so publishing every step never allocates (but for the
+  /// damaged ranges, when they outgrow the buffer's: a few times in a session at most).
+  void Publish(const mechanics::State& state,
+               const std::vector<std::pair<double, double>>& damaged = {});
 
   /// The latest snapshot, or nullptr before the first; it stays unchanged while held. Any
   /// thread.

@@ -171,6 +171,51 @@ TEST(ArrayCountsFit, AReplysStatusesKeepTheirLastCounters) {
   EXPECT_FALSE(Fits<viscera_proto::session_status_t>(short_by_one));
 }
 
+// A status carrying running the bowel's score: `missed` segments not inspected, `events`
+// damage events, `damaged` segments and `failed` pass marks (each count chosen unique in the
+// encoding).
+viscera_proto::session_status_t RunningStatus(int missed, int events, int damaged, int failed) {
+  viscera_proto::session_status_t s = Status(2);
+  s.running_segments = 90;
+  s.running_num_missed = missed;
+  for (int i = 0; i < missed; ++i) s.running_missed.push_back(1000 + i);
+  s.running_num_events = events;
+  for (int i = 0; i < events; ++i) {
+    s.running_event_kinds.push_back("pinch");
+    s.running_event_segments.push_back(2000 + i);
+    s.running_event_tools.push_back("left");
+    s.running_event_times.push_back(1.5);
+    s.running_event_values.push_back(20.0);
+  }
+  s.running_num_damaged = damaged;
+  for (int i = 0; i < damaged; ++i) s.running_damaged.push_back(3000 + i);
+  s.running_num_failed = failed;
+  s.running_failed.assign(static_cast<size_t>(failed), "damage");
+  s.running_pass_damage_events = 4000;
+  return s;
+}
+
+TEST(ArrayCountsFit, RefusesHostileCountsOfTheRunningScore) {
+  ExpectRefusesHostileCounts(RunningStatus(41, 1, 1, 1), 41);
+  ExpectRefusesHostileCounts(RunningStatus(1, 43, 1, 1), 43);
+  ExpectRefusesHostileCounts(RunningStatus(1, 1, 47, 1), 47);
+  ExpectRefusesHostileCounts(RunningStatus(1, 1, 1, 53), 53);
+  // inside a reply, between two statuses: the walk steps over every running field
+  viscera_proto::session_reply_t reply{};
+  reply.header = MakeHeader(0, 0);
+  reply.num_sessions = 2;
+  reply.sessions = {RunningStatus(41, 3, 1, 2), RunningStatus(37, 1, 1, 1)};
+  const auto bytes = Encode(reply);
+  ASSERT_TRUE(Fits<viscera_proto::session_reply_t>(bytes));
+  viscera_proto::session_reply_t decoded;
+  ASSERT_EQ(decoded.decode(bytes.data(), 0, static_cast<int>(bytes.size())),
+            static_cast<int>(bytes.size()));
+  EXPECT_EQ(decoded.sessions[0].running_event_segments, (std::vector<int32_t>{2000, 2001, 2002}));
+  EXPECT_EQ(decoded.sessions[1].running_num_missed, 37);
+  EXPECT_EQ(decoded.sessions[1].running_pass_damage_events, 4000);
+  ExpectRefusesHostileCounts(reply, 37);
+}
+
 // LCM's string decode assigns length - 1 bytes: a zero length would ask for SIZE_MAX.
 TEST(ArrayCountsFit, RefusesAStringWithoutItsTerminator) {
   viscera_proto::heartbeat_t hb{};

@@ -175,6 +175,31 @@ class AssessmentTest(unittest.TestCase):
                           r["tools"][0]["regrasps"]), (2, 3, 1))
         self.assertEqual(r["targets"][0]["time_to_expose_s"], 2.0)
         self.assertIsNone(r["targets"][1]["time_to_expose_s"])  # not exposed: null, as in C++
+        self.assertIsNone(r["running"])  # no [running]: null, as in C++
+
+    def test_running_the_bowel_from_a_status_through_the_wire(self):
+        s = viscera_proto.session_status_t()
+        s.header = make_header(8, 0)
+        s.scene, s.state = "bowel_run", s.kRunning
+        s.running_segments, s.running_segment_length, s.running_coverage = 90, 0.05, 2.0 / 90.0
+        s.running_num_missed, s.running_missed = 88, list(range(2, 90))
+        s.running_grasps, s.running_slips, s.running_max_grip = 2, 1, 20.0
+        s.running_num_events = 1
+        s.running_event_kinds, s.running_event_segments, s.running_event_tools = ["pinch"], [0], ["left"]
+        s.running_event_times, s.running_event_values = [1.52], [20.0]
+        s.running_num_damaged, s.running_damaged = 1, [0]
+        s.running_num_failed, s.running_failed = 2, ["coverage", "damage"]
+        s.running_pinch_force, s.running_pass_coverage, s.running_pass_slips = 10.3, 1.0, 2
+        r = report_from_status(viscera_proto.session_status_t.decode(s.encode()))["running"]
+        self.assertEqual((r["segments"], r["grasps"], r["slips"]), (90, 2, 1))
+        self.assertEqual(r["missed"], list(range(2, 90)))
+        self.assertEqual(r["events"], [{"kind": "pinch", "segment": 0, "tool": "left", "t_s": 1.52,
+                                        "value": 20.0}])
+        self.assertEqual(r["damaged"], [0])
+        self.assertEqual(r["failed"], ["coverage", "damage"])
+        self.assertFalse(r["passed"])
+        self.assertEqual(r["thresholds"]["pinch_force_n"], 10.3)
+        self.assertEqual(r["pass_marks"]["slips"], 2)
 
 
 class SolverCountTest(unittest.TestCase):
