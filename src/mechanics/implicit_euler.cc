@@ -19,7 +19,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       guard_(model.params().linearization_guard),
       // BDF2 steps where the impact and depth constraints would not act, and backward Euler
       // where they would: without them (the limiter alone) nothing tells, and a landed pile
-      // stepped by BDF2 gained energy (docs/mechanics.md).
+      // stepped by BDF2 gained energy (docs/integrators.md).
       bdf2_(model.params().implicit_scheme == ImplicitScheme::kBdf2 &&
             (interactions == nullptr || model.params().contacts.impact_constraints)),
       // Stick-slip friction with the impact and depth constraints, as BDF2: held by the limiter

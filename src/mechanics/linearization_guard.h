@@ -1,5 +1,5 @@
 #pragma once
-/// The implicit step's linearization guard (docs/mechanics.md, "One linearization per
+/// The implicit step's linearization guard (docs/integrators.md, "One linearization per
 /// sub-step"): a sub-step is one linearization of the forces, and a segment of the control
 /// polygon turned far within it stretches by what the linear model cannot see (a slack tube
 /// pulled sideways has no sideways stiffness to first order); that stretch returns as energy

@@ -117,10 +117,10 @@ struct ModelParams {
   LinearSolverKind linear_solver = LinearSolverKind::kBlockBand;
   /// Implicit integrator: a sub-step that turns a segment so far that its linearization misses
   /// more than LinearizationGuard::kMaxUnseenStretch of its length is done again as two
-  /// halves (docs/mechanics.md, "One linearization per sub-step").
+  /// halves (docs/integrators.md, "One linearization per sub-step").
   bool linearization_guard = true;
   /// Implicit integrator: BDF2 damps a free swing of frequency ω by O(h³ ω⁴), backward Euler by
-  /// h ω² / 2 (docs/mechanics.md, "Integrators").
+  /// h ω² / 2 (docs/integrators.md, "Integrators").
   ImplicitScheme implicit_scheme = ImplicitScheme::kBdf2;
   /// Implicit integrator: the most conjugate-gradient iterations a linear solve may take before
   /// it counts as not converged; 0: ImplicitEulerIntegrator::kMaxCgIterationsExtended (240).

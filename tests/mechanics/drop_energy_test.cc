@@ -100,7 +100,7 @@ ShippedFall RunShippedFall(double rate_hz, bool impact_redo, bool stick_slip = f
 }
 
 // The implicit step's BDF2 sub-steps that would need impact or depth constraints are done again
-// as backward Euler (docs/mechanics.md, "Numerical damping: why BDF2"): the shipped fall then
+// as backward Euler (docs/integrators.md, "Numerical damping: why BDF2"): the shipped fall then
 // gains in no step and no pair sinks past 10 % of R.
 TEST(DropEnergy, TheShippedFallRunsBdf2AndNeverGainsEnergy) {
   for (double rate : {250.0, 500.0, 1000.0}) {

@@ -1,4 +1,4 @@
-// The implicit step's linearization guard (docs/mechanics.md, "One linearization per sub-step"):
+// The implicit step's linearization guard (docs/integrators.md, "One linearization per sub-step"):
 // a sub-step that turns a segment of the control polygon so far that its single linearization
 // misses the stretch is done again as two halves.
 #include <gtest/gtest.h>

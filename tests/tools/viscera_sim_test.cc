@@ -108,7 +108,7 @@ TEST(VisceraSim, FreeFallTraceAndSummaryAreConsistentAndPhysical) {
 }
 
 // attached.toml's overstretched mesentery: the first steps at 100 Hz turn segments too far for
-// one linearization (docs/mechanics.md), and the summary says how many sub-steps were halved.
+// one linearization (docs/integrators.md), and the summary says how many sub-steps were halved.
 TEST(VisceraSim, ReportsTheSubStepsTheLinearizationGuardHalved) {
   const Result r = Shell(std::string(VISCERA_SIM) + " " + Scene("attached.toml") +
                          " --duration 0.05 --json 2>/dev/null");

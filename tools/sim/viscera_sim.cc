@@ -342,7 +342,7 @@ int Run(const Options& opt) {
       {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
   };
   if (frames) summary["rendered_frames"] = frames->frames();
-  // sub-steps the implicit step's linearization guard did again as halves (docs/mechanics.md)
+  // sub-steps the implicit step's linearization guard did again as halves (docs/integrators.md)
   const auto* implicit = dynamic_cast<const mechanics::ImplicitEulerIntegrator*>(&run.integrator());
   summary["halved_substeps"] = implicit ? implicit->halved_substeps() : 0;
   // the linear solve's stops (docs/mechanics.md): solves that needed more than the usual
