@@ -160,6 +160,17 @@ Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
   return (q.transpose() * weights) / weights.sum();
 }
 
+// The tube's linear momentum and its tools' tips' (N s): what the hands' impulse is checked
+// against (docs/tool-coupling.md).
+Vec3 Momentum(const mechanics::Model& model, const mechanics::State& state) {
+  Vec3 p = state.qd.transpose() * mechanics::MassRowSums(model.mass_band());
+  for (size_t t = 0; t < state.tools.size(); ++t)
+    p += model.params().tools[t].mass * state.tools[t].tip_velocity;
+  return p;
+}
+
+nlohmann::json Json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
 // Replays a viscerad session record: the same scene, inputs and steps, so the same trajectory.
 int Replay(const Options& opt) {
   std::unique_ptr<TraceWriter> trace;
@@ -262,6 +273,8 @@ int Run(const Options& opt) {
 
   const Energies e0 = energies();
   const Vec3 com0 = CentreOfMass(model, state.q);
+  const Vec3 momentum0 = Momentum(model, state);
+  Vec3 hand_impulse = Vec3::Zero();  // what the hands gave the tips, all tools (N s)
   record(0.0);
   assessed.AddStep(state);
   const int64_t steps = run.StepsFor(opt.duration);
@@ -289,8 +302,10 @@ int Run(const Options& opt) {
     cost_us.push_back(us);
     if (!std::isnan(state.contacts.min_clearance))
       min_clearance = std::min(min_clearance, state.contacts.min_clearance);
-    for (size_t t = 0; t < state.tools.size(); ++t)
+    for (size_t t = 0; t < state.tools.size(); ++t) {
       max_tool_force[t] = std::max(max_tool_force[t], state.tools[t].force.norm());
+      hand_impulse -= model.step_size() * state.tools[t].force;  // the hand feels the reaction
+    }
     assessed.AddStep(state);
     if (k % opt.trace_every == 0 || k == steps) record(us);
     if (frames && k % render_every == 0) frames->Write(state, assessed.DamagedRanges());
@@ -340,12 +355,17 @@ int Run(const Options& opt) {
        std::isfinite(min_clearance) ? nlohmann::json(min_clearance) : nlohmann::json(nullptr)},
       {"sphere_radius", interactions ? interactions->chain().radius() : 0.0},
       {"max_tool_force", max_tool_force},  // per tool, in scene order (N)
+      // the tube's and the tips' momentum gained, and the impulse the hands gave (N s): equal
+      // for a free tube pushed by tool tips; gravity, walls, attachments and the ports (for a
+      // shaft's contacts) give the rest
+      {"momentum",
+       {{"gained", Json(Momentum(model, state) - momentum0)}, {"hands", Json(hand_impulse)}}},
   };
   if (frames) summary["rendered_frames"] = frames->frames();
   // sub-steps the implicit step's linearization guard did again as halves (docs/integrators.md)
   const auto* implicit = dynamic_cast<const mechanics::ImplicitEulerIntegrator*>(&run.integrator());
   summary["halved_substeps"] = implicit ? implicit->halved_substeps() : 0;
-  // the linear solve's stops (docs/mechanics.md): solves that needed more than the usual
+  // the linear solve's stops (docs/integrators.md): solves that needed more than the usual
   // iterations, sub-steps halved because a solve did not converge, and solves accepted short
   summary["cg_extended"] = implicit ? implicit->cg_extended() : 0;
   summary["cg_halved"] = implicit ? implicit->cg_halved() : 0;
@@ -402,6 +422,13 @@ int Run(const Options& opt) {
     std::printf("tool %-11s force [%.3f, %.3f, %.3f] N, max over the run %.3f N%s\n",
                 model.params().tools[t].name.c_str(), f.x(), f.y(), f.z(), max_tool_force[t],
                 state.tools[t].grasping ? ", grasping" : "");
+  }
+  if (!state.tools.empty()) {
+    const Vec3 gained = Momentum(model, state) - momentum0;
+    std::printf(
+        "momentum         tube and tips gained [%.5f, %.5f, %.5f] N s; hands gave [%.5f, %.5f, "
+        "%.5f] N s\n",
+        gained.x(), gained.y(), gained.z(), hand_impulse.x(), hand_impulse.y(), hand_impulse.z());
   }
   if (frames) {
     std::printf("frames           %d (%s skin, %s, every %d steps, %.1f ms each) -> %s\n",
