@@ -120,7 +120,7 @@ struct ModelParams {
   /// halves (docs/integrators.md, "One linearization per sub-step").
   bool linearization_guard = true;
   /// Implicit integrator: BDF2 damps a free swing of frequency ω by O(h³ ω⁴), backward Euler by
-  /// h ω² / 2 (docs/integrators.md, "Integrators").
+  /// h ω² / 2 (docs/integrators.md, "Numerical damping: why BDF2").
   ImplicitScheme implicit_scheme = ImplicitScheme::kBdf2;
   /// Implicit integrator: the most conjugate-gradient iterations a linear solve may take before
   /// it counts as not converged; 0: ImplicitEulerIntegrator::kMaxCgIterationsExtended (240).

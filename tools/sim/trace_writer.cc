@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "common/check.h"
-#include "mechanics/banded_cholesky.h"
+#include "mechanics/mass_matrix.h"
 
 namespace viscera::tools {
 namespace {
@@ -54,14 +54,13 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
   Points("qd", state.qd);
   line_ += ",\"length\":";
   Number(&line_, length);
-  // The tube's linear momentum, sum of M q̇ over the points: the consistent mass matrix's, not
-  // the control points' velocities times a share of the mass (they are not material points).
-  weighted_.resize(state.qd.rows(), 3);
-  mechanics::BandMultiply(model.mass_band(), state.qd, &weighted_);
+  // The tube's linear momentum, M q̇ summed over the points (the rows of M weigh each point's
+  // velocity): the control points are not material points with a share of the mass each.
+  const Vec3 momentum = state.qd.transpose() * mechanics::MassRowSums(model.mass_band());
   line_ += ",\"momentum\":[";
   for (int a = 0; a < 3; ++a) {
     if (a) line_ += ',';
-    Number(&line_, weighted_.col(a).sum());
+    Number(&line_, momentum(a));
   }
   line_ += ']';
   line_ += ",\"energy\":{";

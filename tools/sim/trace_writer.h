@@ -1,9 +1,9 @@
 #pragma once
 /// Writes a simulation trace as JSON Lines: one object per recorded frame with
 ///   t (s), q and qd (#N lists of [x, y, z], m and m/s), length (m), momentum ([px, py, pz], N s,
-///   the tube's), energy {kinetic, gravity,
-///   stretch, bend, continuous, attachment, total} (J), step_us (CPU time of the step that
-///   produced the frame, microseconds); with contacts: spheres (centres, [x, y, z]),
+///   the tube's), energy {kinetic, gravity, stretch, bend, continuous, attachment, total} (J),
+///   step_us (CPU time of the step that produced the frame, microseconds); with contacts: spheres
+///   (centres, [x, y, z]),
 ///   sphere_radius (m), contacts {self, environment, tool}, min_clearance (m, null if none),
 ///   tool_force {name: [fx, fy, fz]} (N, the force on the user's hand), tool_tip and
 ///   tool_tip_velocity (m, m/s), grasp_s, grip, slips.
@@ -35,7 +35,6 @@ class TraceWriter {
   std::FILE* file_;
   std::string line_;
   viscera::Points centres_;
-  viscera::Points weighted_;  // M q̇
   int frames_ = 0;
 };
 
