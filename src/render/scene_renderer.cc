@@ -85,9 +85,9 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
               "SceneRenderer::Draw: ", tools.size(), " tool states for ", tool_params_.size(),
               " tools");
   const bool layered = static_layer_ != nullptr;
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
   if (layered) {
-    GLint viewport[4] = {0, 0, 0, 0};
-    glGetIntegerv(GL_VIEWPORT, viewport);
     if (!static_layer_->Holds(camera, viewport[2], viewport[3])) {
       static_layer_->BeginDrawing(camera, viewport[2], viewport[3]);
       renderer_.Clear(palette_.background);
@@ -102,6 +102,7 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
   // depth test rejects the wall's hidden fragments before they are shaded
   intestine_cpu_.Clear();
   const Faces faces = options_.intestine_back_faces ? Faces::kBoth : Faces::kFront;
+  intestine_blocks_.clear();
   if (!damage_.empty() && !intestine.positions.empty() &&
       intestine.surface.size() == intestine.positions.size()) {
     // each triangle in one of the two colours, by where along the bowel its middle lies (the
@@ -132,7 +133,11 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
     renderer_.Draw(intestine_gpu_, camera, palette_.intestine, faces);
     renderer_.Draw(damaged_gpu_, camera, palette_.damage, faces);
   } else {
-    if (options_.cull_intestine) {
+    if (options_.cull_intestine && options_.level_of_detail && intestine.tube.rings >= 2) {
+      intestine_counts_ = detail_.Append(intestine, length_, radius_, camera, viewport[3],
+                                         options_.detail_tolerance_px, &intestine_cpu_);
+      intestine_blocks_ = detail_.blocks();
+    } else if (options_.cull_intestine) {
       intestine_counts_ = culler_.Append(intestine, length_, radius_, camera, &intestine_cpu_);
     } else {
       AppendSkin(intestine, length_, radius_, &intestine_cpu_);

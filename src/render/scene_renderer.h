@@ -13,6 +13,7 @@
 #include "render/mesh_renderer.h"
 #include "render/palette.h"
 #include "render/skin_culling.h"
+#include "render/skin_detail.h"
 #include "render/static_layer.h"
 #include "skin/mesh.h"
 
@@ -31,6 +32,11 @@ struct SceneOptions {
   /// Draw only the pieces of the intestine in or across the view volume, nearest first
   /// (SkinCuller). Off: the whole skin in the skin's order (the reference the tests compare to).
   bool cull_intestine = true;
+  /// With cull_intestine, draw the far parts of a ring-based skin with fewer rings and sides
+  /// (SkinDetail): their surface stays within `detail_tolerance_px` pixels of the full skin's.
+  /// Off: every ring and side (the reference).
+  bool level_of_detail = true;
+  double detail_tolerance_px = 1.0;
   /// Keep the picture of the static scene (StaticLayer) while the camera stays, and draw only
   /// what moves over a copy of it. Off: everything drawn every frame (the reference).
   bool static_layer = true;
@@ -69,6 +75,9 @@ class SceneRenderer {
   long triangles() const { return triangles_; }
   /// The intestine's chunks and triangles in the last frame, and how many were drawn.
   const CullCounts& intestine_counts() const { return intestine_counts_; }
+  /// The skin's blocks and their levels of detail in the last frame (empty when it was drawn
+  /// without SceneOptions::level_of_detail).
+  const std::vector<SkinDetail::Block>& intestine_blocks() const { return intestine_blocks_; }
 
  private:
   struct StaticMesh {
@@ -86,7 +95,9 @@ class SceneRenderer {
   std::vector<StaticMesh> obstacles_;
   std::unique_ptr<StaticLayer> static_layer_;  // null when SceneOptions::static_layer is off
   SkinCuller culler_;
+  SkinDetail detail_;
   CullCounts intestine_counts_;
+  std::vector<SkinDetail::Block> intestine_blocks_;
   TriMesh intestine_cpu_;  // reused: its float copy of the skin
   TriMesh tools_cpu_;
   GpuMesh intestine_gpu_;  // one buffer set per dynamic mesh: no upload waits for a draw

@@ -28,6 +28,33 @@ bool Frustum::Outside(const Eigen::AlignedBox3f& box) const {
   return false;
 }
 
+void SkinVertices::Begin(const skin::Mesh& mesh, double length, double radius, TriMesh* out) {
+  mesh_ = &mesh;
+  out_ = out;
+  length_ = length;
+  radius_ = radius;
+  on_tissue_ = mesh.surface.size() == mesh.positions.size();
+  remap_.assign(mesh.positions.size(), -1);
+  out->texture.resize(out->positions.size(), Eigen::Vector3f::Zero());
+  base_ = static_cast<int32_t>(out->positions.size());
+}
+
+int32_t SkinVertices::Copy(int v) {
+  const auto at = static_cast<int32_t>(out_->positions.size()) - base_;
+  out_->positions.push_back(mesh_->positions[v].cast<float>());
+  out_->normals.push_back(mesh_->normals[v].cast<float>());
+  if (on_tissue_) {
+    // AppendSkin's texture space: the tube unrolled
+    const Eigen::Vector2d& sa = mesh_->surface[v];
+    out_->texture.emplace_back(static_cast<float>(sa.x() * length_),
+                               static_cast<float>(radius_ * std::cos(sa.y())),
+                               static_cast<float>(radius_ * std::sin(sa.y())));
+  } else {
+    out_->texture.push_back(out_->positions.back());
+  }
+  return at;
+}
+
 SkinCuller::SkinCuller(int chunk_triangles) : chunk_triangles_(chunk_triangles) {
   VISCERA_DEMAND(chunk_triangles >= 1);
 }
@@ -56,33 +83,12 @@ CullCounts SkinCuller::Append(const skin::Mesh& mesh, double length, double radi
   std::sort(visible_.begin(), visible_.end(),
             [](const Chunk& a, const Chunk& b) { return a.depth < b.depth; });
 
-  const bool on_tissue = mesh.surface.size() == mesh.positions.size();
-  remap_.assign(mesh.positions.size(), -1);
-  out->texture.resize(out->positions.size(), Eigen::Vector3f::Zero());
-  const auto base = static_cast<int32_t>(out->positions.size());
+  vertices_.Begin(mesh, length, radius, out);
   for (const Chunk& c : visible_) {
     ++counts.chunks_drawn;
     counts.triangles_drawn += c.count;
     for (int t = c.first; t < c.first + c.count; ++t) {
-      for (int k = 0; k < 3; ++k) {
-        const int v = mesh.triangles[t][k];
-        int32_t& at = remap_[v];
-        if (at < 0) {
-          at = static_cast<int32_t>(out->positions.size()) - base;
-          out->positions.push_back(mesh.positions[v].cast<float>());
-          out->normals.push_back(mesh.normals[v].cast<float>());
-          if (on_tissue) {
-            // AppendSkin's texture space: the tube unrolled
-            const Eigen::Vector2d& sa = mesh.surface[v];
-            out->texture.emplace_back(static_cast<float>(sa.x() * length),
-                                      static_cast<float>(radius * std::cos(sa.y())),
-                                      static_cast<float>(radius * std::sin(sa.y())));
-          } else {
-            out->texture.push_back(out->positions.back());
-          }
-        }
-        out->indices.push_back(static_cast<uint32_t>(base + at));
-      }
+      for (int k = 0; k < 3; ++k) out->indices.push_back(vertices_(mesh.triangles[t][k]));
     }
   }
   return counts;

@@ -29,6 +29,30 @@ class Frustum {
   std::array<Eigen::Vector4f, 6> planes_;
 };
 
+/// Copies the skin's vertices that a drawing uses into a TriMesh, each once, with AppendSkin's
+/// texture space (the tube unrolled, or the world positions for a skin without surface
+/// coordinates).
+class SkinVertices {
+ public:
+  /// Starts copying vertices of `mesh` to the end of *out (both outlive the copying).
+  void Begin(const skin::Mesh& mesh, double length, double radius, TriMesh* out);
+  /// The index in *out of skin vertex v, copied on its first use.
+  uint32_t operator()(int v) {
+    int32_t& at = remap_[static_cast<size_t>(v)];
+    if (at < 0) at = Copy(v);
+    return static_cast<uint32_t>(base_ + at);
+  }
+
+ private:
+  int32_t Copy(int v);
+  const skin::Mesh* mesh_ = nullptr;
+  TriMesh* out_ = nullptr;
+  double length_ = 0.0, radius_ = 0.0;
+  bool on_tissue_ = false;
+  int32_t base_ = 0;
+  std::vector<int32_t> remap_;  // skin vertex -> output vertex, -1: not yet copied
+};
+
 struct CullCounts {
   int chunks = 0;        ///< of the whole skin
   int chunks_drawn = 0;  ///< in or across the view volume
@@ -55,7 +79,7 @@ class SkinCuller {
   };
   int chunk_triangles_;
   std::vector<Chunk> visible_;  // reused
-  std::vector<int32_t> remap_;  // skin vertex -> output vertex, -1: not yet emitted
+  SkinVertices vertices_;
 };
 
 }  // namespace viscera::render

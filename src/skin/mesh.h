@@ -20,6 +20,14 @@ struct Mesh {
   /// skins (#V), empty for the others; the renderer anchors its procedural textures to it, so
   /// the serosa's vessels move with the bowel.
   std::vector<Eigen::Vector2d> surface;
+  /// The ring-based skins' tube (tube_rays.h): `rings` rings of `sides` vertices from vertex
+  /// `first_vertex` on, ring after ring, side j at angle 2 pi j / sides; the triangles from
+  /// `first_triangle` on join ring i to ring i + 1, 2 sides of them per pair of rings, and the
+  /// others are the end caps (their last rings of the same sides). rings == 0: no such layout
+  /// (the implicit skin). The renderer coarsens the far parts of the tube with it.
+  struct TubeGrid {
+    int rings = 0, sides = 0, first_vertex = 0, first_triangle = 0;
+  } tube;
 
   int num_vertices() const { return static_cast<int>(positions.size()); }
   int num_triangles() const { return static_cast<int>(triangles.size()); }
@@ -28,6 +36,7 @@ struct Mesh {
     normals.clear();
     triangles.clear();
     surface.clear();
+    tube = {};
   }
 };
 

@@ -143,6 +143,8 @@ void TubeRays::Emit(const std::vector<double>& radii, Mesh* out) const {
                               : ring_params_[static_cast<size_t>((v - first) / sides_)];
     out->surface[static_cast<size_t>(v)] = {s, 2.0 * std::numbers::pi * side / sides_};
   }
+  // BuildTriangles: the front fan and the strips of the front cap's rings come first
+  out->tube = {num_rings(), sides_, first, sides_ + 2 * sides_ * (cap_rings_ - 1)};
 }
 
 void UniformRingParams(int num_segments, int per_segment, std::vector<double>* params) {
