@@ -24,8 +24,10 @@ int SelfSkip(const collision::SphereChain& chain) {
   return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
 }
 
-// Series stiffness of the coupling and a contact: what the hand feels through the tool.
-double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
+bool TipsInSolve(const Model& model) {
+  return model.params().integrator == IntegratorKind::kImplicitEuler &&
+         model.params().contacts.tips_in_solve;
+}
 
 }  // namespace
 
@@ -45,7 +47,8 @@ Interactions::Interactions(const Model& model)
                   kVerletSkin * radius_),
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
-      friction_(model.params().contacts, chain_, SphereMass()) {
+      friction_(model.params().contacts, chain_, SphereMass()),
+      haptic_(model, TipsInSolve(model)) {
   obstacles_.reserve(model.params().obstacles.size());
   for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();
@@ -57,8 +60,7 @@ Interactions::Interactions(const Model& model)
   grasp_scale_.assign(tools, 0.0);
   slipped_.assign(tools, 0);
   held_sphere_.assign(tools, -1);
-  tips_in_solve_ = model.params().integrator == IntegratorKind::kImplicitEuler &&
-                   model.params().contacts.tips_in_solve;
+  tips_in_solve_ = TipsInSolve(model);
   tip_from_.assign(tools, Vec3::Zero());
   tip_to_.assign(tools, Vec3::Zero());
   coupling_rows_.assign(tools, TipRows{});
@@ -69,9 +71,6 @@ Interactions::Interactions(const Model& model)
   tip_released_.reserve(tools * chain_.size());
   tip_stiffened_.reserve(tools * chain_.size());
   tip_activated_.reserve(tools * chain_.size());
-  hand_impulse_.assign(tools, Vec3::Zero());
-  hand_time_.assign(tools, 0.0);
-  hand_saturated_.assign(tools, 0);
   held_span_ = SelfSkip(chain_);
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
   sphere_k_.assign(chain_.size(), Mat3::Zero());
@@ -403,9 +402,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   FollowState(state);        // usually as EndStep left it: nothing to take
   Configure(state.q, true);  // nor to redo
   // The step's impulse on each hand starts from nothing (a blown-up step's NaN stays in it).
-  std::fill(hand_impulse_.begin(), hand_impulse_.end(), Vec3::Zero());
-  std::fill(hand_time_.begin(), hand_time_.end(), 0.0);
-  std::fill(hand_saturated_.begin(), hand_saturated_.end(), 0);
+  haptic_.StartStep();
   GatherVelocities(state.qd);
   SyncTools(state);
   const double margin = CandidateMargin(state, h);
@@ -513,37 +510,7 @@ void Interactions::EndStep(State* state) {
   }
   state->contacts = stats;
 
-  // Force on the user's hand: the coupling's reaction, k (tip - target) + c v, faded when idle.
-  for (size_t t = 0; t < state->tools.size(); ++t) {
-    const ToolParams& tp = model_.params().tools[t];
-    ToolState& ts = state->tools[t];
-    if (!ts.initialized) continue;
-    const double kc = ts.coupling_scale * tp.coupling_stiffness;
-    Vec3 f = ts.target.tip.allFinite() ? Vec3(kc * (ts.tip - ts.target.tip)) : Vec3::Zero();
-    f += ts.coupling_scale * tp.coupling_damping * ts.tip_velocity;
-    bool saturated = false;
-    if (tips_in_solve_ && hand_time_[t] > 0.0) {
-      // The step's impulse on the hand over its length: what the solve's coupling applied.
-      f = hand_impulse_[t] / hand_time_[t];
-      saturated = hand_saturated_[t];
-    }
-    ts.clamped = saturated || f.norm() > tp.max_force;
-    if (ts.clamped) f *= tp.max_force / f.norm();
-    ts.force = f;
-    ts.torque = (ts.tip - tp.port).cross(f);
-    // Local stiffness: each touching contact (and the grasp) in series with the coupling.
-    Mat3 k = Mat3::Zero();
-    for (size_t i = 0; i < list.size(); ++i) {
-      const ContactCandidate& c = list[i];
-      if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const ContactPenalty& p = geometry_[i];
-      if (p.depth > 0.0)
-        k += Series(kc, p.lever * p.lever * law_.At(p.depth).slope) * p.normal *
-             p.normal.transpose();
-    }
-    if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();
-    ts.stiffness = k;
-  }
+  haptic_.EndStep(list, geometry_, law_, grasping_, grasp_scale_, state);
 }
 
 }  // namespace viscera::mechanics

@@ -18,6 +18,7 @@
 #include "mechanics/block_band.h"
 #include "mechanics/contact_law.h"
 #include "mechanics/contact_window.h"
+#include "mechanics/haptic_output.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
 #include "mechanics/self_pair_coupling.h"
@@ -328,9 +329,7 @@ class Interactions {
     return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) !=
            tip_activated_.end();
   }
-  std::vector<Vec3> hand_impulse_;
-  std::vector<double> hand_time_;
-  std::vector<char> hand_saturated_;  // the coupling saturated in one of the step's sub-steps
+  HapticOutput haptic_;
 };
 
 }  // namespace viscera::mechanics

@@ -132,9 +132,7 @@ void Interactions::TipAdvanced(int index, double h, ToolState* ts) {
   // The damper the hand feels fades with the coupling (idle); the tip's own does not.
   const Vec3 on_hand =
       -on_tip - (1.0 - ts->coupling_scale) * tp.coupling_damping * ts->tip_velocity;
-  hand_impulse_[index] += h * on_hand;
-  hand_time_[index] += h;
-  if (coupling_saturated_[index]) hand_saturated_[index] = 1;
+  haptic_.AddImpulse(index, h, on_hand, coupling_saturated_[index]);
   ts->tissue_force = tip_rows_[index].tissue;
 }
 
