@@ -26,8 +26,7 @@ void HapticOutput::StartStep() {
 
 void HapticOutput::EndStep(const std::vector<collision::ContactCandidate>& list,
                            const std::vector<ContactPenalty>& geometry, const ContactLaw& law,
-                           const std::vector<bool>& grasping,
-                           const std::vector<double>& grasp_scale, State* state) const {
+                           const Grasps& grasps, State* state) const {
   // The coupling's reaction, k (tip - target) + c v, faded when idle.
   for (size_t t = 0; t < state->tools.size(); ++t) {
     const ToolParams& tp = model_.params().tools[t];
@@ -56,7 +55,8 @@ void HapticOutput::EndStep(const std::vector<collision::ContactCandidate>& list,
         k +=
             Series(kc, p.lever * p.lever * law.At(p.depth).slope) * p.normal * p.normal.transpose();
     }
-    if (grasping[t]) k += Series(kc, grasp_scale[t] * tp.grasp_stiffness) * Mat3::Identity();
+    if (grasps.grasping(static_cast<int>(t)))
+      k += Series(kc, grasps.Stiffness(static_cast<int>(t))) * Mat3::Identity();
     ts.stiffness = k;
   }
 }

@@ -9,6 +9,7 @@
 #include "collision/contact_detector.h"
 #include "common/types.h"
 #include "mechanics/contact_law.h"
+#include "mechanics/grasps.h"
 #include "mechanics/model.h"
 #include "mechanics/state.h"
 
@@ -34,8 +35,7 @@ class HapticOutput {
   /// step's end, and `law`) and of the grasp, each in series with the coupling.
   void EndStep(const std::vector<collision::ContactCandidate>& list,
                const std::vector<ContactPenalty>& geometry, const ContactLaw& law,
-               const std::vector<bool>& grasping, const std::vector<double>& grasp_scale,
-               State* state) const;
+               const Grasps& grasps, State* state) const;
 
  private:
   const Model& model_;

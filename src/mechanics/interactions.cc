@@ -45,6 +45,7 @@ Interactions::Interactions(const Model& model)
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
                                              SelfSkip(chain_)),
                   kVerletSkin * radius_),
+      grasps_(model, chain_, SelfSkip(chain_)),
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
       friction_(model.params().contacts, chain_, SphereMass()),
@@ -54,12 +55,6 @@ Interactions::Interactions(const Model& model)
   const size_t tools = model.params().tools.size();
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
-  grasping_.assign(tools, false);
-  grasp_at_.resize(tools);
-  grasp_offset_.assign(tools, Vec3::Zero());
-  grasp_scale_.assign(tools, 0.0);
-  slipped_.assign(tools, 0);
-  held_sphere_.assign(tools, -1);
   tips_in_solve_ = TipsInSolve(model);
   tip_from_.assign(tools, Vec3::Zero());
   tip_to_.assign(tools, Vec3::Zero());
@@ -71,7 +66,6 @@ Interactions::Interactions(const Model& model)
   tip_released_.reserve(tools * chain_.size());
   tip_stiffened_.reserve(tools * chain_.size());
   tip_activated_.reserve(tools * chain_.size());
-  held_span_ = SelfSkip(chain_);
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
@@ -113,16 +107,7 @@ void Interactions::UpdateCandidates(double margin, State* state) {
 
 void Interactions::FollowState(const State& state) {
   if (candidates_.Restore(state.broad_phase)) geometry_valid_ = false;
-  for (size_t t = 0; t < state.tools.size() && t < grasping_.size(); ++t) {
-    const ToolState& ts = state.tools[t];
-    if (held_sphere_[t] != ts.held_sphere) geometry_valid_ = false;  // Held() changes
-    held_sphere_[t] = ts.held_sphere;
-    grasping_[t] = ts.grasping;
-    grasp_offset_[t] = ts.grasp_offset;
-    grasp_scale_[t] = ts.grasp_scale;
-    slipped_[t] = ts.slipped;
-    if (ts.grasping) grasp_at_[t] = model_.MakeCurvePoint(ts.grasp_s);
-  }
+  if (grasps_.Follow(state)) geometry_valid_ = false;  // Held() changes
 }
 
 void Interactions::EnsureGeometry() {
@@ -187,13 +172,8 @@ void Interactions::RefreshToolGeometry() {
   }
 }
 
-bool Interactions::Held(const ContactCandidate& c) const {
-  return c.kind == ContactKind::kTool && held_sphere_[c.b] >= 0 &&
-         std::abs(c.a - held_sphere_[c.b]) <= held_span_;
-}
-
 ContactPenalty Interactions::Geometry(const ContactCandidate& c) const {
-  if (!Held(c)) return RawGeometry(c);
+  if (!grasps_.Held(c)) return RawGeometry(c);
   ContactPenalty p;
   p.clearance = 1.0;  // m: never a contact, never within any margin
   p.depth = -p.clearance;
@@ -368,12 +348,12 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
   }
   // Grasps: a stiff spring from the jaws to the grasped curve point.
-  for (size_t t = 0; t < grasping_.size(); ++t) {
-    if (!grasping_[t]) continue;
-    const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
-    const Vec3 x = GraspStretch(static_cast<int>(t), q);
+  for (int t = 0; t < grasps_.size(); ++t) {
+    if (!grasps_.grasping(t)) continue;
+    const double k = grasps_.Stiffness(t);
+    const Vec3 x = grasps_.Stretch(t, capsules_[t].tip, q);
     energy += 0.5 * k * x.squaredNorm();
-    const ContactWindow at = ContactWindow::Of(grasp_at_[t]);
+    const ContactWindow at = ContactWindow::Of(grasps_.at(t));
     at.Scatter(k * x, F);
     tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
     tip_rows_[t].tissue += k * x;
@@ -381,7 +361,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
       at.AddOuter(k * Mat3::Identity(), nullptr, K, nullptr);
       if (tips_in_solve_) {
         tip_rows_[t].k += k * Mat3::Identity();
-        tip_links_.push_back({at, static_cast<int>(t), -k * Mat3::Identity(), Mat3::Zero()});
+        tip_links_.push_back({at, t, -k * Mat3::Identity(), Mat3::Zero()});
       }
     }
   }
@@ -468,14 +448,14 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
 }
 
 void Interactions::ReleaseHeldSpheres(State* state) {
-  for (size_t t = 0; t < held_sphere_.size(); ++t) {
-    if (held_sphere_[t] < 0 || grasping_[t]) continue;
+  for (int t = 0; t < grasps_.size(); ++t) {
+    if (grasps_.held_sphere(t) < 0 || grasps_.grasping(t)) continue;
     bool inside = false;
     for (const ContactCandidate& c : candidates()) {
-      if (Held(c) && c.b == static_cast<int>(t) && RawGeometry(c).clearance < 0.0) inside = true;
+      if (grasps_.Held(c) && c.b == t && RawGeometry(c).clearance < 0.0) inside = true;
     }
     if (!inside) {
-      held_sphere_[t] = -1;
+      grasps_.Release(t);
       state->tools[t].held_sphere = -1;
       geometry_valid_ = false;  // its spheres are contacts again
     }
@@ -510,7 +490,7 @@ void Interactions::EndStep(State* state) {
   }
   state->contacts = stats;
 
-  haptic_.EndStep(list, geometry_, law_, grasping_, grasp_scale_, state);
+  haptic_.EndStep(list, geometry_, law_, grasps_, state);
 }
 
 }  // namespace viscera::mechanics

@@ -18,6 +18,7 @@
 #include "mechanics/block_band.h"
 #include "mechanics/contact_law.h"
 #include "mechanics/contact_window.h"
+#include "mechanics/grasps.h"
 #include "mechanics/haptic_output.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
@@ -174,7 +175,6 @@ class Interactions {
   ContactPenalty RawGeometry(const collision::ContactCandidate& c) const;
   // A self pair's penalty from its centres' separation (RawGeometry's and SelfGeometry's).
   ContactPenalty SelfPenalty(const collision::PairSeparation& separation) const;
-  bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres(State* state);
   // Takes what the state carries from the last step (the grasps, the broad phase's list), so
@@ -228,9 +228,6 @@ class Interactions {
   void PrepareTool(int index, double h, const Points& q, ToolState* ts);
   // The tools' capsules and velocities from the state's tips (the geometry follows).
   void SyncTools(const State& state);
-  void UpdateGrasp(int index, double h, bool active, const Points& q, ToolState* ts);
-  // The grasp spring's stretch: jaws - tube - offset.
-  Vec3 GraspStretch(int index, const Points& q) const;
 
   const Model& model_;
   ContactLaw law_;
@@ -255,23 +252,7 @@ class Interactions {
   double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
   std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
-  // The grasps, as the state's tools hold them (ToolState::grasping, grasp_s, grasp_offset,
-  // grasp_scale, held_sphere): taken from it by FollowState, given back by UpdateGrasp and
-  // ReleaseHeldSpheres.
-  std::vector<bool> grasping_;
-  std::vector<CurvePoint> grasp_at_;
-  // A grasp engages at the jaws' current offset from the tube, which then shrinks (the tube is
-  // drawn into the jaws), and fades out on release: the force never jumps.
-  std::vector<Vec3> grasp_offset_;
-  std::vector<double> grasp_scale_;
-  // The tube slipped out of closed jaws (ToolState::slipped): it fades out and no grasp starts
-  // until they open.
-  std::vector<char> slipped_;
-  // The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours within
-  // held_span_ are between the jaws, where the shaft's contact would fight the grasp (the tube
-  // sank half its radius into the tool). Kept after a release until they are out of the shaft.
-  std::vector<int> held_sphere_;
-  int held_span_ = 0;
+  Grasps grasps_;  // taken from the state by FollowState, given back to it as they change
   // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
   // damping (spread onto its window once, not once per contact).
   std::vector<Vec3> sphere_velocity_;

@@ -44,7 +44,7 @@ void Interactions::PrepareTool(int index, double h, const Points& q, ToolState* 
   tip_to_[index] = ts->target_from + f1 * (target.tip - ts->target_from);
   tool_velocity_[index] = ts->tip_velocity;
   capsules_[index] = {true, tp.port, ts->tip, tp.radius};
-  UpdateGrasp(index, h, active, q, ts);
+  grasps_.Update(index, h, active, q, ts);
 }
 
 void Interactions::PlaceTips(const State& state, double fraction) {
