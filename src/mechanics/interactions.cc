@@ -49,6 +49,7 @@ Interactions::Interactions(const Model& model)
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
       friction_(model.params().contacts, chain_, SphereMass()),
+      tips_(model, chain_, law_),
       haptic_(model, TipsInSolve(model)) {
   obstacles_.reserve(model.params().obstacles.size());
   for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
@@ -56,16 +57,6 @@ Interactions::Interactions(const Model& model)
   capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
   tips_in_solve_ = TipsInSolve(model);
-  tip_from_.assign(tools, Vec3::Zero());
-  tip_to_.assign(tools, Vec3::Zero());
-  coupling_rows_.assign(tools, TipRows{});
-  tip_rows_.assign(tools, TipRows{});
-  coupling_saturated_.assign(tools, 0);
-  tip_links_.reserve(tools * (chain_.size() + 1));
-  tip_pairs_.reserve(tools * chain_.size());
-  tip_released_.reserve(tools * chain_.size());
-  tip_stiffened_.reserve(tools * chain_.size());
-  tip_activated_.reserve(tools * chain_.size());
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
@@ -248,9 +239,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   double energy = friction_.energy();
   self_pairs_.Clear();
   friction_.ClearPairs();
-  tip_links_.clear();
-  tip_pairs_.clear();
-  tip_rows_ = coupling_rows_;  // the coupling's part (PlaceTips); same size: no allocation
+  tips_.StartForces();  // the coupling's part (PlaceTips)
   // A pair apart by more than anything can close in the sub-step is one Evaluate leaves
   // inactive (most of the Verlet list's skin): skipped on its clearance alone. The margin
   // covers the rounding of Evaluate's closing speed.
@@ -260,14 +249,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const bool activated = c.kind == ContactKind::kTool && !tip_activated_.empty() &&
-                           TipActivated(static_cast<int>(i));
+    const bool activated = c.kind == ContactKind::kTool && tips_.Activated(static_cast<int>(i));
     if (geometry_[i].clearance > reach && !activated) continue;
-    if (c.kind == ContactKind::kTool && !tip_released_.empty() &&
-        std::find(tip_released_.begin(), tip_released_.end(), static_cast<int>(i)) !=
-            tip_released_.end()) {
-      continue;
-    }
+    if (c.kind == ContactKind::kTool && tips_.Released(static_cast<int>(i))) continue;
     ContactPenalty p = Evaluate(c, geometry_[i]);
     if (activated && !p.active) {
       // Its law (linear while apart) from the start, as a speculative pair's.
@@ -277,11 +261,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
     ContactLaw::Law law = law_.At(p.depth);
     if (p.depth > 0.0) energy += law.energy;
-    if (c.kind == ContactKind::kTool) {
-      for (const auto& [candidate, slope] : tip_stiffened_) {
-        if (candidate == static_cast<int>(i)) law.slope = std::max(law.slope, slope);
-      }
-    }
+    if (c.kind == ContactKind::kTool) law.slope = tips_.Slope(static_cast<int>(i), law.slope);
     if (!p.active) continue;
     const bool stick_slip = friction_.active();
     Mat3 friction_k, friction_d;
@@ -293,13 +273,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     Window(c.a).Scatter(p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
     if (self) Window(c.b).Scatter(-p.force, F);
-    // A tool's contact pushes its tip back, moved there by the lever rule (the shaft pivots at
-    // the port, which takes the rest).
     const bool tool = c.kind == ContactKind::kTool;
-    if (tool) {
-      tip_rows_[c.b].force -= p.lever * p.force;
-      tip_rows_[c.b].tissue += p.force;
-    }
+    if (tool) tips_.AddContactForce(c.b, p.lever, p.force);
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
@@ -314,15 +289,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     } else {
       dn += (law_.Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     }
-    if (tool && tips_in_solve_) {
-      // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
-      // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.
-      tip_rows_[c.b].k += (p.lever * p.lever) * kn;
-      tip_rows_[c.b].d += (p.lever * p.lever) * dn;
-      tip_links_.push_back({Window(c.a), c.b, -p.lever * kn, -p.lever * dn});
-      tip_pairs_.push_back(
-          {static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
-    }
+    if (tool && tips_in_solve_)
+      tips_.AddContactCoupling(static_cast<int>(i), c.b, c.a, p, law, kn, dn);
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
     // upper bound of the exact matrix, so a good preconditioner); the integrator removes the
@@ -355,14 +323,10 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     energy += 0.5 * k * x.squaredNorm();
     const ContactWindow at = ContactWindow::Of(grasps_.at(t));
     at.Scatter(k * x, F);
-    tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
-    tip_rows_[t].tissue += k * x;
+    tips_.AddGraspForce(t, k * x);
     if (K) {
       at.AddOuter(k * Mat3::Identity(), nullptr, K, nullptr);
-      if (tips_in_solve_) {
-        tip_rows_[t].k += k * Mat3::Identity();
-        tip_links_.push_back({at, t, -k * Mat3::Identity(), Mat3::Zero()});
-      }
+      if (tips_in_solve_) tips_.AddGraspCoupling(t, at, k);
     }
   }
   return energy;

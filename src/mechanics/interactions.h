@@ -25,6 +25,7 @@
 #include "mechanics/self_pair_coupling.h"
 #include "mechanics/state.h"
 #include "mechanics/stick_slip_friction.h"
+#include "mechanics/tip_coupling.h"
 
 namespace viscera::mechanics {
 
@@ -98,28 +99,12 @@ class Interactions {
   /// between tip and tube enter one linear system, so action is reaction
   /// (docs/tool-coupling.md). With RK4 the tip runs its own short cycles at each sub-step's start.
   bool tips_in_solve() const { return tips_in_solve_; }
-  /// A tip's own rows of the implicit system at the sub-step's start: force on the tip
-  /// (coupling and tissue, the tissue's by the lever rule), K = -dF/dtip and D = -dF/dv_tip.
-  struct TipRows {
-    bool present = false;  // initialized (a target came): its tip is three unknowns
-    double mass = 0.0;
-    Vec3 force = Vec3::Zero();
-    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
-    Vec3 tissue = Vec3::Zero();  // what the tool puts on the tube (ToolState::tissue_force)
-  };
-  /// One contact's or grasp's coupling between a tip and a sphere's window: the window's
-  /// force changes by -w_i (k dx_tip + d dv_tip) at its point first + i (K's and D's
-  /// off-diagonal blocks; symmetric, so also the tip's by the window's motion).
-  struct TipLink : ContactWindow {
-    int tool = 0;
-    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
-  };
   /// Before the forces: the tips where state->tools has them, the coupling's target at
   /// `fraction` (0..1) of the sub-step BeginSubstep began.
   void PlaceTips(const State& state, double fraction);
   /// Filled by AddForces (with K) after PlaceTips.
-  const std::vector<TipRows>& tip_rows() const { return tip_rows_; }
-  const std::vector<TipLink>& tip_links() const { return tip_links_; }
+  const std::vector<TipRows>& tip_rows() const { return tips_.rows(); }
+  const std::vector<TipLink>& tip_links() const { return tips_.links(); }
   /// Each tip contact acts while it pushes, and with the stiffness it has where it ends: after a
   /// solve whose end velocities are v + dv (#N by 3, dv's 3N values) for the tube and tip_v for
   /// the tips (3 per tool), releases the tool contacts whose linearized force at the sub-step's
@@ -130,9 +115,7 @@ class Interactions {
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);
   void ClearTipReleases() {
     friction_.ClearRevisions();
-    tip_released_.clear();
-    tip_stiffened_.clear();
-    tip_activated_.clear();
+    tips_.ClearRevisions();
   }
   /// After the solve moved tool `index`'s tip by h: the coupling force the solve applied, as the
   /// hand feels it, enters the step's impulse (EndStep reports its mean, then clamps it).
@@ -282,34 +265,8 @@ class Interactions {
     Vec3 relative = Vec3::Zero();  // the sphere's velocity minus the shaft point's, at the start
   };
   std::vector<TipContact> tip_contacts_;
-  // Tips in the implicit solve: each tool's target path across this sub-step, the coupling's
-  // part of its rows (PlaceTips; AddForces adds the tissue's), its links, and its step's impulse
-  // on the hand (with the time it spans).
   bool tips_in_solve_ = false;
-  std::vector<Vec3> tip_from_, tip_to_;
-  std::vector<TipRows> coupling_rows_, tip_rows_;
-  std::vector<char> coupling_saturated_;
-  std::vector<TipLink> tip_links_;
-  // The tool contacts of the last AddForces (their law at the sub-step's start), and those
-  // released as pulling (candidate indices).
-  struct TipPair {
-    int candidate = 0, tool = 0, sphere = 0;
-    double lever = 0.0, depth = 0.0, force = 0.0, slope = 0.0;  // slope: as linearized
-    Vec3 normal = Vec3::Zero();
-  };
-  std::vector<TipPair> tip_pairs_;
-  std::vector<int> tip_released_;
-  // Tool pairs solved again with a stiffer slope (candidate, slope): the law's at the depth the
-  // last solve predicted for the sub-step's end, where it stiffens faster than its start's slope
-  // foresaw.
-  std::vector<std::pair<int, double>> tip_stiffened_;
-  // Tool pairs apart at the sub-step's start (and not closing fast enough to act) that the last
-  // solve ended in contact: solved again with them acting (candidate indices).
-  std::vector<int> tip_activated_;
-  bool TipActivated(int candidate) const {
-    return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) !=
-           tip_activated_.end();
-  }
+  TipCoupling tips_;  // the tips' rows in the implicit solve
   HapticOutput haptic_;
 };
 
