@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace viscera::mechanics {
 namespace {
@@ -46,15 +45,13 @@ Interactions::Interactions(const Model& model)
                                              SelfSkip(chain_)),
                   kVerletSkin * radius_),
       grasps_(model, chain_, SelfSkip(chain_)),
+      geometry_(model, chain_, candidates_, grasps_),
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
       friction_(model.params().contacts, chain_, SphereMass()),
       tips_(model, chain_, law_),
       haptic_(model, TipsInSolve(model)) {
-  obstacles_.reserve(model.params().obstacles.size());
-  for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
   const size_t tools = model.params().tools.size();
-  capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
   tips_in_solve_ = TipsInSolve(model);
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
@@ -81,14 +78,15 @@ void Interactions::Configure(const Points& q, bool place) {
   configured_q_ = q;  // same size after the first: no allocation
   configured_ = true;
   placed_ = place;
-  geometry_valid_ = false;
+  geometry_.Invalidate();
   gathered_ = false;  // the spheres' weights may have changed
   end_gathered_ = false;
 }
 
 void Interactions::UpdateCandidates(double margin, State* state) {
-  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin)) {
-    geometry_valid_ = false;
+  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, geometry_.capsules(),
+                         margin)) {
+    geometry_.Invalidate();
     // The state's list keeps the workspace's capacity: it grows only when the search's did.
     const collision::VerletMemory& memory = candidates_.memory();
     state->broad_phase.candidates.reserve(memory.candidates.capacity());
@@ -97,104 +95,8 @@ void Interactions::UpdateCandidates(double margin, State* state) {
 }
 
 void Interactions::FollowState(const State& state) {
-  if (candidates_.Restore(state.broad_phase)) geometry_valid_ = false;
-  if (grasps_.Follow(state)) geometry_valid_ = false;  // Held() changes
-}
-
-void Interactions::EnsureGeometry() {
-  if (geometry_valid_) return;
-  const auto& list = candidates();
-  geometry_.resize(list.size());  // grows with the list's high-water mark only
-  // Most candidates are self pairs (the Verlet list's skin holds far more than touch): they go
-  // four at a time (SelfGeometry), the others one by one.
-  std::array<int, 4> batch;
-  int batched = 0;
-  for (size_t i = 0; i < list.size(); ++i) {
-    if (list[i].kind != ContactKind::kSelf) {
-      geometry_[i] = Geometry(list[i]);
-      continue;
-    }
-    batch[batched++] = static_cast<int>(i);
-    if (batched == 4) {
-      SelfGeometry(batch, batched);
-      batched = 0;
-    }
-  }
-  if (batched > 0) SelfGeometry(batch, batched);
-  // In a local: a member would be stored and loaded again at every candidate (the compiler
-  // cannot tell it from the geometry's doubles), a chain through memory as long as the list.
-  double deepest = -std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < list.size(); ++i) {
-    // NaN (a blown-up step) counts as deepest: nothing is skipped on it.
-    const double depth = std::isnan(geometry_[i].depth) ? std::numeric_limits<double>::infinity()
-                                                        : geometry_[i].depth;
-    if (list[i].kind != ContactKind::kTool) deepest = std::max(deepest, depth);
-  }
-  deepest_ = deepest;
-  geometry_valid_ = true;
-}
-
-void Interactions::SelfGeometry(const std::array<int, 4>& batch, int count) {
-  const auto& list = candidates();
-  const auto& spheres = chain_.spheres();
-  std::array<const Vec3*, 4> a, b;
-  for (int l = 0; l < count; ++l) {
-    a[l] = &spheres[list[batch[l]].a].centre;
-    b[l] = &spheres[list[batch[l]].b].centre;
-  }
-  std::array<collision::PairSeparation, 4> separation;
-  collision::Separations(a, b, count, separation.data());
-  for (int l = 0; l < count; ++l) geometry_[batch[l]] = SelfPenalty(separation[l]);
-}
-
-ContactPenalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
-  ContactPenalty p;
-  p.normal = separation.normal;
-  p.clearance = separation.distance - 2.0 * radius_;
-  p.depth = -p.clearance;
-  return p;
-}
-
-void Interactions::RefreshToolGeometry() {
-  if (!geometry_valid_) return;
-  const auto& list = candidates();
-  for (size_t i = 0; i < list.size(); ++i) {
-    if (list[i].kind == ContactKind::kTool) geometry_[i] = Geometry(list[i]);
-  }
-}
-
-ContactPenalty Interactions::Geometry(const ContactCandidate& c) const {
-  if (!grasps_.Held(c)) return RawGeometry(c);
-  ContactPenalty p;
-  p.clearance = 1.0;  // m: never a contact, never within any margin
-  p.depth = -p.clearance;
-  return p;
-}
-
-ContactPenalty Interactions::RawGeometry(const ContactCandidate& c) const {
-  const collision::Sphere& sa = chain_.spheres()[c.a];
-  ContactPenalty p;
-  double reach = radius_;
-  double distance = 0.0;
-  switch (c.kind) {
-    case ContactKind::kSelf:  // (EnsureGeometry does these four at a time: SelfGeometry)
-      return SelfPenalty(collision::Separation(sa.centre, chain_.spheres()[c.b].centre));
-    case ContactKind::kEnvironment:
-      distance = obstacles_[c.b].SignedDistance(sa.centre, &p.normal);
-      break;
-    case ContactKind::kTool: {
-      const collision::ToolCapsule& cap = capsules_[c.b];
-      const Vec3 on_shaft = collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever);
-      const Vec3 d = sa.centre - on_shaft;
-      distance = d.norm();
-      p.normal = distance > 1e-12 ? Vec3(d * (1.0 / distance)) : Vec3::UnitZ();
-      reach = radius_ + cap.radius;
-      break;
-    }
-  }
-  p.clearance = distance - reach;
-  p.depth = -p.clearance;
-  return p;
+  if (candidates_.Restore(state.broad_phase)) geometry_.Invalidate();
+  if (grasps_.Follow(state)) geometry_.Invalidate();  // Held() changes
 }
 
 Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const {
@@ -235,7 +137,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   const ContactParams& cp = model_.params().contacts;
   Configure(q, false);
   GatherVelocities(qd);
-  EnsureGeometry();
+  geometry_.Ensure();
   double energy = friction_.energy();
   self_pairs_.Clear();
   friction_.ClearPairs();
@@ -319,7 +221,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   for (int t = 0; t < grasps_.size(); ++t) {
     if (!grasps_.grasping(t)) continue;
     const double k = grasps_.Stiffness(t);
-    const Vec3 x = grasps_.Stretch(t, capsules_[t].tip, q);
+    const Vec3 x = grasps_.Stretch(t, geometry_.capsule(t).tip, q);
     energy += 0.5 * k * x.squaredNorm();
     const ContactWindow at = ContactWindow::Of(grasps_.at(t));
     at.Scatter(k * x, F);
@@ -351,7 +253,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   SyncTools(state);
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin, state_in);
-  EnsureGeometry();
+  geometry_.Ensure();
   LimitImpacts(h, &state_in->qd, nullptr);
   GatherVelocities(state.qd);
   substep_ = 0;
@@ -404,7 +306,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     }
     substep_ = std::min(substep_ + 1, substeps_ - 1);
     UpdateCandidates(margin, state);
-    RefreshToolGeometry();
+    geometry_.RefreshTools();
   }
   LimitImpacts(h, &state->qd, nullptr);
   if (!impact_set_.empty())
@@ -416,12 +318,12 @@ void Interactions::ReleaseHeldSpheres(State* state) {
     if (grasps_.held_sphere(t) < 0 || grasps_.grasping(t)) continue;
     bool inside = false;
     for (const ContactCandidate& c : candidates()) {
-      if (grasps_.Held(c) && c.b == t && RawGeometry(c).clearance < 0.0) inside = true;
+      if (grasps_.Held(c) && c.b == t && geometry_.Raw(c).clearance < 0.0) inside = true;
     }
     if (!inside) {
       grasps_.Release(t);
       state->tools[t].held_sphere = -1;
-      geometry_valid_ = false;  // its spheres are contacts again
+      geometry_.Invalidate();  // its spheres are contacts again
     }
   }
 }
@@ -433,7 +335,7 @@ void Interactions::EndStep(State* state) {
   Configure(state->q, true);
   if (tips_in_solve_) SyncTools(*state);
   ReleaseHeldSpheres(state);
-  EnsureGeometry();
+  geometry_.Ensure();
   ContactStats stats;
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
@@ -454,7 +356,7 @@ void Interactions::EndStep(State* state) {
   }
   state->contacts = stats;
 
-  haptic_.EndStep(list, geometry_, law_, grasps_, state);
+  haptic_.EndStep(list, geometry_.penalties(), law_, grasps_, state);
 }
 
 }  // namespace viscera::mechanics

@@ -3,19 +3,20 @@
 /// the sphere chain and its contacts (self, environment, tools: penalty springs with damping and
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
-/// friction may have a static phase (contacts.friction_law; docs/friction.md). Owned by
-/// the stepping thread's Workspace; allocates nothing in steady state.
+/// friction may have a static phase (contacts.friction_law; docs/friction.md). Coordinates one
+/// class per job (ContactGeometry, ContactLaw, StickSlipFriction, SelfPairCoupling, Grasps,
+/// TipCoupling, HapticOutput). Owned by the stepping thread's Workspace; allocates nothing in
+/// steady state.
 #include <algorithm>
-#include <array>
 #include <span>
 #include <vector>
 
 #include "collision/contact_detector.h"
-#include "collision/pair_separation.h"
 #include "collision/sphere_chain.h"
 #include "collision/verlet_list.h"
 #include "common/check.h"
 #include "mechanics/block_band.h"
+#include "mechanics/contact_geometry.h"
 #include "mechanics/contact_law.h"
 #include "mechanics/contact_window.h"
 #include "mechanics/grasps.h"
@@ -152,12 +153,6 @@ class Interactions {
   int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
-  // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
-  // tool's contact with the part of the tube its jaws hold is no contact (far away).
-  ContactPenalty Geometry(const collision::ContactCandidate& c) const;
-  ContactPenalty RawGeometry(const collision::ContactCandidate& c) const;
-  // A self pair's penalty from its centres' separation (RawGeometry's and SelfGeometry's).
-  ContactPenalty SelfPenalty(const collision::PairSeparation& separation) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres(State* state);
   // Takes what the state carries from the last step (the grasps, the broad phase's list), so
@@ -181,13 +176,6 @@ class Interactions {
   // Finds the candidates for `margin`, keeping the geometry unless the list changed; a new list
   // goes to state->broad_phase.
   void UpdateCandidates(double margin, State* state);
-  // Every candidate's geometry at the current configuration, computed once: RequiredSubsteps,
-  // the tools' advance, the force evaluations and EndStep all read it (and EndStep's serves the
-  // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
-  void EnsureGeometry();
-  // RawGeometry of `count` (1 to 4) self candidates, by index in the list, into geometry_.
-  void SelfGeometry(const std::array<int, 4>& batch, int count);
-  void RefreshToolGeometry();
   // Inelastic impulses on the pairs that would end the next h deeper than
   // contacts.impact_depth moving at u (docs/impacts.md): u changes, and so does v
   // (if given: the velocity whose kinetic energy counts) by the same impulses.
@@ -224,18 +212,15 @@ class Interactions {
   // are along their way across the step.
   int substep_ = 0, substeps_ = 1;
 
-  // The model's obstacles (immutable), prepared once for the narrow phase's queries.
-  std::vector<collision::PreparedObstacle> obstacles_;
   collision::SphereChain chain_;
   collision::VerletList candidates_;
   Points configured_q_, gathered_qd_;
   bool configured_ = false, placed_ = false, gathered_ = false;
-  std::vector<ContactPenalty> geometry_;  // per candidate, valid while geometry_valid_
-  bool geometry_valid_ = false;
-  double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
-  std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
   Grasps grasps_;  // taken from the state by FollowState, given back to it as they change
+  // The candidates' narrow phase, computed once per configuration: RequiredSubsteps, the tools'
+  // advance, the force evaluations and EndStep all read it (and EndStep's serves the next step).
+  ContactGeometry geometry_;
   // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
   // damping (spread onto its window once, not once per contact).
   std::vector<Vec3> sphere_velocity_;

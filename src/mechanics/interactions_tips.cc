@@ -7,23 +7,22 @@ namespace viscera::mechanics {
 
 void Interactions::SyncTools(const State& state) {
   bool moved = false;
-  for (size_t t = 0; t < state.tools.size() && t < capsules_.size(); ++t) {
+  for (size_t t = 0; t < state.tools.size() && t < geometry_.capsules().size(); ++t) {
     const ToolState& ts = state.tools[t];
     tool_velocity_[t] = ts.initialized ? ts.tip_velocity : Vec3::Zero();
     if (!ts.initialized) {
-      moved = moved || capsules_[t].present;  // a state from before the tool's first target
-      capsules_[t].present = false;
+      moved = moved || geometry_.capsule(t).present;  // a state from before the first target
+      geometry_.HideTool(t);
       continue;
     }
-    const ToolParams& tp = model_.params().tools[t];
-    moved = moved || !capsules_[t].present || capsules_[t].tip != ts.tip;
-    capsules_[t] = {true, tp.port, ts.tip, tp.radius};
+    const collision::ToolCapsule& capsule = geometry_.capsule(t);
+    moved = moved || !capsule.present || capsule.tip != ts.tip;
+    geometry_.PlaceTool(t, ts.tip);
   }
-  if (moved) RefreshToolGeometry();
+  if (moved) geometry_.RefreshTools();
 }
 
 void Interactions::PrepareTool(int index, double h, const Points& q, ToolState* ts) {
-  const ToolParams& tp = model_.params().tools[index];
   const ToolTarget& target = ts->target;
   bool active = false;
   if (!FollowTarget(index, h, ts, &active)) return;
@@ -33,7 +32,7 @@ void Interactions::PrepareTool(int index, double h, const Points& q, ToolState* 
   tips_.SetPath(index, ts->target_from + f0 * (target.tip - ts->target_from),
                 ts->target_from + f1 * (target.tip - ts->target_from));
   tool_velocity_[index] = ts->tip_velocity;
-  capsules_[index] = {true, tp.port, ts->tip, tp.radius};
+  geometry_.PlaceTool(index, ts->tip);
   grasps_.Update(index, h, active, q, ts);
 }
 
@@ -44,7 +43,7 @@ void Interactions::PlaceTips(const State& state, double fraction) {
 
 bool Interactions::ReviseTipContacts(double h, const Points& v, const double* dv,
                                      const VecX& tip_v) {
-  return tips_.Revise(h, v, dv, tip_v, candidates(), geometry_);
+  return tips_.Revise(h, v, dv, tip_v, candidates(), geometry_.penalties());
 }
 
 void Interactions::TipAdvanced(int index, double h, ToolState* ts) {

@@ -25,7 +25,7 @@ bool Interactions::FollowTarget(int index, double h, ToolState* ts, bool* active
   const bool active = target.active && target.tip.allFinite() && std::isfinite(target.jaw);
   if (!ts->initialized) {
     grasps_.Clear(index);
-    capsules_[index].present = false;
+    geometry_.HideTool(index);
     if (!active) return false;
     ts->tip = target.tip;  // the tip starts at the first target
     ts->tip_velocity.setZero();
@@ -52,7 +52,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   // (the shaft pivots at the port): each contact's force at the start and its stiffness.
   Configure(q, false);
   GatherVelocities(qd);
-  EnsureGeometry();
+  geometry_.Ensure();
   tip_contacts_.clear();
   ts->tissue_force.setZero();
   const auto& list = candidates();
@@ -77,7 +77,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     // ahead from the start and the hand felt up to k v h / 2 less (12 % at 100 Hz lifting the
     // cavity's mid-gut at 6.5 cm/s).
     grasp_travel = h * Model::Evaluate(grasps_.at(index), qd);
-    grasp_force = -grasp_k * grasps_.Stretch(index, capsules_[index].tip, q);
+    grasp_force = -grasp_k * grasps_.Stretch(index, geometry_.capsule(index).tip, q);
     ts->tissue_force -= grasp_force - grasp_k * grasp_travel;  // at the sub-step's end, on the tube
   }
   // Virtual coupling to the target, which moves from where it was at the start of the sub-step
@@ -145,7 +145,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     ts->tip += dt * ts->tip_velocity;
   }
   tool_velocity_[index] = ts->tip_velocity;
-  capsules_[index] = {true, tp.port, ts->tip, tp.radius};
+  geometry_.PlaceTool(index, ts->tip);
 
   grasps_.Update(index, h, active, q, ts);
 }
