@@ -29,7 +29,7 @@ void ImplicitEulerIntegrator::AddTipStiffness(const State& state) {
     tip_kv_.segment<3>(3 * t) =
         rows[t].present ? Vec3(rows[t].k * state.tools[t].tip_velocity) : Vec3::Zero();
   }
-  for (const Interactions::TipLink& link : interactions_->tip_links()) {
+  for (const TipLink& link : interactions_->tip_links()) {
     const Vec3& vt = state.tools[link.tool].tip_velocity;
     const Vec3 kvt = link.k * vt;
     Vec3 window = Vec3::Zero();
@@ -46,7 +46,7 @@ void ImplicitEulerIntegrator::ReduceTips(double h) {
   tip_c_.setZero();
   tip_c_inv_.setZero();
   for (int t = 0; t < num_tools_; ++t) {
-    const Interactions::TipRows& r = rows[t];
+    const TipRows& r = rows[t];
     if (!r.present) {
       tip_b_.segment<3>(3 * t).setZero();  // not yet placed: held (no unknowns to speak of)
       tip_c_.block<3, 3>(3 * t, 3 * t).setIdentity();
@@ -61,7 +61,7 @@ void ImplicitEulerIntegrator::ReduceTips(double h) {
   tips_linked_ = !interactions_->tip_links().empty();
   if (!tips_linked_) return;
   tip_B_.setZero();
-  for (const Interactions::TipLink& link : interactions_->tip_links()) {
+  for (const TipLink& link : interactions_->tip_links()) {
     const Mat3 block = h * link.d + h * h * link.k;
     for (int i = 0; i < 4; ++i)
       tip_B_.block<3, 3>(3 * (link.first + i), 3 * link.tool) += link.w[i] * block;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace viscera::mechanics {
 namespace {
@@ -24,8 +23,10 @@ int SelfSkip(const collision::SphereChain& chain) {
   return static_cast<int>(std::floor(2.0 * chain.radius() / chain.spacing())) + 1;
 }
 
-// Series stiffness of the coupling and a contact: what the hand feels through the tool.
-double Series(double a, double b) { return a > 0.0 && b > 0.0 ? a * b / (a + b) : 0.0; }
+bool TipsInSolve(const Model& model) {
+  return model.params().integrator == IntegratorKind::kImplicitEuler &&
+         model.params().contacts.tips_in_solve;
+}
 
 }  // namespace
 
@@ -43,36 +44,16 @@ Interactions::Interactions(const Model& model)
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
                                              SelfSkip(chain_)),
                   kVerletSkin * radius_),
+      grasps_(model, chain_, SelfSkip(chain_)),
+      geometry_(model, chain_, candidates_, grasps_),
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
       impacts_(model, chain_.size()),
-      friction_(model.params().contacts, chain_, SphereMass()) {
-  obstacles_.reserve(model.params().obstacles.size());
-  for (const collision::Obstacle& o : model.params().obstacles) obstacles_.emplace_back(o);
+      friction_(model.params().contacts, chain_, SphereMass()),
+      tips_(model, chain_, law_),
+      haptic_(model, TipsInSolve(model)) {
   const size_t tools = model.params().tools.size();
-  capsules_.resize(tools);
   tool_velocity_.assign(tools, Vec3::Zero());
-  grasping_.assign(tools, false);
-  grasp_at_.resize(tools);
-  grasp_offset_.assign(tools, Vec3::Zero());
-  grasp_scale_.assign(tools, 0.0);
-  slipped_.assign(tools, 0);
-  held_sphere_.assign(tools, -1);
-  tips_in_solve_ = model.params().integrator == IntegratorKind::kImplicitEuler &&
-                   model.params().contacts.tips_in_solve;
-  tip_from_.assign(tools, Vec3::Zero());
-  tip_to_.assign(tools, Vec3::Zero());
-  coupling_rows_.assign(tools, TipRows{});
-  tip_rows_.assign(tools, TipRows{});
-  coupling_saturated_.assign(tools, 0);
-  tip_links_.reserve(tools * (chain_.size() + 1));
-  tip_pairs_.reserve(tools * chain_.size());
-  tip_released_.reserve(tools * chain_.size());
-  tip_stiffened_.reserve(tools * chain_.size());
-  tip_activated_.reserve(tools * chain_.size());
-  hand_impulse_.assign(tools, Vec3::Zero());
-  hand_time_.assign(tools, 0.0);
-  hand_saturated_.assign(tools, 0);
-  held_span_ = SelfSkip(chain_);
+  tips_in_solve_ = TipsInSolve(model);
   sphere_velocity_.assign(chain_.size(), Vec3::Zero());
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
@@ -97,14 +78,15 @@ void Interactions::Configure(const Points& q, bool place) {
   configured_q_ = q;  // same size after the first: no allocation
   configured_ = true;
   placed_ = place;
-  geometry_valid_ = false;
+  geometry_.Invalidate();
   gathered_ = false;  // the spheres' weights may have changed
   end_gathered_ = false;
 }
 
 void Interactions::UpdateCandidates(double margin, State* state) {
-  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, capsules_, margin)) {
-    geometry_valid_ = false;
+  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, geometry_.capsules(),
+                         margin)) {
+    geometry_.Invalidate();
     // The state's list keeps the workspace's capacity: it grows only when the search's did.
     const collision::VerletMemory& memory = candidates_.memory();
     state->broad_phase.candidates.reserve(memory.candidates.capacity());
@@ -113,118 +95,8 @@ void Interactions::UpdateCandidates(double margin, State* state) {
 }
 
 void Interactions::FollowState(const State& state) {
-  if (candidates_.Restore(state.broad_phase)) geometry_valid_ = false;
-  for (size_t t = 0; t < state.tools.size() && t < grasping_.size(); ++t) {
-    const ToolState& ts = state.tools[t];
-    if (held_sphere_[t] != ts.held_sphere) geometry_valid_ = false;  // Held() changes
-    held_sphere_[t] = ts.held_sphere;
-    grasping_[t] = ts.grasping;
-    grasp_offset_[t] = ts.grasp_offset;
-    grasp_scale_[t] = ts.grasp_scale;
-    slipped_[t] = ts.slipped;
-    if (ts.grasping) grasp_at_[t] = model_.MakeCurvePoint(ts.grasp_s);
-  }
-}
-
-void Interactions::EnsureGeometry() {
-  if (geometry_valid_) return;
-  const auto& list = candidates();
-  geometry_.resize(list.size());  // grows with the list's high-water mark only
-  // Most candidates are self pairs (the Verlet list's skin holds far more than touch): they go
-  // four at a time (SelfGeometry), the others one by one.
-  std::array<int, 4> batch;
-  int batched = 0;
-  for (size_t i = 0; i < list.size(); ++i) {
-    if (list[i].kind != ContactKind::kSelf) {
-      geometry_[i] = Geometry(list[i]);
-      continue;
-    }
-    batch[batched++] = static_cast<int>(i);
-    if (batched == 4) {
-      SelfGeometry(batch, batched);
-      batched = 0;
-    }
-  }
-  if (batched > 0) SelfGeometry(batch, batched);
-  // In a local: a member would be stored and loaded again at every candidate (the compiler
-  // cannot tell it from the geometry's doubles), a chain through memory as long as the list.
-  double deepest = -std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < list.size(); ++i) {
-    // NaN (a blown-up step) counts as deepest: nothing is skipped on it.
-    const double depth = std::isnan(geometry_[i].depth) ? std::numeric_limits<double>::infinity()
-                                                        : geometry_[i].depth;
-    if (list[i].kind != ContactKind::kTool) deepest = std::max(deepest, depth);
-  }
-  deepest_ = deepest;
-  geometry_valid_ = true;
-}
-
-void Interactions::SelfGeometry(const std::array<int, 4>& batch, int count) {
-  const auto& list = candidates();
-  const auto& spheres = chain_.spheres();
-  std::array<const Vec3*, 4> a, b;
-  for (int l = 0; l < count; ++l) {
-    a[l] = &spheres[list[batch[l]].a].centre;
-    b[l] = &spheres[list[batch[l]].b].centre;
-  }
-  std::array<collision::PairSeparation, 4> separation;
-  collision::Separations(a, b, count, separation.data());
-  for (int l = 0; l < count; ++l) geometry_[batch[l]] = SelfPenalty(separation[l]);
-}
-
-ContactPenalty Interactions::SelfPenalty(const collision::PairSeparation& separation) const {
-  ContactPenalty p;
-  p.normal = separation.normal;
-  p.clearance = separation.distance - 2.0 * radius_;
-  p.depth = -p.clearance;
-  return p;
-}
-
-void Interactions::RefreshToolGeometry() {
-  if (!geometry_valid_) return;
-  const auto& list = candidates();
-  for (size_t i = 0; i < list.size(); ++i) {
-    if (list[i].kind == ContactKind::kTool) geometry_[i] = Geometry(list[i]);
-  }
-}
-
-bool Interactions::Held(const ContactCandidate& c) const {
-  return c.kind == ContactKind::kTool && held_sphere_[c.b] >= 0 &&
-         std::abs(c.a - held_sphere_[c.b]) <= held_span_;
-}
-
-ContactPenalty Interactions::Geometry(const ContactCandidate& c) const {
-  if (!Held(c)) return RawGeometry(c);
-  ContactPenalty p;
-  p.clearance = 1.0;  // m: never a contact, never within any margin
-  p.depth = -p.clearance;
-  return p;
-}
-
-ContactPenalty Interactions::RawGeometry(const ContactCandidate& c) const {
-  const collision::Sphere& sa = chain_.spheres()[c.a];
-  ContactPenalty p;
-  double reach = radius_;
-  double distance = 0.0;
-  switch (c.kind) {
-    case ContactKind::kSelf:  // (EnsureGeometry does these four at a time: SelfGeometry)
-      return SelfPenalty(collision::Separation(sa.centre, chain_.spheres()[c.b].centre));
-    case ContactKind::kEnvironment:
-      distance = obstacles_[c.b].SignedDistance(sa.centre, &p.normal);
-      break;
-    case ContactKind::kTool: {
-      const collision::ToolCapsule& cap = capsules_[c.b];
-      const Vec3 on_shaft = collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever);
-      const Vec3 d = sa.centre - on_shaft;
-      distance = d.norm();
-      p.normal = distance > 1e-12 ? Vec3(d * (1.0 / distance)) : Vec3::UnitZ();
-      reach = radius_ + cap.radius;
-      break;
-    }
-  }
-  p.clearance = distance - reach;
-  p.depth = -p.clearance;
-  return p;
+  if (candidates_.Restore(state.broad_phase)) geometry_.Invalidate();
+  if (grasps_.Follow(state)) geometry_.Invalidate();  // Held() changes
 }
 
 Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const {
@@ -265,13 +137,11 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   const ContactParams& cp = model_.params().contacts;
   Configure(q, false);
   GatherVelocities(qd);
-  EnsureGeometry();
+  geometry_.Ensure();
   double energy = friction_.energy();
   self_pairs_.Clear();
   friction_.ClearPairs();
-  tip_links_.clear();
-  tip_pairs_.clear();
-  tip_rows_ = coupling_rows_;  // the coupling's part (PlaceTips); same size: no allocation
+  tips_.StartForces();  // the coupling's part (PlaceTips)
   // A pair apart by more than anything can close in the sub-step is one Evaluate leaves
   // inactive (most of the Verlet list's skin): skipped on its clearance alone. The margin
   // covers the rounding of Evaluate's closing speed.
@@ -281,14 +151,9 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const bool activated = c.kind == ContactKind::kTool && !tip_activated_.empty() &&
-                           TipActivated(static_cast<int>(i));
+    const bool activated = c.kind == ContactKind::kTool && tips_.Activated(static_cast<int>(i));
     if (geometry_[i].clearance > reach && !activated) continue;
-    if (c.kind == ContactKind::kTool && !tip_released_.empty() &&
-        std::find(tip_released_.begin(), tip_released_.end(), static_cast<int>(i)) !=
-            tip_released_.end()) {
-      continue;
-    }
+    if (c.kind == ContactKind::kTool && tips_.Released(static_cast<int>(i))) continue;
     ContactPenalty p = Evaluate(c, geometry_[i]);
     if (activated && !p.active) {
       // Its law (linear while apart) from the start, as a speculative pair's.
@@ -298,11 +163,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
     ContactLaw::Law law = law_.At(p.depth);
     if (p.depth > 0.0) energy += law.energy;
-    if (c.kind == ContactKind::kTool) {
-      for (const auto& [candidate, slope] : tip_stiffened_) {
-        if (candidate == static_cast<int>(i)) law.slope = std::max(law.slope, slope);
-      }
-    }
+    if (c.kind == ContactKind::kTool) law.slope = tips_.Slope(static_cast<int>(i), law.slope);
     if (!p.active) continue;
     const bool stick_slip = friction_.active();
     Mat3 friction_k, friction_d;
@@ -314,13 +175,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     Window(c.a).Scatter(p.force, F);
     const bool self = c.kind == ContactKind::kSelf;
     if (self) Window(c.b).Scatter(-p.force, F);
-    // A tool's contact pushes its tip back, moved there by the lever rule (the shaft pivots at
-    // the port, which takes the rest).
     const bool tool = c.kind == ContactKind::kTool;
-    if (tool) {
-      tip_rows_[c.b].force -= p.lever * p.force;
-      tip_rows_[c.b].tissue += p.force;
-    }
+    if (tool) tips_.AddContactForce(c.b, p.lever, p.force);
     if (!K) continue;
     const Mat3 nn = p.normal * p.normal.transpose();
     const double fn = std::max(0.0, p.force.dot(p.normal));
@@ -335,15 +191,8 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     } else {
       dn += (law_.Friction(c.kind) * fn / kFrictionSlip) * (Mat3::Identity() - nn);
     }
-    if (tool && tips_in_solve_) {
-      // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
-      // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.
-      tip_rows_[c.b].k += (p.lever * p.lever) * kn;
-      tip_rows_[c.b].d += (p.lever * p.lever) * dn;
-      tip_links_.push_back({Window(c.a), c.b, -p.lever * kn, -p.lever * dn});
-      tip_pairs_.push_back(
-          {static_cast<int>(i), c.b, c.a, p.lever, p.depth, law.force, law.slope, p.normal});
-    }
+    if (tool && tips_in_solve_)
+      tips_.AddContactCoupling(static_cast<int>(i), c.b, c.a, p, law, kn, dn);
     // A self pair couples two windows far apart in the chain, outside the band: each side gets
     // twice the pair's coupling on its own window (exact for the pair's relative motion, and an
     // upper bound of the exact matrix, so a good preconditioner); the integrator removes the
@@ -369,21 +218,17 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     }
   }
   // Grasps: a stiff spring from the jaws to the grasped curve point.
-  for (size_t t = 0; t < grasping_.size(); ++t) {
-    if (!grasping_[t]) continue;
-    const double k = grasp_scale_[t] * model_.params().tools[t].grasp_stiffness;
-    const Vec3 x = GraspStretch(static_cast<int>(t), q);
+  for (int t = 0; t < grasps_.size(); ++t) {
+    if (!grasps_.grasping(t)) continue;
+    const double k = grasps_.Stiffness(t);
+    const Vec3 x = grasps_.Stretch(t, geometry_.capsule(t).tip, q);
     energy += 0.5 * k * x.squaredNorm();
-    const ContactWindow at = ContactWindow::Of(grasp_at_[t]);
+    const ContactWindow at = ContactWindow::Of(grasps_.at(t));
     at.Scatter(k * x, F);
-    tip_rows_[t].force -= k * x;  // the jaws are pulled back as the tube is pulled
-    tip_rows_[t].tissue += k * x;
+    tips_.AddGraspForce(t, k * x);
     if (K) {
       at.AddOuter(k * Mat3::Identity(), nullptr, K, nullptr);
-      if (tips_in_solve_) {
-        tip_rows_[t].k += k * Mat3::Identity();
-        tip_links_.push_back({at, static_cast<int>(t), -k * Mat3::Identity(), Mat3::Zero()});
-      }
+      if (tips_in_solve_) tips_.AddGraspCoupling(t, at, k);
     }
   }
   return energy;
@@ -403,14 +248,12 @@ int Interactions::RequiredSubsteps(State* state_in) {
   FollowState(state);        // usually as EndStep left it: nothing to take
   Configure(state.q, true);  // nor to redo
   // The step's impulse on each hand starts from nothing (a blown-up step's NaN stays in it).
-  std::fill(hand_impulse_.begin(), hand_impulse_.end(), Vec3::Zero());
-  std::fill(hand_time_.begin(), hand_time_.end(), 0.0);
-  std::fill(hand_saturated_.begin(), hand_saturated_.end(), 0);
+  haptic_.StartStep();
   GatherVelocities(state.qd);
   SyncTools(state);
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin, state_in);
-  EnsureGeometry();
+  geometry_.Ensure();
   LimitImpacts(h, &state_in->qd, nullptr);
   GatherVelocities(state.qd);
   substep_ = 0;
@@ -463,7 +306,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     }
     substep_ = std::min(substep_ + 1, substeps_ - 1);
     UpdateCandidates(margin, state);
-    RefreshToolGeometry();
+    geometry_.RefreshTools();
   }
   LimitImpacts(h, &state->qd, nullptr);
   if (!impact_set_.empty())
@@ -471,16 +314,16 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
 }
 
 void Interactions::ReleaseHeldSpheres(State* state) {
-  for (size_t t = 0; t < held_sphere_.size(); ++t) {
-    if (held_sphere_[t] < 0 || grasping_[t]) continue;
+  for (int t = 0; t < grasps_.size(); ++t) {
+    if (grasps_.held_sphere(t) < 0 || grasps_.grasping(t)) continue;
     bool inside = false;
     for (const ContactCandidate& c : candidates()) {
-      if (Held(c) && c.b == static_cast<int>(t) && RawGeometry(c).clearance < 0.0) inside = true;
+      if (grasps_.Held(c) && c.b == t && geometry_.Raw(c).clearance < 0.0) inside = true;
     }
     if (!inside) {
-      held_sphere_[t] = -1;
+      grasps_.Release(t);
       state->tools[t].held_sphere = -1;
-      geometry_valid_ = false;  // its spheres are contacts again
+      geometry_.Invalidate();  // its spheres are contacts again
     }
   }
 }
@@ -492,7 +335,7 @@ void Interactions::EndStep(State* state) {
   Configure(state->q, true);
   if (tips_in_solve_) SyncTools(*state);
   ReleaseHeldSpheres(state);
-  EnsureGeometry();
+  geometry_.Ensure();
   ContactStats stats;
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
@@ -513,37 +356,7 @@ void Interactions::EndStep(State* state) {
   }
   state->contacts = stats;
 
-  // Force on the user's hand: the coupling's reaction, k (tip - target) + c v, faded when idle.
-  for (size_t t = 0; t < state->tools.size(); ++t) {
-    const ToolParams& tp = model_.params().tools[t];
-    ToolState& ts = state->tools[t];
-    if (!ts.initialized) continue;
-    const double kc = ts.coupling_scale * tp.coupling_stiffness;
-    Vec3 f = ts.target.tip.allFinite() ? Vec3(kc * (ts.tip - ts.target.tip)) : Vec3::Zero();
-    f += ts.coupling_scale * tp.coupling_damping * ts.tip_velocity;
-    bool saturated = false;
-    if (tips_in_solve_ && hand_time_[t] > 0.0) {
-      // The step's impulse on the hand over its length: what the solve's coupling applied.
-      f = hand_impulse_[t] / hand_time_[t];
-      saturated = hand_saturated_[t];
-    }
-    ts.clamped = saturated || f.norm() > tp.max_force;
-    if (ts.clamped) f *= tp.max_force / f.norm();
-    ts.force = f;
-    ts.torque = (ts.tip - tp.port).cross(f);
-    // Local stiffness: each touching contact (and the grasp) in series with the coupling.
-    Mat3 k = Mat3::Zero();
-    for (size_t i = 0; i < list.size(); ++i) {
-      const ContactCandidate& c = list[i];
-      if (c.kind != ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const ContactPenalty& p = geometry_[i];
-      if (p.depth > 0.0)
-        k += Series(kc, p.lever * p.lever * law_.At(p.depth).slope) * p.normal *
-             p.normal.transpose();
-    }
-    if (grasping_[t]) k += Series(kc, grasp_scale_[t] * tp.grasp_stiffness) * Mat3::Identity();
-    ts.stiffness = k;
-  }
+  haptic_.EndStep(list, geometry_.penalties(), law_, grasps_, state);
 }
 
 }  // namespace viscera::mechanics

@@ -3,26 +3,30 @@
 /// the sphere chain and its contacts (self, environment, tools: penalty springs with damping and
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
-/// friction may have a static phase (contacts.friction_law; docs/friction.md). Owned by
-/// the stepping thread's Workspace; allocates nothing in steady state.
+/// friction may have a static phase (contacts.friction_law; docs/friction.md). Coordinates one
+/// class per job (ContactGeometry, ContactLaw, StickSlipFriction, SelfPairCoupling, Grasps,
+/// TipCoupling, HapticOutput). Owned by the stepping thread's Workspace; allocates nothing in
+/// steady state.
 #include <algorithm>
-#include <array>
 #include <span>
 #include <vector>
 
 #include "collision/contact_detector.h"
-#include "collision/pair_separation.h"
 #include "collision/sphere_chain.h"
 #include "collision/verlet_list.h"
 #include "common/check.h"
 #include "mechanics/block_band.h"
+#include "mechanics/contact_geometry.h"
 #include "mechanics/contact_law.h"
 #include "mechanics/contact_window.h"
+#include "mechanics/grasps.h"
+#include "mechanics/haptic_output.h"
 #include "mechanics/impact_limiter.h"
 #include "mechanics/model.h"
 #include "mechanics/self_pair_coupling.h"
 #include "mechanics/state.h"
 #include "mechanics/stick_slip_friction.h"
+#include "mechanics/tip_coupling.h"
 
 namespace viscera::mechanics {
 
@@ -96,28 +100,12 @@ class Interactions {
   /// between tip and tube enter one linear system, so action is reaction
   /// (docs/tool-coupling.md). With RK4 the tip runs its own short cycles at each sub-step's start.
   bool tips_in_solve() const { return tips_in_solve_; }
-  /// A tip's own rows of the implicit system at the sub-step's start: force on the tip
-  /// (coupling and tissue, the tissue's by the lever rule), K = -dF/dtip and D = -dF/dv_tip.
-  struct TipRows {
-    bool present = false;  // initialized (a target came): its tip is three unknowns
-    double mass = 0.0;
-    Vec3 force = Vec3::Zero();
-    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
-    Vec3 tissue = Vec3::Zero();  // what the tool puts on the tube (ToolState::tissue_force)
-  };
-  /// One contact's or grasp's coupling between a tip and a sphere's window: the window's
-  /// force changes by -w_i (k dx_tip + d dv_tip) at its point first + i (K's and D's
-  /// off-diagonal blocks; symmetric, so also the tip's by the window's motion).
-  struct TipLink : ContactWindow {
-    int tool = 0;
-    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
-  };
   /// Before the forces: the tips where state->tools has them, the coupling's target at
   /// `fraction` (0..1) of the sub-step BeginSubstep began.
   void PlaceTips(const State& state, double fraction);
   /// Filled by AddForces (with K) after PlaceTips.
-  const std::vector<TipRows>& tip_rows() const { return tip_rows_; }
-  const std::vector<TipLink>& tip_links() const { return tip_links_; }
+  const std::vector<TipRows>& tip_rows() const { return tips_.rows(); }
+  const std::vector<TipLink>& tip_links() const { return tips_.links(); }
   /// Each tip contact acts while it pushes, and with the stiffness it has where it ends: after a
   /// solve whose end velocities are v + dv (#N by 3, dv's 3N values) for the tube and tip_v for
   /// the tips (3 per tool), releases the tool contacts whose linearized force at the sub-step's
@@ -128,9 +116,7 @@ class Interactions {
   bool ReviseTipContacts(double h, const Points& v, const double* dv, const VecX& tip_v);
   void ClearTipReleases() {
     friction_.ClearRevisions();
-    tip_released_.clear();
-    tip_stiffened_.clear();
-    tip_activated_.clear();
+    tips_.ClearRevisions();
   }
   /// After the solve moved tool `index`'s tip by h: the coupling force the solve applied, as the
   /// hand feels it, enters the step's impulse (EndStep reports its mean, then clamps it).
@@ -167,13 +153,6 @@ class Interactions {
   int64_t partial_searches() const { return candidates_.partial_searches(); }
 
  private:
-  // Narrow phase of one candidate at the current sphere centres: normal, clearance, lever. A
-  // tool's contact with the part of the tube its jaws hold is no contact (far away).
-  ContactPenalty Geometry(const collision::ContactCandidate& c) const;
-  ContactPenalty RawGeometry(const collision::ContactCandidate& c) const;
-  // A self pair's penalty from its centres' separation (RawGeometry's and SelfGeometry's).
-  ContactPenalty SelfPenalty(const collision::PairSeparation& separation) const;
-  bool Held(const collision::ContactCandidate& c) const;
   // After a release, the jaws let go of the spheres they held once those are out of the shaft.
   void ReleaseHeldSpheres(State* state);
   // Takes what the state carries from the last step (the grasps, the broad phase's list), so
@@ -197,13 +176,6 @@ class Interactions {
   // Finds the candidates for `margin`, keeping the geometry unless the list changed; a new list
   // goes to state->broad_phase.
   void UpdateCandidates(double margin, State* state);
-  // Every candidate's geometry at the current configuration, computed once: RequiredSubsteps,
-  // the tools' advance, the force evaluations and EndStep all read it (and EndStep's serves the
-  // next step). RefreshToolGeometry redoes the tools' entries after the tools moved.
-  void EnsureGeometry();
-  // RawGeometry of `count` (1 to 4) self candidates, by index in the list, into geometry_.
-  void SelfGeometry(const std::array<int, 4>& batch, int count);
-  void RefreshToolGeometry();
   // Inelastic impulses on the pairs that would end the next h deeper than
   // contacts.impact_depth moving at u (docs/impacts.md): u changes, and so does v
   // (if given: the velocity whose kinetic energy counts) by the same impulses.
@@ -227,9 +199,6 @@ class Interactions {
   void PrepareTool(int index, double h, const Points& q, ToolState* ts);
   // The tools' capsules and velocities from the state's tips (the geometry follows).
   void SyncTools(const State& state);
-  void UpdateGrasp(int index, double h, bool active, const Points& q, ToolState* ts);
-  // The grasp spring's stretch: jaws - tube - offset.
-  Vec3 GraspStretch(int index, const Points& q) const;
 
   const Model& model_;
   ContactLaw law_;
@@ -243,34 +212,15 @@ class Interactions {
   // are along their way across the step.
   int substep_ = 0, substeps_ = 1;
 
-  // The model's obstacles (immutable), prepared once for the narrow phase's queries.
-  std::vector<collision::PreparedObstacle> obstacles_;
   collision::SphereChain chain_;
   collision::VerletList candidates_;
   Points configured_q_, gathered_qd_;
   bool configured_ = false, placed_ = false, gathered_ = false;
-  std::vector<ContactPenalty> geometry_;  // per candidate, valid while geometry_valid_
-  bool geometry_valid_ = false;
-  double deepest_ = 0.0;  // the deepest self or environment candidate in geometry_ (m)
-  std::vector<collision::ToolCapsule> capsules_;
   std::vector<Vec3> tool_velocity_;
-  // The grasps, as the state's tools hold them (ToolState::grasping, grasp_s, grasp_offset,
-  // grasp_scale, held_sphere): taken from it by FollowState, given back by UpdateGrasp and
-  // ReleaseHeldSpheres.
-  std::vector<bool> grasping_;
-  std::vector<CurvePoint> grasp_at_;
-  // A grasp engages at the jaws' current offset from the tube, which then shrinks (the tube is
-  // drawn into the jaws), and fades out on release: the force never jumps.
-  std::vector<Vec3> grasp_offset_;
-  std::vector<double> grasp_scale_;
-  // The tube slipped out of closed jaws (ToolState::slipped): it fades out and no grasp starts
-  // until they open.
-  std::vector<char> slipped_;
-  // The sphere nearest to the jaws when they grasped (-1: none): it and its neighbours within
-  // held_span_ are between the jaws, where the shaft's contact would fight the grasp (the tube
-  // sank half its radius into the tool). Kept after a release until they are out of the shaft.
-  std::vector<int> held_sphere_;
-  int held_span_ = 0;
+  Grasps grasps_;  // taken from the state by FollowState, given back to it as they change
+  // The candidates' narrow phase, computed once per configuration: RequiredSubsteps, the tools'
+  // advance, the force evaluations and EndStep all read it (and EndStep's serves the next step).
+  ContactGeometry geometry_;
   // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
   // damping (spread onto its window once, not once per contact).
   std::vector<Vec3> sphere_velocity_;
@@ -300,37 +250,9 @@ class Interactions {
     Vec3 relative = Vec3::Zero();  // the sphere's velocity minus the shaft point's, at the start
   };
   std::vector<TipContact> tip_contacts_;
-  // Tips in the implicit solve: each tool's target path across this sub-step, the coupling's
-  // part of its rows (PlaceTips; AddForces adds the tissue's), its links, and its step's impulse
-  // on the hand (with the time it spans).
   bool tips_in_solve_ = false;
-  std::vector<Vec3> tip_from_, tip_to_;
-  std::vector<TipRows> coupling_rows_, tip_rows_;
-  std::vector<char> coupling_saturated_;
-  std::vector<TipLink> tip_links_;
-  // The tool contacts of the last AddForces (their law at the sub-step's start), and those
-  // released as pulling (candidate indices).
-  struct TipPair {
-    int candidate = 0, tool = 0, sphere = 0;
-    double lever = 0.0, depth = 0.0, force = 0.0, slope = 0.0;  // slope: as linearized
-    Vec3 normal = Vec3::Zero();
-  };
-  std::vector<TipPair> tip_pairs_;
-  std::vector<int> tip_released_;
-  // Tool pairs solved again with a stiffer slope (candidate, slope): the law's at the depth the
-  // last solve predicted for the sub-step's end, where it stiffens faster than its start's slope
-  // foresaw.
-  std::vector<std::pair<int, double>> tip_stiffened_;
-  // Tool pairs apart at the sub-step's start (and not closing fast enough to act) that the last
-  // solve ended in contact: solved again with them acting (candidate indices).
-  std::vector<int> tip_activated_;
-  bool TipActivated(int candidate) const {
-    return std::find(tip_activated_.begin(), tip_activated_.end(), candidate) !=
-           tip_activated_.end();
-  }
-  std::vector<Vec3> hand_impulse_;
-  std::vector<double> hand_time_;
-  std::vector<char> hand_saturated_;  // the coupling saturated in one of the step's sub-steps
+  TipCoupling tips_;  // the tips' rows in the implicit solve
+  HapticOutput haptic_;
 };
 
 }  // namespace viscera::mechanics

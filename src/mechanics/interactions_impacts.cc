@@ -28,7 +28,7 @@ void Interactions::LimitImpacts(double h, Points* u, Points* v) {
   const double allowed = model_.params().contacts.impact_depth * radius_;
   if (!(allowed > 0.0)) return;
   const double impact_speed = ImpactSpeed();
-  EnsureGeometry();
+  geometry_.Ensure();
   const auto& list = candidates();
   // The set of contacts grows until the impulses on it leave no other contact too fast: an
   // impulse can drive a sphere into a contact that was not closing before. Each round solves
@@ -109,7 +109,7 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   auto target = [&](const ContactPenalty& p) {
     return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h;
   };
-  EnsureGeometry();  // the sub-step's start, as the forces saw it
+  geometry_.Ensure();  // the sub-step's start, as the forces saw it
   const auto& list = candidates();
   if (first) {
     end_impact_set_.clear();
@@ -153,7 +153,7 @@ bool Interactions::GatherEndConstraints(EndConstraint kind, double h, const Poin
   // and 1e-12 m), so u_n >= target - 1e-9. Most pairs of a pile, and often all of them.
   const double shallow = finite ? allowed - h * closing * (1.0 + 1e-3) - 1e-12
                                 : -std::numeric_limits<double>::infinity();
-  if (deepest_ <= shallow) return false;
+  if (geometry_.deepest() <= shallow) return false;
   bool grew = false;
   for (size_t i = 0; i < list.size(); ++i) {
     if (in_end_impact_set_[i] || list[i].kind == ContactKind::kTool)

@@ -12,36 +12,11 @@ using collision::ContactCandidate;
 using collision::ContactKind;
 
 constexpr double kCouplingTimeConstant = 0.05;  // s: coupling fades in / out (idle device)
-constexpr double kGraspClose = 0.3;             // jaw opening below which the jaws grasp
-constexpr double kGraspOpen = 0.6;              // ... and above which they release (hysteresis)
-constexpr double kGraspDraw = 0.15;             // s: time constant drawing the tube into the jaws
-constexpr double kGraspFade = 0.1;              // s: a released grasp fades out over this
 // s: the tip's own integration step. The tip is 3 degrees of freedom against a stiff coupling
 // (300 N/m on 50 g): integrated once per 5 or 10 ms sub-step, implicit Euler's lag made the
 // force on the hand depend on the rate; 0.1 ms cycles cost a few microseconds and make it exact
 // to well under 1 % at every rate.
 constexpr double kTipCycle = 1e-4;
-
-// The curve parameter of the point of the centre line nearest to p, on the two segments
-// between sphere k and its neighbours. The jaws hold the tube where they close on it: snapped to
-// the nearest sphere's centre (12.5 mm apart on the cavity's tube), a tip half way between two
-// spheres grasped one or the other by a hair, and the same gesture pulled the loop 1 cm apart at
-// 100 Hz and 1 kHz (a 15 % different lift).
-double NearestAlongChain(const collision::SphereChain& chain, int k, const Vec3& p) {
-  const auto& spheres = chain.spheres();
-  double best_s = spheres[k].s;
-  double best_d2 = (spheres[k].centre - p).squaredNorm();
-  for (int j : {k - 1, k + 1}) {
-    if (j < 0 || j >= chain.size()) continue;
-    const Vec3 d = spheres[j].centre - spheres[k].centre;
-    const double len2 = d.squaredNorm();
-    if (len2 <= 0.0) continue;
-    const double u = std::clamp((p - spheres[k].centre).dot(d) / len2, 0.0, 1.0);
-    const double d2 = (spheres[k].centre + u * d - p).squaredNorm();
-    if (d2 < best_d2) best_d2 = d2, best_s = spheres[k].s + u * (spheres[j].s - spheres[k].s);
-  }
-  return best_s;
-}
 
 }  // namespace
 
@@ -49,8 +24,8 @@ bool Interactions::FollowTarget(int index, double h, ToolState* ts, bool* active
   const ToolTarget& target = ts->target;
   const bool active = target.active && target.tip.allFinite() && std::isfinite(target.jaw);
   if (!ts->initialized) {
-    grasping_[index] = false;
-    capsules_[index].present = false;
+    grasps_.Clear(index);
+    geometry_.HideTool(index);
     if (!active) return false;
     ts->tip = target.tip;  // the tip starts at the first target
     ts->tip_velocity.setZero();
@@ -77,7 +52,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   // (the shaft pivots at the port): each contact's force at the start and its stiffness.
   Configure(q, false);
   GatherVelocities(qd);
-  EnsureGeometry();
+  geometry_.Ensure();
   tip_contacts_.clear();
   ts->tissue_force.setZero();
   const auto& list = candidates();
@@ -93,16 +68,16 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   Vec3 grasp_force = Vec3::Zero();
   Vec3 grasp_travel = Vec3::Zero();
   double grasp_k = 0.0;
-  if (grasping_[index]) {
-    grasp_k = grasp_scale_[index] * tp.grasp_stiffness;
+  if (grasps_.grasping(index)) {
+    grasp_k = grasps_.Stiffness(index);
     // The tube's grasped point moves after the tip, by v h over the sub-step; the cycles move it
     // there linearly, as they move the target. Held where it was, the spring lagged the tube by
     // v h and the hand felt k v h more while lifting at larger steps; held where it will be at
     // the sub-step's end, the tip (an 8 ms time constant on its coupling and grasp) was pulled
     // ahead from the start and the hand felt up to k v h / 2 less (12 % at 100 Hz lifting the
     // cavity's mid-gut at 6.5 cm/s).
-    grasp_travel = h * Model::Evaluate(grasp_at_[index], qd);
-    grasp_force = -grasp_k * GraspStretch(index, q);
+    grasp_travel = h * Model::Evaluate(grasps_.at(index), qd);
+    grasp_force = -grasp_k * grasps_.Stretch(index, geometry_.capsule(index).tip, q);
     ts->tissue_force -= grasp_force - grasp_k * grasp_travel;  // at the sub-step's end, on the tube
   }
   // Virtual coupling to the target, which moves from where it was at the start of the sub-step
@@ -170,73 +145,9 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     ts->tip += dt * ts->tip_velocity;
   }
   tool_velocity_[index] = ts->tip_velocity;
-  capsules_[index] = {true, tp.port, ts->tip, tp.radius};
+  geometry_.PlaceTool(index, ts->tip);
 
-  UpdateGrasp(index, h, active, q, ts);
-}
-
-Vec3 Interactions::GraspStretch(int index, const Points& q) const {
-  return capsules_[index].tip - Model::Evaluate(grasp_at_[index], q) - grasp_offset_[index];
-}
-
-void Interactions::UpdateGrasp(int index, double h, bool active, const Points& q, ToolState* ts) {
-  const ToolParams& tp = model_.params().tools[index];
-  const bool closing = active && ts->jaw < kGraspClose;
-  const bool opening = !active || ts->jaw > kGraspOpen;
-  if (opening) slipped_[index] = 0;
-  ts->grasp_pull = 0.0;
-  // The grip grows as the jaws close past the grasping threshold (a grasper's ratchet).
-  const double grip = tp.jaw_force * std::clamp((kGraspClose - ts->jaw) / kGraspClose, 0.0, 1.0);
-  if (grasping_[index]) {
-    grasp_offset_[index] *= std::exp(-h / kGraspDraw);
-    ts->grasp_time += h;
-    ts->grasp_jaw = std::min(ts->grasp_jaw, ts->jaw);
-    // jaws opening let go: a release, not a slip
-    const bool letting_go = ts->jaw > ts->grasp_jaw + 0.01;
-    // Friction on two jaw faces holds at most 2 mu grip: a harder pull slides the tube out of
-    // them, and it fades out like a release (a slip). Judged once the jaws have drawn the tube
-    // in: while they close on it the grip is still growing from nothing.
-    const double pull = grasp_scale_[index] * tp.grasp_stiffness * GraspStretch(index, q).norm();
-    ts->grasp_pull = pull;
-    if (tp.jaw_force > 0.0 && !slipped_[index] && !letting_go && ts->grasp_time > kGraspDraw &&
-        pull > 2.0 * tp.jaw_friction * grip) {
-      slipped_[index] = 1;
-      ++ts->slips;
-    }
-    if (opening || slipped_[index]) grasp_scale_[index] -= h / kGraspFade;
-    if (closing && !slipped_[index])
-      grasp_scale_[index] = std::min(1.0, grasp_scale_[index] + h / kGraspFade);
-    if (grasp_scale_[index] <= 0.0) grasping_[index] = false;
-  } else if (closing && !slipped_[index]) {
-    // Grasp the nearest part of the tube within reach of the jaws.
-    const double reach = tp.grasp_reach > 0.0 ? tp.grasp_reach : 2.0 * (radius_ + tp.radius);
-    double best = reach;
-    int nearest = -1;
-    for (int k = 0; k < chain_.size(); ++k) {
-      const double d = (chain_.spheres()[k].centre - ts->tip).norm();
-      if (d < best) {
-        best = d;
-        nearest = k;
-      }
-    }
-    if (nearest >= 0) {
-      grasping_[index] = true;
-      held_sphere_[index] = nearest;
-      grasp_scale_[index] = 1.0;
-      ts->grasp_time = 0.0;
-      ts->grasp_jaw = ts->jaw;
-      grasp_at_[index] = model_.MakeCurvePoint(NearestAlongChain(chain_, nearest, ts->tip));
-      grasp_offset_[index] = ts->tip - Model::Evaluate(grasp_at_[index], q);
-    }
-  }
-  // The state holds the grasp (FollowState takes it back at the next step's start).
-  ts->grasping = grasping_[index];
-  ts->grasp_s = grasping_[index] ? grasp_at_[index].s : 0.0;
-  ts->grasp_offset = grasp_offset_[index];
-  ts->grasp_scale = grasp_scale_[index];
-  ts->held_sphere = held_sphere_[index];
-  ts->grip_force = grasping_[index] && !slipped_[index] ? grip : 0.0;
-  ts->slipped = slipped_[index];
+  grasps_.Update(index, h, active, q, ts);
 }
 
 }  // namespace viscera::mechanics

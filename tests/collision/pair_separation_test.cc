@@ -14,7 +14,7 @@ namespace {
 
 uint64_t Bits(double x) { return std::bit_cast<uint64_t>(x); }
 
-// The contacts' self-pair geometry as Interactions::RawGeometry computed it before the four-lane
+// The contacts' self-pair geometry as ContactGeometry::Raw computed it before the four-lane
 // kernel: both forms must give these bits.
 PairSeparation AsBefore(const Vec3& a, const Vec3& b) {
   const Vec3 d = a - b;
