@@ -78,24 +78,6 @@ void ReadSimulation(const toml::table& table, const SceneLimits& limits, ModelPa
   r.Finish();
 }
 
-double NonNegative(const TomlReader& r, const std::string& key, double fallback) {
-  const double v = r.Double(key, fallback);
-  ThrowUnless(v >= 0.0, r.Name(key), " = ", v, ": must be >= 0");
-  return v;
-}
-
-double Positive(const TomlReader& r, const std::string& key) {
-  const double v = r.Double(key);
-  ThrowUnless(v > 0.0, r.Name(key), " = ", v, ": must be > 0");
-  return v;
-}
-
-double Positive(const TomlReader& r, const std::string& key, double fallback) {
-  const double v = r.Double(key, fallback);
-  ThrowUnless(v > 0.0, r.Name(key), " = ", v, ": must be > 0");
-  return v;
-}
-
 // A parameter within [lo, hi]: for a tool, what a haptic device and the coupling can render (a
 // stiffness of 1e308 or a mass of 1e-300 made every force sent non-finite).
 double Within(const TomlReader& r, const std::string& key, double fallback, double lo, double hi,
@@ -134,9 +116,9 @@ std::vector<double> ReadPinned(const TomlReader& r) {
 
 void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelParams* p) {
   const TomlReader r(table, "intestine");
-  p->length = Positive(r, "length");
-  p->radius = Positive(r, "radius", TissueCard::kRadius);
-  p->mass = Positive(r, "mass", TissueCard::kLinearDensity * p->length);
+  p->length = r.Positive("length");
+  p->radius = r.Positive("radius", TissueCard::kRadius);
+  p->mass = r.Positive("mass", TissueCard::kLinearDensity * p->length);
   // the collision chain's size, known before anything is built (a tiny radius asked for
   // gigabytes of spheres and their pairs)
   const double spheres = std::ceil(p->length / p->radius) + 1.0;
@@ -146,15 +128,15 @@ void ReadIntestine(const toml::table& table, const SceneLimits& limits, ModelPar
               " (a shorter or wider tube)");
   const int n = r.Int("control_points", 0);
   WithinLimit("intestine.control_points", n, limits.max_control_points);
-  p->stretch_stiffness = NonNegative(r, "stretch_stiffness", TissueCard::kStretchStiffness);
-  p->bend_stiffness = NonNegative(r, "bend_stiffness", TissueCard::kBendStiffness);
-  p->bend_reference_curvature = NonNegative(r, "bend_reference_curvature", 0.0);
-  p->continuous_stretch = NonNegative(r, "continuous_stretch", 0.0);
+  p->stretch_stiffness = r.NonNegative("stretch_stiffness", TissueCard::kStretchStiffness);
+  p->bend_stiffness = r.NonNegative("bend_stiffness", TissueCard::kBendStiffness);
+  p->bend_reference_curvature = r.NonNegative("bend_reference_curvature", 0.0);
+  p->continuous_stretch = r.NonNegative("continuous_stretch", 0.0);
   p->continuous_scope = r.Choice<ContinuousScope>(
       "continuous_scope",
       {{"global", ContinuousScope::kGlobal}, {"segment", ContinuousScope::kSegment}});
-  p->damping = NonNegative(r, "damping", 0.0);
-  p->spring_damping = NonNegative(r, "spring_damping", 0.0);
+  p->damping = r.NonNegative("damping", 0.0);
+  p->spring_damping = r.NonNegative("spring_damping", 0.0);
   p->pinned = ReadPinned(r);
   const toml::node* shape = r.Node("shape");
   ThrowUnless(shape != nullptr, "[intestine.shape]: missing (required table)");
@@ -184,9 +166,9 @@ void ReadAttachments(const toml::table& root, ModelParams* p) {
     ThrowUnless(a.s >= 0.0 && a.s <= 1.0, r.Name("at"), " = ", a.s,
                 ": curve parameters lie in [0, 1]");
     if (r.Has("point")) a.point = r.Vector("point");
-    a.stiffness = Positive(r, "stiffness");
-    a.damping = NonNegative(r, "damping", 0.0);
-    a.rest_length = NonNegative(r, "rest_length", 0.0);
+    a.stiffness = r.Positive("stiffness");
+    a.damping = r.NonNegative("damping", 0.0);
+    a.rest_length = r.NonNegative("rest_length", 0.0);
     r.Finish();
     p->attachments.push_back(a);
   }
@@ -242,12 +224,12 @@ collision::Obstacle ReadObstacle(const TomlReader& r, const std::string& base_di
   } else if (kind == "sphere") {
     o.kind = ObstacleKind::kSphere;
     o.centre = r.Vector("centre");
-    o.radius = Positive(r, "radius");
+    o.radius = r.Positive("radius");
   } else if (kind == "capsule") {
     o.kind = ObstacleKind::kCapsule;
     o.a = r.Vector("a");
     o.b = r.Vector("b");
-    o.radius = Positive(r, "radius");
+    o.radius = r.Positive("radius");
   } else if (kind == "box") {
     o.kind = ObstacleKind::kBox;
     o.centre = r.Vector("centre");
@@ -312,9 +294,9 @@ void ReadContacts(const toml::table& root, const SceneLimits& limits, ModelParam
   // impulses' dense system over thousands of them took 7 GB and minutes per step.
   c.stiffness = Within(r, "stiffness", c.stiffness, 1.0, 1e5, "N/m");
   c.damping = Within(r, "damping", c.damping, 0.0, 1e3, "N s/m");
-  c.friction = NonNegative(r, "friction", c.friction);
-  c.self_friction = NonNegative(r, "self_friction", c.self_friction);
-  c.tool_friction = NonNegative(r, "tool_friction", c.tool_friction);
+  c.friction = r.NonNegative("friction", c.friction);
+  c.self_friction = r.NonNegative("self_friction", c.self_friction);
+  c.tool_friction = r.NonNegative("tool_friction", c.tool_friction);
   c.friction_law =
       r.Choice<mechanics::FrictionLaw>("friction_law",
                                        {{"stick_slip", mechanics::FrictionLaw::kStickSlip},
@@ -322,12 +304,12 @@ void ReadContacts(const toml::table& root, const SceneLimits& limits, ModelParam
                                        c.friction_law);
   c.tangential_stiffness =
       Within(r, "tangential_stiffness", c.tangential_stiffness, 0.0, 1e5, "N/m");
-  c.margin = NonNegative(r, "margin", 0.25 * p->radius);
+  c.margin = r.NonNegative("margin", 0.25 * p->radius);
   ThrowUnless(limits.max_margin_radii <= 0.0 || c.margin <= limits.max_margin_radii * p->radius,
               "contacts.margin = ", c.margin, " m: above this server's limit of ",
               limits.max_margin_radii, " tube radii (", limits.max_margin_radii * p->radius, " m)");
   c.exact_pairs = r.Choice<bool>("coupling", {{"exact", true}, {"band", false}});
-  c.impact_depth = NonNegative(r, "impact_depth", c.impact_depth);
+  c.impact_depth = r.NonNegative("impact_depth", c.impact_depth);
   c.impact_constraints = r.Bool("impact_constraints", c.impact_constraints);
   c.spheres_follow_material = r.Choice<bool>("spheres", {{"material", true}, {"arc_length", false}},
                                              c.spheres_follow_material);

@@ -78,19 +78,13 @@ void ReadTask(const std::vector<const toml::table*>& targets, const toml::table*
   if (assessment == nullptr) return;
   const TomlReader r(*assessment, "assessment");
   mechanics::AssessmentParams& a = p->task.assessment;
-  auto positive = [&](const char* key, double* value) {
-    *value = r.Double(key, *value);
-    ThrowUnless(*value > 0.0, r.Name(key), " = ", *value, ": must be > 0");
-  };
-  positive("traction_force", &a.traction_force);
-  positive("traction_hold", &a.traction_hold);
-  a.regrasp_window = r.Double("regrasp_window", a.regrasp_window);
-  ThrowUnless(a.regrasp_window >= 0.0, r.Name("regrasp_window"), " = ", a.regrasp_window,
-              ": must be >= 0");
+  a.traction_force = r.Positive("traction_force", a.traction_force);
+  a.traction_hold = r.Positive("traction_hold", a.traction_hold);
+  a.regrasp_window = r.NonNegative("regrasp_window", a.regrasp_window);
   a.exposed_fraction = r.Double("exposed_fraction", a.exposed_fraction);
   ThrowUnless(a.exposed_fraction > 0.0 && a.exposed_fraction <= 1.0, r.Name("exposed_fraction"),
               " = ", a.exposed_fraction, ": must be in (0, 1]");
-  positive("exposure_rate", &a.exposure_rate_hz);
+  a.exposure_rate_hz = r.Positive("exposure_rate", a.exposure_rate_hz);
   ThrowUnless(a.exposure_rate_hz <= 100.0, r.Name("exposure_rate"), " = ", a.exposure_rate_hz,
               ": at most 100 evaluations per second");
   r.Finish();
@@ -99,36 +93,24 @@ void ReadTask(const std::vector<const toml::table*>& targets, const toml::table*
 void ReadRunning(const toml::table& running, mechanics::ModelParams* p) {
   const TomlReader r(running, "running");
   mechanics::RunningParams g;
-  auto positive = [&](const char* key, double* value) {
-    *value = r.Double(key, *value);
-    ThrowUnless(*value > 0.0, r.Name(key), " = ", *value, ": must be > 0");
-  };
-  auto non_negative = [&](const char* key, double* value) {
-    *value = r.Double(key, *value);
-    ThrowUnless(*value >= 0.0, r.Name(key), " = ", *value, ": must be >= 0");
-  };
-  auto count = [&](const char* key, int* value) {
-    *value = r.Int(key, *value);
-    ThrowUnless(*value >= 0, r.Name(key), " = ", *value, ": must be >= 0");
-  };
-  positive("segment", &g.segment);
+  g.segment = r.Positive("segment", g.segment);
   ThrowUnless(g.segment <= p->length, r.Name("segment"), " = ", g.segment,
               " m: longer than the intestine (", p->length, " m)");
-  positive("jaw_area", &g.jaw_area);
-  positive("pinch_force", &g.pinch_force);
-  positive("damage_dose", &g.damage_dose);
-  positive("traction_break", &g.traction_break);
-  positive("camera_range", &g.camera_range);
-  non_negative("estimate_length", &g.estimate_length);
+  g.jaw_area = r.Positive("jaw_area", g.jaw_area);
+  g.pinch_force = r.Positive("pinch_force", g.pinch_force);
+  g.damage_dose = r.Positive("damage_dose", g.damage_dose);
+  g.traction_break = r.Positive("traction_break", g.traction_break);
+  g.camera_range = r.Positive("camera_range", g.camera_range);
+  g.estimate_length = r.NonNegative("estimate_length", g.estimate_length);
   g.pass_coverage = r.Double("pass_coverage", g.pass_coverage);
   ThrowUnless(g.pass_coverage >= 0.0 && g.pass_coverage <= 1.0, r.Name("pass_coverage"), " = ",
               g.pass_coverage, ": must be in [0, 1]");
-  non_negative("pass_time", &g.pass_time);
-  non_negative("pass_path", &g.pass_path);
-  count("pass_reversals", &g.pass_reversals);
-  count("pass_slips", &g.pass_slips);
-  count("pass_damage_events", &g.pass_damage_events);
-  positive("pass_estimate_error", &g.pass_estimate_error);
+  g.pass_time = r.NonNegative("pass_time", g.pass_time);
+  g.pass_path = r.NonNegative("pass_path", g.pass_path);
+  g.pass_reversals = r.NonNegative("pass_reversals", g.pass_reversals);
+  g.pass_slips = r.NonNegative("pass_slips", g.pass_slips);
+  g.pass_damage_events = r.NonNegative("pass_damage_events", g.pass_damage_events);
+  g.pass_estimate_error = r.Positive("pass_estimate_error", g.pass_estimate_error);
   r.Finish();
   p->task.running = g;
 }

@@ -80,6 +80,30 @@ int TomlReader::Int(const std::string& key, int fallback) const {
   return Has(key) ? Int(key) : (read_.insert(key), fallback);
 }
 
+double TomlReader::Positive(const std::string& key) const {
+  const double v = Double(key);
+  ThrowUnless(v > 0.0, Name(key), " = ", v, ": must be > 0");
+  return v;
+}
+
+double TomlReader::Positive(const std::string& key, double fallback) const {
+  const double v = Double(key, fallback);
+  ThrowUnless(v > 0.0, Name(key), " = ", v, ": must be > 0");
+  return v;
+}
+
+double TomlReader::NonNegative(const std::string& key, double fallback) const {
+  const double v = Double(key, fallback);
+  ThrowUnless(v >= 0.0, Name(key), " = ", v, ": must be >= 0");
+  return v;
+}
+
+int TomlReader::NonNegative(const std::string& key, int fallback) const {
+  const int v = Int(key, fallback);
+  ThrowUnless(v >= 0, Name(key), " = ", v, ": must be >= 0");
+  return v;
+}
+
 bool TomlReader::Bool(const std::string& key, bool fallback) const {
   if (!Has(key)) return read_.insert(key), fallback;
   const toml::node& node = Required(key);

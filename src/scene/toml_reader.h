@@ -24,6 +24,11 @@ class TomlReader {
   double Double(const std::string& key, double fallback) const;
   int Int(const std::string& key) const;
   int Int(const std::string& key, int fallback) const;
+  /// The same, refused (InputError naming the key and the value) when not > 0 or not >= 0.
+  double Positive(const std::string& key) const;
+  double Positive(const std::string& key, double fallback) const;
+  double NonNegative(const std::string& key, double fallback) const;
+  int NonNegative(const std::string& key, int fallback) const;
   bool Bool(const std::string& key, bool fallback) const;
   std::string String(const std::string& key) const;
   std::string String(const std::string& key, const std::string& fallback) const;
