@@ -299,21 +299,17 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
   if (multistep) {
     step_dq_ = w.history * state->last_dq + w.h_eff * (v + dv_points);
-    // BDF2 builds on the last sub-step's motion, and gives back energy where its one
-    // linearization misses the stretch (a stretched hairpin snapping straight gained 0.9 % of its
-    // energy in a step at 500 Hz); backward Euler's damping absorbs that. So a BDF2 sub-step that
-    // leaves more unseen stretch than a tenth of the guard's is done again as backward Euler.
-    if (stretch_redo_ && !LinearizationGuard::UnseenStretchWithin(
-                             q, step_dq_, LinearizationGuard::kMaxUnseenStretchBdf2)) {
-      ++stretch_redos_;
-      --substeps_;
-      AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
-      return;
-    }
-    if (impact_redo_ && NeedsEndConstraints(h, step_dq_)) {
-      // Impact and depth constraints hold the end velocity and let it move q by h v' (backward
-      // Euler's kinematics); BDF2's motion would keep a third of the last sub-step's closing.
-      ++impact_redos_;
+    // Done again as backward Euler: a sub-step that leaves more unseen stretch than a tenth of
+    // the guard's (BDF2 builds on the last sub-step's motion and gives that stretch back as
+    // energy, which backward Euler's damping absorbs: a stretched hairpin snapping straight
+    // gained 0.9 % of its energy in a step at 500 Hz), and one that needs impact or depth
+    // constraints (they hold the end velocity and let it move q by h v', backward Euler's
+    // kinematics; BDF2's motion would keep a third of the last sub-step's closing).
+    const bool stretched =
+        stretch_redo_ && !LinearizationGuard::UnseenStretchWithin(
+                             q, step_dq_, LinearizationGuard::kMaxUnseenStretchBdf2);
+    if (stretched || (impact_redo_ && NeedsEndConstraints(h, step_dq_))) {
+      ++(stretched ? stretch_redos_ : impact_redos_);
       --substeps_;
       AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
       return;
