@@ -104,7 +104,10 @@ ContactPenalty ContactGeometry::Raw(const ContactCandidate& c) const {
       break;
     case ContactKind::kTool: {
       const collision::ToolCapsule& cap = capsules_[c.b];
-      const Vec3 on_shaft = collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever);
+      const Vec3 on_shaft =
+          collision::ClosestOnSegment(cap.port, cap.tip, sa.centre, &p.lever.fraction);
+      const Vec3 shaft = cap.tip - cap.port;
+      if (shaft.norm() > 1e-12) p.lever.axis = shaft.normalized();
       const Vec3 d = sa.centre - on_shaft;
       distance = d.norm();
       p.normal = distance > 1e-12 ? Vec3(d * (1.0 / distance)) : Vec3::UnitZ();

@@ -14,6 +14,21 @@
 
 namespace viscera::mechanics {
 
+/// The lever rule of a tool contact (docs/tool-coupling.md). The shaft pivots at the port and
+/// slides through it, so its point at `fraction` of the way from the port to the tip moves at
+/// L v_tip, L = fraction I + (1 - fraction) a a' with a along the shaft, and a force f there acts
+/// on the tip as L f: the port takes the rest, across the shaft only (a trocar holds no force
+/// along the shaft). L is the identity at the tip and for contacts that are not a tool's.
+struct ShaftLever {
+  double fraction = 1.0;     // from the port (0) to the tip (1)
+  Vec3 axis = Vec3::Zero();  // unit, from the port to the tip
+  /// L v: a tip velocity's at the contact, or a force at the contact's on the tip (L = L').
+  Vec3 Apply(const Vec3& v) const { return fraction * v + ((1.0 - fraction) * axis.dot(v)) * axis; }
+  Mat3 Matrix() const {
+    return fraction * Mat3::Identity() + (1.0 - fraction) * axis * axis.transpose();
+  }
+};
+
 /// One contact candidate at one evaluation: its geometry (ContactGeometry) and, once the law has
 /// been evaluated on it, its force.
 struct ContactPenalty {
@@ -22,7 +37,7 @@ struct ContactPenalty {
   Vec3 normal = Vec3::Zero();
   double depth = 0.0;         // penetration (m), > 0 when active
   double clearance = 0.0;     // signed distance beyond contact (m)
-  double lever = 1.0;         // tool contacts: fraction along the shaft from the port
+  ShaftLever lever;           // tool contacts: where on the shaft
   double normal_force = 0.0;  // N, stick-slip: the friction cone's normal force when active
   Vec3 slip = Vec3::Zero();   // tangential relative velocity (m/s) when active
 };

@@ -51,9 +51,11 @@ void HapticOutput::EndStep(const std::vector<collision::ContactCandidate>& list,
       const collision::ContactCandidate& c = list[i];
       if (c.kind != collision::ContactKind::kTool || c.b != static_cast<int>(t)) continue;
       const ContactPenalty& p = geometry[i];
-      if (p.depth > 0.0)
-        k +=
-            Series(kc, p.lever * p.lever * law.At(p.depth).slope) * p.normal * p.normal.transpose();
+      // The contact's stiffness along n, moved to the tip: L n n' L = m m'.
+      const Vec3 m = p.lever.Apply(p.normal);
+      const double m2 = m.squaredNorm();
+      if (p.depth > 0.0 && m2 > 0.0)
+        k += Series(kc, m2 * law.At(p.depth).slope) * (m * m.transpose()) / m2;
     }
     if (grasps.grasping(static_cast<int>(t)))
       k += Series(kc, grasps.Stiffness(static_cast<int>(t))) * Mat3::Identity();

@@ -37,7 +37,7 @@ void ImplicitEulerIntegrator::AddTipStiffness(const State& state) {
       kv_.row(link.first + i) += link.w[i] * kvt.transpose();
       window += link.w[i] * state.qd.row(link.first + i).transpose();
     }
-    tip_kv_.segment<3>(3 * link.tool) += link.k * window;  // K symmetric: the link's block is k'
+    tip_kv_.segment<3>(3 * link.tool) += link.k.transpose() * window;  // K's block for the tip
   }
 }
 

@@ -99,10 +99,10 @@ void Interactions::FollowState(const State& state) {
   if (grasps_.Follow(state)) geometry_.Invalidate();  // Held() changes
 }
 
-Vec3 Interactions::OtherVelocity(const ContactCandidate& c, double lever) const {
+Vec3 Interactions::OtherVelocity(const ContactCandidate& c, const ShaftLever& lever) const {
   switch (c.kind) {
     case ContactKind::kSelf: return sphere_velocity_[c.b];
-    case ContactKind::kTool: return lever * tool_velocity_[c.b];
+    case ContactKind::kTool: return lever.Apply(tool_velocity_[c.b]);
     case ContactKind::kEnvironment: break;
   }
   return Vec3::Zero();

@@ -161,7 +161,7 @@ class Interactions {
   void FollowState(const State& state);
   // Velocity of the candidate's other side at the contact (zero for obstacles), from the
   // velocities last gathered.
-  Vec3 OtherVelocity(const collision::ContactCandidate& c, double lever) const;
+  Vec3 OtherVelocity(const collision::ContactCandidate& c, const ShaftLever& lever) const;
   // The force law on a candidate's geometry, at the velocities last gathered (a pair apart is
   // left as it is without them where nothing acts speculatively).
   ContactPenalty Evaluate(const collision::ContactCandidate& c,
@@ -245,7 +245,7 @@ class Interactions {
   // the sub-step start's geometry and speeds, moved by the tip's own motion since.
   struct TipContact {
     Vec3 normal = Vec3::Zero();    // from the shaft to the sphere
-    double lever = 0.0;            // where on the shaft, from the port (0) to the tip (1)
+    ShaftLever lever;              // where on the shaft
     double depth = 0.0;            // at the sub-step's start
     Vec3 relative = Vec3::Zero();  // the sphere's velocity minus the shaft point's, at the start
   };

@@ -109,24 +109,25 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
       // the law stiffens 100-fold within a millimetre; friction's slope (30 f_n N s/m) held
       // from the start made the 50 g tip ring along the tube at 1 cm/s on the stiffer contact,
       // and extrapolated linearly it exceeded the Coulomb limit by up to 8 N within a sub-step.
-      // The tip moving along lever n (n from the shaft to the sphere) presses the contact deeper.
-      const Vec3 axis = tc.lever * tc.normal;
+      // The tip moving along L n (n from the shaft to the sphere, L the lever rule's map)
+      // presses the contact deeper.
+      const Mat3 lever = tc.lever.Matrix();
+      const Vec3 axis = lever * tc.normal;
       const double depth = tc.depth + axis.dot(moved);
-      const Vec3 relative = tc.relative - tc.lever * (ts->tip_velocity - tip_velocity0);
+      const Vec3 relative = tc.relative - lever * (ts->tip_velocity - tip_velocity0);
       const double vn = relative.dot(tc.normal);
       const ContactLaw::Law law = law_.At(depth);
       const double fn = law.force - cp.damping * vn;
-      if (!(fn > 0.0) || tc.lever <= 0.0)
+      if (!(fn > 0.0) || tc.lever.fraction <= 0.0)
         continue;  // it would pull: the tube does not hold the tool
       const Vec3 vt = relative - vn * tc.normal;
       const double mu = law_.Friction(ContactKind::kTool);
       const double slip_slope = mu * fn / kFrictionSlip;  // the viscous slope, as AddForces
       const Vec3 on_sphere = fn * tc.normal - (mu * fn / std::max(vt.norm(), kFrictionSlip)) * vt;
-      tissue -= tc.lever * on_sphere;  // on the tool, moved to the tip by the lever rule
+      tissue -= lever * on_sphere;  // on the tool, moved to the tip by the lever rule
       const Mat3 nn = tc.normal * tc.normal.transpose();
       stiffness += law.slope * (axis * axis.transpose());
-      contact_damping +=
-          (tc.lever * tc.lever) * (cp.damping * nn + slip_slope * (Mat3::Identity() - nn));
+      contact_damping += lever * (cp.damping * nn + slip_slope * (Mat3::Identity() - nn)) * lever;
     }
     Vec3 spring = Vec3::Zero();
     if (coupled) spring = kc * (from + (static_cast<double>(i) / cycles) * (to - from) - ts->tip);

@@ -127,7 +127,7 @@ Vec3 StickSlipFriction::Motion(const Pair& pair, const Points& x, const double* 
                                const Vec3& tip) {
   Vec3 relative = pair.a.Gather(x, dx);
   if (pair.kind == ContactKind::kSelf) relative -= pair.b.Gather(x, dx);
-  if (pair.kind == ContactKind::kTool) relative -= pair.lever * tip;
+  if (pair.kind == ContactKind::kTool) relative -= pair.lever.Apply(tip);
   return relative - pair.normal.dot(relative) * pair.normal;
 }
 

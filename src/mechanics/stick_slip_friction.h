@@ -89,7 +89,7 @@ class StickSlipFriction {
     collision::ContactKind kind = collision::ContactKind::kSelf;
     int tool = 0;
     ContactWindow a, b;  // b: a self pair's other side
-    double lever = 0.0;
+    ShaftLever lever;    // a tool pair's
     Vec3 normal = Vec3::Zero();
     Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
     double limit = 0.0;           // N: mu f_n, f_n at the sub-step's start (lagged)
@@ -98,7 +98,7 @@ class StickSlipFriction {
   };
   const FrictionAnchor* Find(uint64_t key) const;
   // A pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N values, or
-  // nullptr), less lever times the tool's `tip` for a tool pair.
+  // nullptr), less the lever rule's share of the tool's `tip` for a tool pair.
   static Vec3 Motion(const Pair& pair, const Points& x, const double* dx, const Vec3& tip);
 
   const ContactParams& cp_;

@@ -55,11 +55,13 @@ void TipCoupling::Place(const State& state, double fraction) {
 
 void TipCoupling::AddContactCoupling(int candidate, int tool, int sphere, const ContactPenalty& p,
                                      const ContactLaw::Law& law, const Mat3& kn, const Mat3& dn) {
-  // The pair's relative position is the sphere's minus lever times the tip's: J^T H J with
-  // J = [J_a, -lever I] gives the tip lever^2 H and each window point -lever w_i H.
-  rows_[tool].k += (p.lever * p.lever) * kn;
-  rows_[tool].d += (p.lever * p.lever) * dn;
-  links_.push_back({Window(sphere), tool, -p.lever * kn, -p.lever * dn});
+  // The pair's relative velocity is the sphere's minus L times the tip's (L the lever rule's
+  // map, symmetric): J^T H J with J = [J_a, -L] gives the tip L H L and each window point's
+  // block with the tip -w_i H L.
+  const Mat3 lever = p.lever.Matrix();
+  rows_[tool].k += lever * kn * lever;
+  rows_[tool].d += lever * dn * lever;
+  links_.push_back({Window(sphere), tool, -kn * lever, -dn * lever});
   pairs_.push_back({candidate, tool, sphere, p.lever, p.depth, law.force, law.slope, p.normal});
 }
 
@@ -73,7 +75,7 @@ bool TipCoupling::Revise(double h, const Points& v, const double* dv, const VecX
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
     const ContactPenalty& g = geometry[i];
-    if (c.kind != ContactKind::kTool || g.lever <= 0.0 ||
+    if (c.kind != ContactKind::kTool || g.lever.fraction <= 0.0 ||
         g.clearance > 2.0 * model_.params().radius)
       continue;
     const int index = static_cast<int>(i);
@@ -81,14 +83,14 @@ bool TipCoupling::Revise(double h, const Points& v, const double* dv, const VecX
     for (const Pair& pair : pairs_) acted = acted || pair.candidate == index;
     for (int released : released_) acted = acted || released == index;
     if (acted) continue;
-    const double vn = g.normal.dot(end_velocity(c.a) - g.lever * tip_v.segment<3>(3 * c.b));
+    const double vn = g.normal.dot(end_velocity(c.a) - g.lever.Apply(tip_v.segment<3>(3 * c.b)));
     if (g.depth - h * vn <= 0.0) continue;
     activated_.push_back(index);
     revised = true;
   }
   for (const Pair& pair : pairs_) {
     const Vec3 sphere = end_velocity(pair.sphere);
-    const double vn = pair.normal.dot(sphere - pair.lever * tip_v.segment<3>(3 * pair.tool));
+    const double vn = pair.normal.dot(sphere - pair.lever.Apply(tip_v.segment<3>(3 * pair.tool)));
     // What the linearized law applied at the end: its force at the start, h vn shallower, and
     // its damping at the end's speed.
     const double end_depth = pair.depth - h * vn;

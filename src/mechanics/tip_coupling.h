@@ -30,7 +30,7 @@ struct TipRows {
 };
 /// One contact's or grasp's coupling between a tip and a sphere's window: the window's force
 /// changes by -w_i (k dx_tip + d dv_tip) at its point first + i (K's and D's off-diagonal blocks;
-/// symmetric, so also the tip's by the window's motion).
+/// the tip's by the window's motion are their transposes).
 struct TipLink : ContactWindow {
   int tool = 0;
   Mat3 k = Mat3::Zero(), d = Mat3::Zero();
@@ -73,11 +73,11 @@ class TipCoupling {
     }
     return slope;
   }
-  /// Tool `tool`'s contact pushes the tube with `force` at `lever` along the shaft: its tip is
+  /// Tool `tool`'s contact pushes the tube with `force` at `lever` on the shaft: its tip is
   /// pushed back, moved there by the lever rule (the shaft pivots at the port, which takes the
-  /// rest).
-  void AddContactForce(int tool, double lever, const Vec3& force) {
-    rows_[tool].force -= lever * force;
+  /// rest across the shaft).
+  void AddContactForce(int tool, const ShaftLever& lever, const Vec3& force) {
+    rows_[tool].force -= lever.Apply(force);
     rows_[tool].tissue += force;
   }
   /// The same contact's stiffness kn and damping dn (candidate `candidate` with `sphere`, p its
@@ -134,7 +134,8 @@ class TipCoupling {
   // those released as pulling (candidate indices).
   struct Pair {
     int candidate = 0, tool = 0, sphere = 0;
-    double lever = 0.0, depth = 0.0, force = 0.0, slope = 0.0;  // slope: as linearized
+    ShaftLever lever;
+    double depth = 0.0, force = 0.0, slope = 0.0;  // slope: as linearized
     Vec3 normal = Vec3::Zero();
   };
   std::vector<Pair> pairs_;

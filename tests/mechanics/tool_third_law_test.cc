@@ -5,6 +5,8 @@
 // the tube held still (and the tube's solve holding the tool still) locks the contact at 100 Hz.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -163,6 +165,99 @@ TEST(ToolThirdLaw, PushedByTheShaftThePortTakesItsShare) {
       EXPECT_NEAR(p.tube_speed, p.lever * speed, 0.1 * p.lever * speed) << rate << " Hz, " << speed;
       EXPECT_NEAR(p.hand, p.tip_momentum + p.lever * tube, 0.05 * tube) << rate << " Hz, " << speed;
       EXPECT_LT(p.hand, p.momentum - 0.5 * (1.0 - p.lever) * tube) << "the port took no share";
+    }
+  }
+}
+
+// A 40 cm, 100 g tube draped by gravity (along -z) over a level shaft that crosses it at 3/4 of
+// the way from the port to the tip; the tool then slides along its own axis (+x), ramping up to
+// `speed` over 0.2 s and holding it for 0.3 s. The draped tube's weight presses it on the shaft,
+// and static friction carries it along. The tube's weight sags the tip on its coupling; the hand
+// lifts it back level before the slide, since the port's share of a force across a tilted shaft
+// would also push along x.
+struct Slide {
+  double tube_speed = 0.0;       // the draped middle's speed along the shaft, last 0.1 s (m/s)
+  double tip_speed = 0.0;        // the tip's, at the end (m/s)
+  double hand = 0.0;             // impulse the hand gave along the shaft during the slide (N s)
+  double tube = 0.0, tip = 0.0;  // momentum along the shaft they gained during it (N s)
+};
+
+Slide SlideAlongShaft(double rate_hz, double speed) {
+  char text[1000];
+  std::snprintf(text, sizeof text, R"(
+[simulation]
+rate_hz = %g
+integrator = "implicit"
+gravity = [0.0, 0.0, -9.81]
+[intestine]
+length = 0.4
+mass = 0.1
+control_points = 32
+damping = 0.0
+[intestine.shape]
+kind = "straight"
+start = [0.0, -0.2, 0.0152]
+direction = [0.0, 1.0, 0.0]
+[contacts]
+tool_friction = 0.5
+[[tool]]
+name = "slider"
+port = [-0.3, 0.0, 0.0]
+radius = 0.0025
+)",
+                rate_hz);
+  const Model model(scene::ParseScene(text).model);
+  State state = InitialState(model);
+  Workspace workspace(model);
+  const double dt = 1.0 / rate_hz, drape = 1.0, ramp = 0.2, hold = 0.3;
+  const int steps = static_cast<int>(std::lround((drape + ramp + hold) * rate_hz));
+  Points scratch(model.num_points(), 3);
+  auto tube_momentum = [&] {
+    BandMultiply(model.mass_band(), state.qd, &scratch);
+    return scratch.col(0).sum();
+  };
+  Slide slide;
+  double travel = 0.0, lift = 0.0, middle_before = 0.0, tube_before = 0.0, tip_before = 0.0;
+  const int level_at = static_cast<int>(std::lround(0.7 * drape * rate_hz));
+  for (int k = 0; k < steps; ++k) {
+    const double t = (k + 1) * dt - drape;
+    if (t > 0.0) travel += dt * speed * std::min(1.0, t / ramp);
+    if (k == level_at) lift = -state.tools[0].tip.z();
+    if (t > 0.0 && t <= dt * 1.5) {
+      tube_before = tube_momentum();
+      tip_before = model.params().tools[0].mass * state.tools[0].tip_velocity.x();
+    }
+    ToolTarget target;
+    target.tip = Vec3(0.1 + travel, 0.0, lift);
+    target.jaw = 1.0;
+    Step(model, {{}, std::span<const ToolTarget>(&target, 1)}, &state, &workspace);
+    if (t > 0.0) slide.hand -= dt * state.tools[0].force.x();
+    if (k + 1 == steps - static_cast<int>(std::lround(0.1 * rate_hz)))
+      middle_before = model.curve().Position(state.q, 0.5).x();
+  }
+  EXPECT_TRUE(state.q.allFinite());
+  EXPECT_GT(model.curve().Position(state.q, 0.5).z(), 0.0) << "the tube fell off the shaft";
+  slide.tube_speed = (model.curve().Position(state.q, 0.5).x() - middle_before) / 0.1;
+  slide.tip_speed = state.tools[0].tip_velocity.x();
+  slide.tube = tube_momentum() - tube_before;
+  slide.tip = model.params().tools[0].mass * slide.tip_speed - tip_before;
+  return slide;
+}
+
+TEST(ToolThirdLaw, SlidAlongItsShaftTheToolCarriesTheTubeAndThePortHoldsNothing) {
+  // The shaft slides through the port: a point of it moves along the shaft at the tip's speed
+  // wherever it is, and the port holds no force along the shaft. So friction carries a stuck
+  // tube at the tip's full speed, and the hand gives the whole impulse along the shaft (the
+  // lever rule's share, l = 3/4 here, is for forces across it).
+  for (double rate : {100.0, 1000.0}) {
+    for (double speed : {0.02, 0.08}) {
+      const Slide s = SlideAlongShaft(rate, speed);
+      std::printf(
+          "slide, %4.0f Hz %2.0f cm/s: tube %.4f m/s, tip %.4f m/s; hand impulse %.5f N s, tube "
+          "%.5f + tip %.5f = %.5f N s\n",
+          rate, 100 * speed, s.tube_speed, s.tip_speed, s.hand, s.tube, s.tip, s.tube + s.tip);
+      EXPECT_NEAR(s.tube_speed, speed, 0.05 * speed) << rate << " Hz, " << speed;
+      EXPECT_NEAR(s.hand, s.tube + s.tip, 0.05 * s.tube) << rate << " Hz, " << speed;
     }
   }
 }
