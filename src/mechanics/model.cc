@@ -99,10 +99,10 @@ Model::Model(ModelParams params)
       }
     }
   }
-  const VecX row_sums = MassRowSums(mass_band_);
+  mass_shares_ = MassRowSums(mass_band_);
   gravity_force_.resize(num_points(), 3);
   for (int i = 0; i < num_points(); ++i)
-    gravity_force_.row(i) = row_sums(i) * params_.gravity.transpose();
+    gravity_force_.row(i) = mass_shares_(i) * params_.gravity.transpose();
 
   using Rule = spline::GaussLegendre<4>;
   auto node_dw = [&](int segment) {

@@ -67,6 +67,15 @@ class Model {
   double segment_mass() const { return params_.mass / num_segments(); }
 
   const Band& mass_band() const { return mass_band_; }
+  /// Each control point's share of the mass, m integral b_i ds (the rows of M summed): the
+  /// control points are not material points, so these weigh their positions and velocities.
+  const VecX& mass_shares() const { return mass_shares_; }
+  /// The tube's linear momentum at velocities qd (N s): M qd summed over the points.
+  Vec3 Momentum(const Points& qd) const { return qd.transpose() * mass_shares_; }
+  /// The tube's centre of mass at q.
+  Vec3 CentreOfMass(const Points& q) const {
+    return (q.transpose() * mass_shares_) / mass_shares_.sum();
+  }
   /// -dF/dqd of the viscous friction, gamma M on each axis: every sub-step's damping Jacobian
   /// starts from it.
   const BlockBand& viscous_damping() const { return viscous_damping_; }
@@ -105,6 +114,7 @@ class Model {
   ModelParams params_;
   spline::CatmullRom curve_;
   Band mass_band_;
+  VecX mass_shares_;
   BlockBand viscous_damping_;
   BandedCholesky mass_factor_;
   Points gravity_force_;

@@ -5,7 +5,6 @@
 #include <cstring>
 
 #include "common/check.h"
-#include "mechanics/mass_matrix.h"
 
 namespace viscera::tools {
 namespace {
@@ -54,9 +53,7 @@ void TraceWriter::Write(const mechanics::Model& model, const mechanics::State& s
   Points("qd", state.qd);
   line_ += ",\"length\":";
   Number(&line_, length);
-  // The tube's linear momentum, M q̇ summed over the points (the rows of M weigh each point's
-  // velocity): the control points are not material points with a share of the mass each.
-  const Vec3 momentum = state.qd.transpose() * mechanics::MassRowSums(model.mass_band());
+  const Vec3 momentum = model.Momentum(state.qd);
   line_ += ",\"momentum\":[";
   for (int a = 0; a < 3; ++a) {
     if (a) line_ += ',';

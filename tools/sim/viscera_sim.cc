@@ -17,7 +17,6 @@
 #include "common/clock.h"
 #include "common/quantile.h"
 #include "mechanics/implicit_euler.h"
-#include "mechanics/mass_matrix.h"
 #include "mechanics/stability.h"
 #include "mechanics/step.h"
 #include "render/frame_renderer.h"
@@ -154,16 +153,10 @@ void ExportMesh(const Options& opt, const mechanics::Model& model, const Points&
             << opt.export_mesh << std::endl;
 }
 
-Vec3 CentreOfMass(const mechanics::Model& model, const Points& q) {
-  // Control points weighted by their share of the mass, m integral b_i ds (the rows of M).
-  const VecX weights = mechanics::MassRowSums(model.mass_band());
-  return (q.transpose() * weights) / weights.sum();
-}
-
 // The tube's linear momentum and its tools' tips' (N s): what the hands' impulse is checked
 // against (docs/tool-coupling.md).
 Vec3 Momentum(const mechanics::Model& model, const mechanics::State& state) {
-  Vec3 p = state.qd.transpose() * mechanics::MassRowSums(model.mass_band());
+  Vec3 p = model.Momentum(state.qd);
   for (size_t t = 0; t < state.tools.size(); ++t)
     p += model.params().tools[t].mass * state.tools[t].tip_velocity;
   return p;
@@ -272,7 +265,7 @@ int Run(const Options& opt) {
   SimAssessment assessed(model, ViewOf(scope, opt));
 
   const Energies e0 = energies();
-  const Vec3 com0 = CentreOfMass(model, state.q);
+  const Vec3 com0 = model.CentreOfMass(state.q);
   const Vec3 momentum0 = Momentum(model, state);
   Vec3 hand_impulse = Vec3::Zero();  // what the hands gave the tips, all tools (N s)
   record(0.0);
@@ -314,7 +307,7 @@ int Run(const Options& opt) {
 
   const Energies e = energies();
   if (!opt.export_mesh.empty()) ExportMesh(opt, model, state.q);
-  const Vec3 com = CentreOfMass(model, state.q);
+  const Vec3 com = model.CentreOfMass(state.q);
   double total_us = 0.0;
   for (double c : cost_us) total_us += c;
   const double simulated = state.t;
