@@ -48,7 +48,7 @@ class ContactLaw {
   ContactLaw(const ContactParams& cp, double radius) : cp_(cp), radius_(radius) {}
 
   /// The stiffening law's goal (fraction of R): the slope reaches kStiffening k at this depth,
-  /// and the held constraints bound depths short of it (interactions_impacts.cc).
+  /// and the held constraints bound depths short of it (impact_sets.cc).
   static constexpr double kDepthGoal = 0.10;
   /// The slope's growth from k at impact_depth to kDepthGoal.
   static constexpr double kStiffening = 100.0;

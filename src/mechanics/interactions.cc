@@ -47,7 +47,7 @@ Interactions::Interactions(const Model& model)
       grasps_(model, chain_, SelfSkip(chain_)),
       geometry_(model, chain_, candidates_, grasps_),
       self_pairs_(static_cast<size_t>(chain_.size()) * 8),
-      impacts_(model, chain_.size()),
+      impacts_(model, chain_, candidates_, &geometry_, SphereMass()),
       friction_(model.params().contacts, chain_, SphereMass()),
       tips_(model, chain_, law_),
       haptic_(model, TipsInSolve(model)) {
@@ -58,8 +58,6 @@ Interactions::Interactions(const Model& model)
   sphere_k_.assign(chain_.size(), Mat3::Zero());
   sphere_d_.assign(chain_.size(), Mat3::Zero());
   sphere_touched_.assign(chain_.size(), 0);
-  end_velocity_.assign(chain_.size(), Vec3::Zero());
-  impact_contacts_.reserve(static_cast<size_t>(chain_.size()) * 8);
   tip_contacts_.reserve(chain_.size());
   Configure(model.params().initial_q, true);
 }
@@ -80,7 +78,7 @@ void Interactions::Configure(const Points& q, bool place) {
   placed_ = place;
   geometry_.Invalidate();
   gathered_ = false;  // the spheres' weights may have changed
-  end_gathered_ = false;
+  impacts_.ChainMoved();
 }
 
 void Interactions::UpdateCandidates(double margin, State* state) {
@@ -254,7 +252,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin, state_in);
   geometry_.Ensure();
-  LimitImpacts(h, &state_in->qd, nullptr);
+  impacts_.Limit(h, &state_in->qd, nullptr);
   GatherVelocities(state.qd);
   substep_ = 0;
   double closing = 0.0;
@@ -308,8 +306,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     UpdateCandidates(margin, state);
     geometry_.RefreshTools();
   }
-  LimitImpacts(h, &state->qd, nullptr);
-  if (!impact_set_.empty())
+  if (impacts_.Limit(h, &state->qd, nullptr))
     state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 

@@ -4,9 +4,9 @@
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
 /// friction may have a static phase (contacts.friction_law; docs/friction.md). Coordinates one
-/// class per job (ContactGeometry, ContactLaw, StickSlipFriction, SelfPairCoupling, Grasps,
-/// TipCoupling, HapticOutput). Owned by the stepping thread's Workspace; allocates nothing in
-/// steady state.
+/// class per job (ContactGeometry, ContactLaw, StickSlipFriction, SelfPairCoupling, ImpactSets,
+/// Grasps, TipCoupling, HapticOutput). Owned by the stepping thread's Workspace; allocates nothing
+/// in steady state.
 #include <algorithm>
 #include <span>
 #include <vector>
@@ -22,6 +22,7 @@
 #include "mechanics/grasps.h"
 #include "mechanics/haptic_output.h"
 #include "mechanics/impact_limiter.h"
+#include "mechanics/impact_sets.h"
 #include "mechanics/model.h"
 #include "mechanics/self_pair_coupling.h"
 #include "mechanics/state.h"
@@ -40,7 +41,7 @@ class Interactions {
   /// Sub-steps this step needs so that no pair closes in by more than a fifth of the radius per
   /// sub-step (an impact found a sub-step late would start its penalty spring compressed,
   /// creating energy): at least the model's, at most kMaxSubsteps. First limits the impacts over
-  /// the whole step (LimitImpacts), so that a landing needs few sub-steps.
+  /// the whole step (ImpactSets::Limit), so that a landing needs few sub-steps.
   int RequiredSubsteps(State* state);
   static constexpr int kMaxSubsteps = 32;
 
@@ -77,23 +78,14 @@ class Interactions {
   /// Self pairs that the last AddForces with K linearized (0: the band is exact).
   int coupled_pairs() const { return self_pairs_.size(); }
 
-  /// What the implicit solve's impulses hold (docs/impacts.md), at the end of a
-  /// sub-step (the depth at its start minus h times the closing speed):
-  /// kImpact: impacts (closing faster than the penalty stops) within impact_depth, never pushed
-  ///   apart (their impulse stays in the velocity);
-  /// kDepth: any pair within impact_depth + (10 % - impact_depth) / 4 of the radius (6.25 % with
-  ///   the defaults), pushed back if deeper (a position correction only: the sphere chain's
-  ///   re-placement along the arc length slides spheres into each other while an impact stretches
-  ///   the tube).
-  enum class EndConstraint { kImpact, kDepth };
-  /// Collects the self and environment pairs that the end velocity v_check (#N by 3) leaves
-  /// beyond `kind`'s bound. `first` starts a new set; later calls keep the pairs already in it,
-  /// in the same order, and add the new ones. Each contact of the set gets its normal speed at
-  /// v_base and its target. Returns whether the set grew (false when impact_depth or
-  /// impact_constraints is off).
+  /// What the implicit solve's impulses hold at the end of a sub-step (ImpactSets).
+  using EndConstraint = ImpactSets::EndConstraint;
+  /// ImpactSets::GatherEnd on this step's candidates.
   bool GatherEndConstraints(EndConstraint kind, double h, const Points& v_check,
                             const Points& v_base, bool first,
-                            std::vector<ImpactLimiter::Contact>* contacts);
+                            std::vector<ImpactLimiter::Contact>* contacts) {
+    return impacts_.GatherEnd(kind, h, v_check, v_base, first, contacts);
+  }
 
   /// With the implicit integrator the tools' tips are unknowns of the tube's solve (three per
   /// tool): the coupling to the device's target, the tip's mass and every contact and grasp
@@ -176,12 +168,6 @@ class Interactions {
   // Finds the candidates for `margin`, keeping the geometry unless the list changed; a new list
   // goes to state->broad_phase.
   void UpdateCandidates(double margin, State* state);
-  // Inelastic impulses on the pairs that would end the next h deeper than
-  // contacts.impact_depth moving at u (docs/impacts.md): u changes, and so does v
-  // (if given: the velocity whose kinetic energy counts) by the same impulses.
-  void LimitImpacts(double h, Points* u, Points* v);
-  // Closing speeds below this are the penalty's (m/s): LimitImpacts.
-  double ImpactSpeed();
   // One collision sphere's share of the tube's mass (kg): what an impact or a friction
   // overload moves.
   double SphereMass() const {
@@ -228,19 +214,8 @@ class Interactions {
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
   SelfPairCoupling self_pairs_;  // the last AddForces' self pairs (with K)
-  ImpactLimiter impacts_;
+  ImpactSets impacts_;
   StickSlipFriction friction_;
-  std::vector<ImpactLimiter::Contact> impact_contacts_;
-  std::vector<int> impact_set_;  // candidates in the impulse solve
-  std::vector<char> in_impact_set_;
-  Points impact_u0_, impact_v0_;     // velocities before the impulses
-  std::vector<int> end_impact_set_;  // candidates in the implicit solve's impact constraints
-  std::vector<Vec3> end_velocity_;   // GatherEndConstraints: each sphere's velocity at v_check
-  Points end_checked_;               // that v_check, and the largest squared speed; valid while
-  double end_fastest_ = 0.0;         // end_gathered_ (the chain's configuration unchanged)
-  bool end_finite_ = true, end_gathered_ = false;
-  std::vector<char> in_end_impact_set_;
-  double impact_speed_ = -1.0;  // m/s: closing speeds below this are the penalty's
   // A tool's contacts as its tip cycles see them: each cycle evaluates the contact law again from
   // the sub-step start's geometry and speeds, moved by the tip's own motion since.
   struct TipContact {
