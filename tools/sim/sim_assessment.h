@@ -21,6 +21,11 @@ class SimAssessment {
   ///      when the replay returns).
   SimAssessment(const mechanics::Model& model, const assessment::View& view);
 
+  /// The camera moved: exposures, camera coverage and the time out of view follow it.
+  void SetView(const assessment::View& view) {
+    view_ = view;
+    metrics_.SetView(view);
+  }
   /// Takes the state after a step (a repeated step count, e.g. after a reset, adds nothing).
   void AddStep(const mechanics::State& state);
 

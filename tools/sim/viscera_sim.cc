@@ -1,6 +1,7 @@
 // viscera-sim: runs a scene offline, with no network, and reports what happened.
 //   viscera-sim SCENE.toml --duration SECONDS [--trace FILE.jsonl] [--trace-every N] [--json]
 //               [--render DIR [--render-every N] [--camera EX EY EZ CX CY CZ] [--frame-size WxH]]
+//               [--camera-script CAMERA.csv]
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <iostream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -23,6 +25,7 @@
 #include "render/jpeg_sequence.h"
 #include "render/port_scope.h"
 #include "scene/scene.h"
+#include "script/camera_script.h"
 #include "session/replay.h"
 #include "sim/progress_bar.h"
 #include "sim/scripted_run.h"
@@ -52,6 +55,7 @@ struct Options {
   std::string render_dir;      // JPEG frames of the run go here
   int render_every = 0;        // steps between frames; 0: about 25 frames per simulated second
   std::vector<double> camera;  // eye x y z, look-at x y z (m); default frames the skeleton
+  std::string camera_script;   // the camera moved along a CSV (script::CameraScript)
   std::string frame_size = "640x480";
   int jpeg_quality = 85;
   std::string report;  // the assessment as JSON goes here
@@ -116,6 +120,7 @@ class FrameWriter {
     options.skin_options.hybrid.focus_radius = opt.focus_radius;
     renderer_ = std::make_unique<render::FrameRenderer>(model.params(), options);
   }
+  void SetScope(const render::Laparoscope& scope) { scope_ = scope; }
   void Write(const State& state, std::vector<std::pair<double, double>> damage = {}) {
     renderer_->SetDamage(std::move(damage));
     renderer_->Render(state, scope_);
@@ -261,7 +266,19 @@ int Run(const Options& opt) {
   auto record = [&](double step_us) {
     if (trace) trace->Write(model, state, interactions, curve.Length(state.q), energies(), step_us);
   };
-  const render::Laparoscope scope = RunScope(opt, model.params(), state.q);
+  render::Laparoscope scope = RunScope(opt, model.params(), state.q);
+  std::optional<script::CameraScript> camera_script;
+  if (!opt.camera_script.empty()) {
+    ThrowUnless(opt.camera.empty(), "--camera and --camera-script: give one");
+    camera_script = script::CameraScript::Load(opt.camera_script);
+  }
+  // The scene's scope (its light and field of view) where the camera script puts it at t.
+  auto move_camera = [&](double t) {
+    const script::CameraKeyframe k = camera_script->At(t);
+    scope.eye = k.eye.cast<float>();
+    scope.target = k.target.cast<float>();
+  };
+  if (camera_script) move_camera(state.t);
   SimAssessment assessed(model, ViewOf(scope, opt));
 
   const Energies e0 = energies();
@@ -293,6 +310,11 @@ int Run(const Options& opt) {
     run.Step(targets);
     const double us = (ThreadCpuNanos() - begin) * 1e-3;
     cost_us.push_back(us);
+    if (camera_script) {
+      move_camera(state.t);
+      assessed.SetView(ViewOf(scope, opt));
+      if (frames) frames->SetScope(scope);
+    }
     if (!std::isnan(state.contacts.min_clearance))
       min_clearance = std::min(min_clearance, state.contacts.min_clearance);
     for (size_t t = 0; t < state.tools.size(); ++t) {
@@ -466,6 +488,8 @@ int main(int argc, char** argv) {
                  "steps between frames (default: about 25 per simulated second)");
   app.add_option("--camera", opt.camera, "laparoscope eye x y z and look-at x y z (m)")
       ->expected(6);
+  app.add_option("--camera-script", opt.camera_script,
+                 "CSV moving the laparoscope: t,ex,ey,ez,cx,cy,cz (s, eye and look-at in m)");
   app.add_option("--frame-size", opt.frame_size, "frame size WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--report", opt.report,
                  "write the assessment (docs/assessment.md) as JSON to this file");
