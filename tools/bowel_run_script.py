@@ -15,9 +15,12 @@ The bowel runs through the two points and falls back on the pile behind them. Th
             bowel 22 cm up
   careless  the expert's grip, but it jumps 20 cm at a few grasps (skipping three segments) and
             backs off 12 cm between grasps
-The scene's mesentery (root, lengths) and tool ports are read from the scene file.
+The scene's mesentery (root, lengths), tool ports and camera are read from the scene file.
+With --camera-out, the laparoscope follows the work, as an assistant holds it: at each grasp it
+turns, from its port, to the point between the part about to be grasped and the part held, its
+lens `insertion` past the port (viscera-sim --camera-script).
 Usage: tools/bowel_run_script.py KIND [--scene scenes/bowel_run.toml] [--start 0.025] [--end M]
-       [--out FILE]
+       [--out FILE] [--camera-out FILE]
 """
 import argparse
 import os
@@ -49,6 +52,10 @@ class Scene:
         self.root = (m["root_start"], m["root_end"])
         self.lengths = m["lengths"]
         self.ports = {tool["name"]: tuple(tool["port"]) for tool in t["tool"]}
+        c = t["camera"]
+        self.camera_port = tuple(c["port"])
+        self.camera_look = tuple(c["look_at"])
+        self.insertion = c.get("insertion", 0.0)
 
     def tether(self, u):  # the mesentery's length at arc-length fraction u (piecewise linear)
         pts = self.lengths
@@ -63,6 +70,32 @@ class Scene:
         r = [a[i] + u * (b[i] - a[i]) for i in range(3)]
         side = -SIDE if self.ports[tool][0] < 0 else SIDE
         return (r[0] + side, r[1], r[2] + HEIGHT * self.tether(u))
+
+
+def camera_rows(scene, points):
+    """The scope's eye and look-at at each grasp: turned toward the work in the 0.4 s before the
+    free grasper reaches, and held until the next grasp's turn."""
+    out = []
+
+    def aim(target):
+        d = [target[i] - scene.camera_port[i] for i in range(3)]
+        n = sum(x * x for x in d) ** 0.5
+        eye = tuple(scene.camera_port[i] + scene.insertion * d[i] / n for i in range(3))
+        return eye, target
+
+    out.append((0.0,) + aim(scene.camera_look))
+    tools = sorted(scene.ports, key=lambda name: scene.ports[name][0])
+    for k, s in enumerate(points):
+        t = 0.5 + k * CYCLE
+        me, other = tools[k % 2], tools[(k + 1) % 2]
+        held = scene.present(other, points[k - 1]) if k > 0 else scene.present(me, s)
+        nxt = scene.present(me, s)
+        # between the two presentation points, halfway down to the pile the free grasper reaches
+        target = tuple(0.5 * (held[i] + nxt[i]) for i in range(3))
+        target = (target[0], target[1], 0.5 * (target[2] + scene.camera_look[2]))
+        out.append((t,) + out[-1][1:])
+        out.append((t + 0.4,) + aim(target))
+    return out
 
 
 def grasp_points(kind, start, end):
@@ -137,6 +170,8 @@ def main():
     ap.add_argument("--start", type=float, default=0.025, help="first grasp (m from s = 0)")
     ap.add_argument("--end", type=float, default=None, help="last grasp at most (m)")
     ap.add_argument("--out", default=None, help="CSV to write (default: stdout)")
+    ap.add_argument("--camera-out", default=None,
+                    help="also write the laparoscope's moves (t,ex,ey,ez,cx,cy,cz) to this CSV")
     a = ap.parse_args()
     scene = Scene(a.scene)
     end = a.end if a.end is not None else scene.length - 0.025
@@ -159,6 +194,13 @@ def main():
             f.write(text)
     else:
         sys.stdout.write(text)
+    if a.camera_out:
+        lines = ["# The laparoscope of the %s run (tools/bowel_run_script.py %s --camera-out)."
+                 % (a.kind, a.kind), "t,ex,ey,ez,cx,cy,cz"]
+        for t, eye, target in camera_rows(scene, points):
+            lines.append("%g,%s" % (t, ",".join("%.4f" % v for v in eye + target)))
+        with open(a.camera_out, "w") as f:
+            f.write("\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":
