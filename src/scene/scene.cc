@@ -419,6 +419,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1),
                 limits, &scene.model);
   if (limits.check_stop) limits.check_stop();  // after the distance fields
+  CheckStartClear(scene.model.initial_q, scene.model.radius, scene.model.obstacles);
   ReadContacts(root, limits, &scene.model);
   ReadTools(root, limits, &scene.model);
   ReadTask(TableArray(root, "target"),
