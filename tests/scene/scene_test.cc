@@ -88,6 +88,41 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
   EXPECT_TRUE(calls[0].first);
 }
 
+// The settle's first steps are timed (SceneLimits::vet, before the settle is paid for) as the
+// settle runs them: with friction without a static phase, and with the mesentery's slack long
+// enough for every tether that the start overstretches (Settle tightens it gradually), not with
+// the scene's Coulomb friction and its tethers pulled taut at once.
+TEST(Scene, VetTimesTheSettlesStartAsTheSettleRunsIt) {
+  // the straight tube 1 m above a root 0.2 m long whose tethers allow 5-12 cm: 0.95 m too far
+  const std::string scene =
+      "[simulation]\nsettle = 0.05\n" +
+      Replace(kIntestine, "self = false\n",
+              "self = false\nfriction_law = \"stick_slip\"\nfriction = 0.3\n") +
+      R"(
+[mesentery]
+root_start = [0.0, 0.0, 0.0]
+root_end = [2.0, 0.0, 0.0]
+lengths = [[0.0, 0.05], [0.5, 0.12], [1.0, 0.05]]
+stiffness = 100.0
+)";
+  std::vector<mechanics::ModelParams> vetted;
+  SceneLimits limits;
+  limits.vet = [&](const mechanics::ModelParams& p, bool) { vetted.push_back(p); };
+  const Scene s = ParseScene(scene, "test.toml", limits);
+  ASSERT_EQ(vetted.size(), 2u);
+  ASSERT_TRUE(vetted[0].mesentery && vetted[1].mesentery);
+  // the farthest tethers, near the ends: 1 m for 5 cm
+  EXPECT_GT(vetted[0].mesentery->extra_slack, 0.9);
+  EXPECT_LE(vetted[0].mesentery->extra_slack, 1.0 - 0.05 + 1e-9);
+  EXPECT_EQ(vetted[0].contacts.friction_law, mechanics::FrictionLaw::kRegularized);
+  EXPECT_EQ(vetted[0].rate_hz, 100.0);
+  // what runs has the scene's own
+  EXPECT_EQ(vetted[1].mesentery->extra_slack, 0.0);
+  EXPECT_EQ(vetted[1].contacts.friction_law, mechanics::FrictionLaw::kStickSlip);
+  EXPECT_EQ(s.model.mesentery->extra_slack, 0.0);
+  EXPECT_EQ(s.model.contacts.friction_law, mechanics::FrictionLaw::kStickSlip);
+}
+
 // A start whose centre line lies more than the tube's radius past an obstacle's surface (the
 // whole tube on the wrong side) is refused, naming the obstacle, the point and the depth; a tube
 // starting in contact, partly inside, is read.
