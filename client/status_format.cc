@@ -86,25 +86,43 @@ static std::string Whole(double v) {
   return text;
 }
 
+// Running the bowel's coverage for the table: "88.9%", "-" without [running]; a hostile value
+// (NaN, inf, 1e252) as it is.
+static std::string Coverage(const session_status_t& s) {
+  if (s.running_segments <= 0) return "-";
+  const double percent = 100.0 * s.running_coverage;
+  char text[32];
+  std::snprintf(text, sizeof(text),
+                std::isfinite(percent) && std::fabs(percent) < 1e9 ? "%.1f%%" : "%.3g", percent);
+  return text;
+}
+
 std::string StatusTable(const std::vector<session_status_t>& sessions) {
+  // the running column only when a session runs the bowel ([running]): coverage, % of segments
+  bool running = false;
+  for (const session_status_t& s : sessions) running = running || s.running_segments > 0;
   std::string out;
   char line[768];
-  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s %7s %7s  %s\n",
+  char column[16] = "";  // right-aligned like the values below it
+  if (running) std::snprintf(column, sizeof(column), " %8s", "RUNNING");
+  std::snprintf(line, sizeof(line), "%-17s %-12s %-8s %9s %14s %7s %9s %7s %9s %8s %7s %7s%s  %s\n",
                 "SESSION", "SCENE", "STATE", "SIM_TIME", "RATE_HZ", "MISSES", "P99_US", "FPS",
-                "REJECTED", "RECOVER", "UNCONV", "LEASE", "LAST_ERROR");
+                "REJECTED", "RECOVER", "UNCONV", "LEASE", column, "LAST_ERROR");
   out += line;
   for (const session_status_t& s : sessions) {
     const std::string rate = Whole(s.achieved_rate_hz) + "/" + Whole(s.rate_hz);
     const std::string fps =
         s.frame_rate_hz > 0 ? Whole(s.achieved_frame_rate_hz) + "/" + Whole(s.frame_rate_hz) : "-";
     const std::string lease = s.lease_s > 0 ? Whole(s.lease_left_s) + "s" : "-";
+    char coverage[40] = "";
+    if (running) std::snprintf(coverage, sizeof(coverage), " %8s", Coverage(s).c_str());
     std::snprintf(line, sizeof(line),
-                  "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7lld %7s  %s\n",
+                  "%-17lld %-12s %-8s %8.2fs %14s %7lld %9.1f %7s %9lld %8lld %7lld %7s%s  %s\n",
                   static_cast<long long>(s.header.session_id), Printable(s.scene).c_str(),
                   StateName(s.state).c_str(), s.sim_time, rate.c_str(),
                   static_cast<long long>(s.deadline_misses), s.step_cost_p99_us, fps.c_str(),
                   static_cast<long long>(s.rejected), static_cast<long long>(s.recoveries),
-                  static_cast<long long>(s.unconverged_solves), lease.c_str(),
+                  static_cast<long long>(s.unconverged_solves), lease.c_str(), coverage,
                   Printable(s.last_error).c_str());
     out += line;
   }

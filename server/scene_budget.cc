@@ -115,18 +115,18 @@ scene::SceneLimits NetworkSceneLimits(const ServerConfig& config, double session
   const double max_load = config.max_session_load;
   limits.vet = [max_load, session_rate_hz](const mechanics::ModelParams& params, bool settled) {
     if (max_load <= 0.0) return;
-    // Timed as it will run: at the session's rate (its sub-steps adjusted), or the scene's. A
-    // scene that settles is timed on its settled pile, which is what the session runs; before
-    // the settle is paid for, its unsettled start (a falling coil, tethers pulling in, several
-    // times a settled step: 1.3 cores against 0.05 for the cavity at 100 Hz) must already fit
-    // kUnsettledLoadFactor times the limit.
+    // Timed as it will run. A scene that settles is timed on its settled pile, which is what
+    // the session runs, at the session's rate (its sub-steps adjusted), or the scene's. Before
+    // the settle is paid for, its start (a falling coil, tethers pulling in, several times a
+    // settled step), as the settle runs it (SceneLimits::vet: at the scene's own rate, whatever
+    // the session's), must already fit kUnsettledLoadFactor times the limit.
     const double limit = settled ? max_load : kUnsettledLoadFactor * max_load;
     mechanics::ModelParams as_run = params;
-    if (session_rate_hz > 0.0) scene::ChangeRate(&as_run, session_rate_hz);
+    if (settled && session_rate_hz > 0.0) scene::ChangeRate(&as_run, session_rate_hz);
     const double rate = as_run.rate_hz;
     const double load = EstimateMechanicsLoad(as_run, rate);
     ThrowUnless(load <= limit, "estimated mechanics load ", load, " of a core at ", rate, " Hz",
-                settled ? "" : " before settling", ": above this server's limit of ", limit,
+                settled ? "" : " while settling", ": above this server's limit of ", limit,
                 " (fewer control points, obstacles or substeps, or a lower rate)");
   };
   return limits;

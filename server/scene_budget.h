@@ -26,8 +26,9 @@ std::string ResolveSceneFile(const std::string& scene_dir, const std::string& fi
 double EstimateMechanicsLoad(const mechanics::ModelParams& params, double rate_hz,
                              double budget_s = 0.2);
 
-/// Before a scene's settle, its unsettled start must fit this many times the load limit (the
-/// settled pile must fit the limit itself): what an unsettled step may cost over a settled one.
+/// Before a scene's settle, its start as the settle runs it must fit this many times the load
+/// limit (the settled pile must fit the limit itself): what an unsettled step may cost over a
+/// settled one.
 inline constexpr double kUnsettledLoadFactor = 4.0;
 
 /// The limits of `config` for a create's scene; `session_rate_hz` (0: the scene's) is the

@@ -353,6 +353,34 @@ void ReadTools(const toml::table& root, const SceneLimits& limits, ModelParams* 
   }
 }
 
+constexpr int kTighten = 10;
+
+// How far the starting pose overstretches the mesentery's longest-pulled tether (m, 0 if none).
+double TetherExcess(const mechanics::Model& model, const Points& q) {
+  double excess = 0.0;
+  for (const mechanics::Tether& t : model.tethers())
+    excess = std::max(excess, (mechanics::Model::Evaluate(t.at, q) - t.root).norm() - t.length);
+  return excess;
+}
+
+// `p` as the settle steps it in `stage` (of kTighten + 1 when the start overstretches the
+// mesentery by `excess`): the tethers' slack lengthened by what is left of the excess, and
+// friction without a static phase. The settle stands for the minutes in which breathing and
+// peristalsis lay the bowel where it rests: without a static phase it creeps into the low places;
+// the session then starts from that rest under Coulomb's law (docs/friction.md).
+ModelParams SettleStage(ModelParams p, double excess, int stage) {
+  p.contacts.friction_law = mechanics::FrictionLaw::kRegularized;
+  if (p.mesentery)
+    p.mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
+  return p;
+}
+
+// The model of the settle's first steps, which SceneLimits::vet times before the settle is paid
+// for: as the settle runs them (at the scene's own rate), not as a session would.
+ModelParams SettleStart(const ModelParams& p) {
+  return SettleStage(p, TetherExcess(mechanics::Model(p), p.initial_q), 0);
+}
+
 // Lets the intestine fall and settle for `seconds` (no tools) and makes the result the start.
 // Anchors that default to the starting pose are fixed first, so they stay where the scene put them.
 // A mesentery whose tethers the starting pose overstretches is tightened gradually over the first
@@ -363,24 +391,12 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
   const mechanics::Model before(*p);
   for (size_t i = 0; i < p->attachments.size(); ++i)
     p->attachments[i].point = before.attachments()[i].anchor;
-  double excess = 0.0;
-  for (const mechanics::Tether& t : before.tethers()) {
-    excess = std::max(excess,
-                      (mechanics::Model::Evaluate(t.at, p->initial_q) - t.root).norm() - t.length);
-  }
-  constexpr int kTighten = 10;
+  const double excess = TetherExcess(before, p->initial_q);
   const int stages = excess > 0.0 ? kTighten + 1 : 1;
   const int total_steps = static_cast<int>(std::lround(seconds * p->rate_hz));
   mechanics::State state = mechanics::InitialState(before);
-  // The settle stands for the minutes in which breathing and peristalsis lay the bowel where it
-  // rests: friction without a static phase, so that it creeps into the low places; the session
-  // then starts from that rest under Coulomb's law (docs/friction.md).
-  const mechanics::FrictionLaw law = p->contacts.friction_law;
-  p->contacts.friction_law = mechanics::FrictionLaw::kRegularized;
   for (int stage = 0; stage < stages; ++stage) {
-    if (p->mesentery)
-      p->mesentery->extra_slack = excess * (1.0 - static_cast<double>(stage) / kTighten);
-    const mechanics::Model model(*p);
+    const mechanics::Model model(SettleStage(*p, excess, stage));
     mechanics::Workspace workspace(model);
     mechanics::ForgetSolverMemory(&state);  // each stage's model starts its solver anew
     // stage k < kTighten gets 1 / (1.5 kTighten) of the time, the last one the remaining third
@@ -392,7 +408,6 @@ void Settle(double seconds, const std::function<void()>& check_stop, ModelParams
       mechanics::Step(model, {}, &state, &workspace);
     }
   }
-  p->contacts.friction_law = law;
   ThrowUnless(state.nonfinite_resets == 0, "simulation.settle: the scene blew up while settling");
   p->initial_q = state.q;
 }
@@ -419,6 +434,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
   ReadObstacles(root, slash == std::string::npos ? std::string() : source.substr(0, slash + 1),
                 limits, &scene.model);
   if (limits.check_stop) limits.check_stop();  // after the distance fields
+  CheckStartClear(scene.model.initial_q, scene.model.radius, scene.model.obstacles);
   ReadContacts(root, limits, &scene.model);
   ReadTools(root, limits, &scene.model);
   ReadTask(TableArray(root, "target"),
@@ -435,7 +451,7 @@ Scene Build(const toml::table& root, const std::string& source, const SceneLimit
     scene.model.linearization_guard = false;
     if (limits.check_stop) limits.check_stop();
     scene.model.implicit_scheme = mechanics::ImplicitScheme::kBackwardEuler;
-    if (limits.vet) limits.vet(scene.model, false);
+    if (limits.vet) limits.vet(SettleStart(scene.model), false);
     Settle(settle, limits.check_stop, &scene.model);
     scene.model.linearization_guard = guard;
     scene.model.implicit_scheme = scheme;

@@ -39,7 +39,8 @@ struct SceneLimits {
   /// server confines files to its scene directory). Empty: relative to the scene's directory.
   std::function<std::string(const std::string& file)> resolve_file;
   /// Called with the whole model once read, before settling (settled = false; only when the
-  /// scene settles), and with the settled model, which is what runs (settled = true): may
+  /// scene settles), as the settle's first steps run it (its friction, its mesentery's slack,
+  /// the scene's rate), and with the settled model, which is what runs (settled = true): may
   /// throw InputError (the server estimates the step cost here).
   std::function<void(const mechanics::ModelParams&, bool settled)> vet;
   /// Called between the build's phases and before every settling step: throws InputError to

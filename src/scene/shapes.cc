@@ -1,5 +1,6 @@
 #include "scene/shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -103,6 +104,35 @@ Points MakeShape(const TomlReader& r, int n, double length) {
   }
   r.Finish();
   return q;
+}
+
+StartOverlap DeepestStartOverlap(const Points& q,
+                                 const std::vector<collision::Obstacle>& obstacles) {
+  StartOverlap deepest;
+  for (size_t k = 0; k < obstacles.size(); ++k) {
+    const collision::PreparedObstacle obstacle(obstacles[k]);
+    Vec3 normal;
+    for (int i = 0; i < q.rows(); ++i) {
+      const double depth = -obstacle.SignedDistance(q.row(i).transpose(), &normal);
+      if (depth > deepest.depth) deepest = {i, k, depth};
+    }
+  }
+  return deepest;
+}
+
+void CheckStartClear(const Points& q, double radius,
+                     const std::vector<collision::Obstacle>& obstacles) {
+  const StartOverlap o = DeepestStartOverlap(q, obstacles);
+  if (o.point < 0 || o.depth <= radius) return;
+  const collision::Obstacle& obstacle = obstacles[o.obstacle];
+  const auto mm = [](double m) { return std::lround(m * 1e4) / 10.0; };
+  Fail("intestine.shape: control point ", o.point, " of ", q.rows(),
+       " (s = ", std::lround(1e3 * o.point / std::max<double>(q.rows() - 1, 1)) / 1e3, ") starts ",
+       mm(o.depth), " mm ", obstacle.inside ? "outside" : "inside", " obstacle \"", obstacle.name,
+       "\"", obstacle.inside ? " (inside = true: the tube belongs inside it)" : "",
+       ", more than the tube's radius (", mm(radius),
+       " mm): the whole tube is past the obstacle's surface there, and the contacts would throw "
+       "it back over the first steps (seconds of CPU each); place the shape in the free space");
 }
 
 }  // namespace viscera::scene

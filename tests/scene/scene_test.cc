@@ -9,6 +9,7 @@
 
 #include "common/check.h"
 #include "mechanics/model.h"
+#include "scene/shapes.h"
 
 namespace viscera::scene {
 namespace {
@@ -85,6 +86,78 @@ TEST(Scene, VetSeesTheStartBeforeSettlingAndTheSettledModelAfter) {
   ParseScene(kIntestine, "test.toml", limits);  // no settle: one call, on what runs
   ASSERT_EQ(calls.size(), 1u);
   EXPECT_TRUE(calls[0].first);
+}
+
+// The settle's first steps are timed (SceneLimits::vet, before the settle is paid for) as the
+// settle runs them: with friction without a static phase, and with the mesentery's slack long
+// enough for every tether that the start overstretches (Settle tightens it gradually), not with
+// the scene's Coulomb friction and its tethers pulled taut at once.
+TEST(Scene, VetTimesTheSettlesStartAsTheSettleRunsIt) {
+  // the straight tube 1 m above a root 0.2 m long whose tethers allow 5-12 cm: 0.95 m too far
+  const std::string scene =
+      "[simulation]\nsettle = 0.05\n" +
+      Replace(kIntestine, "self = false\n",
+              "self = false\nfriction_law = \"stick_slip\"\nfriction = 0.3\n") +
+      R"(
+[mesentery]
+root_start = [0.0, 0.0, 0.0]
+root_end = [2.0, 0.0, 0.0]
+lengths = [[0.0, 0.05], [0.5, 0.12], [1.0, 0.05]]
+stiffness = 100.0
+)";
+  std::vector<mechanics::ModelParams> vetted;
+  SceneLimits limits;
+  limits.vet = [&](const mechanics::ModelParams& p, bool) { vetted.push_back(p); };
+  const Scene s = ParseScene(scene, "test.toml", limits);
+  ASSERT_EQ(vetted.size(), 2u);
+  ASSERT_TRUE(vetted[0].mesentery && vetted[1].mesentery);
+  // the farthest tethers, near the ends: 1 m for 5 cm
+  EXPECT_GT(vetted[0].mesentery->extra_slack, 0.9);
+  EXPECT_LE(vetted[0].mesentery->extra_slack, 1.0 - 0.05 + 1e-9);
+  EXPECT_EQ(vetted[0].contacts.friction_law, mechanics::FrictionLaw::kRegularized);
+  EXPECT_EQ(vetted[0].rate_hz, 100.0);
+  // what runs has the scene's own
+  EXPECT_EQ(vetted[1].mesentery->extra_slack, 0.0);
+  EXPECT_EQ(vetted[1].contacts.friction_law, mechanics::FrictionLaw::kStickSlip);
+  EXPECT_EQ(s.model.mesentery->extra_slack, 0.0);
+  EXPECT_EQ(s.model.contacts.friction_law, mechanics::FrictionLaw::kStickSlip);
+}
+
+// A start whose centre line lies more than the tube's radius past an obstacle's surface (the
+// whole tube on the wrong side) is refused, naming the obstacle, the point and the depth; a tube
+// starting in contact, partly inside, is read.
+TEST(Scene, AStartDeepInsideAnObstacleIsRefused) {
+  // the straight tube runs along x at z = 1, from x = 0 to 2 (41 points, 5 cm apart)
+  const auto with = [&](const std::string& obstacle) {
+    return kIntestine + "[[obstacle]]\n" + obstacle;
+  };
+  // a cavity that holds the tube but its last 16 cm (x = 1.84 .. 2): the last point is 14 cm out
+  ExpectError(with("name = \"cavity\"\nkind = \"ellipsoid\"\ncentre = [0.93, 0.0, 1.0]\n"
+                   "radii = [0.93, 0.2, 0.2]\ninside = true\n"),
+              {"test.toml", "intestine.shape", "control point 40 of 41", "outside obstacle",
+               "\"cavity\"", "inside = true", "tube's radius (12.5 mm)"});
+  // an organ the tube runs through: its centre line 5 cm inside a sphere at x = 1
+  ExpectError(with("name = \"liver\"\nkind = \"sphere\"\ncentre = [1.0, 0.0, 1.0]\n"
+                   "radius = 0.05\n"),
+              {"control point 20 of 41 (s = 0.5)", "50 mm inside obstacle \"liver\""});
+  // the same organ lowered so that the tube's surface dips 1 cm into it, its centre line outside:
+  // a tube laid in contact is read (the contacts push it out)
+  const Scene touching =
+      ParseScene(with("kind = \"sphere\"\ncentre = [1.0, 0.0, 0.9375]\nradius = 0.06\n"));
+  EXPECT_EQ(touching.model.obstacles.size(), 1u);
+  // a centre line inside, but by less than the radius: read (cavity.toml's coil starts 4 mm into
+  // the spine)
+  ParseScene(with("kind = \"sphere\"\ncentre = [1.0, 0.0, 0.95]\nradius = 0.06\n"));
+  // what the check sees: the deepest point and its obstacle
+  const Scene tube = ParseScene(kIntestine);
+  std::vector<collision::Obstacle> obstacles(2);
+  obstacles[1].kind = collision::ObstacleKind::kPlane;  // the floor 3 cm above the tube
+  obstacles[1].point = Vec3(0.0, 0.0, 1.03);
+  obstacles[0].point = Vec3(0.0, 0.0, -1.0);  // far below
+  const StartOverlap o = DeepestStartOverlap(tube.model.initial_q, obstacles);
+  EXPECT_EQ(o.obstacle, 1u);
+  EXPECT_NEAR(o.depth, 0.03, 1e-12);
+  EXPECT_EQ(DeepestStartOverlap(tube.model.initial_q, {obstacles[0]}).point, -1);
 }
 
 TEST(Scene, ReadsEverySimulationKey) {
@@ -190,12 +263,12 @@ point = [0, 0, 0]
 normal = [0, 0, 2]
 [[obstacle]]
 kind = "sphere"
-centre = [0, 0, 1]
+centre = [0, 0, 1.2]
 radius = 0.1
 [[obstacle]]
 kind = "capsule"
 a = [0, 0, 0]
-b = [0, 0, 1]
+b = [0, 0, 0.9]
 radius = 0.05
 [[obstacle]]
 kind = "box"
@@ -205,8 +278,8 @@ orientation = [1, 0, 0, 0]
 [[obstacle]]
 name = "cavity"
 kind = "ellipsoid"
-centre = [0, 0, 0.1]
-radii = [0.2, 0.15, 0.1]
+centre = [1, 0, 1]
+radii = [1.2, 0.15, 0.1]
 inside = true
 )");
   ASSERT_EQ(s.model.obstacles.size(), 5u);

@@ -31,10 +31,10 @@ std::string SceneText(const std::string& name) {
   return s.str();
 }
 
-// A small valid scene with one mesh obstacle naming `file`.
+// A small valid scene with one mesh obstacle naming `file` (the tube starts clear of it).
 std::string SceneWithMesh(const std::string& file) {
   return "[intestine]\nlength = 0.4\nradius = 0.0125\nmass = 0.1\ncontrol_points = 21\n"
-         "[intestine.shape]\nkind = \"straight\"\n"
+         "[intestine.shape]\nkind = \"straight\"\nstart = [0.0, 0.0, 0.3]\n"
          "[[obstacle]]\nkind = \"mesh\"\nfile = \"" +
          file + "\"\nscale = 0.05\n";
 }
