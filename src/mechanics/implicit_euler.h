@@ -222,6 +222,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   int num_tools_ = 0;
   bool tips_linked_ = false, tip_woodbury_ = false;
   MatX tip_B_, tip_Y_, tip_c_, tip_c_inv_, tip_S_;
+  std::vector<int> tip_first_;  // per tool: its first linked point (n_: none)
   Eigen::LDLT<MatX> tip_S_ldlt_;
   VecX tip_b_, tip_kv_, tip_dv_, tip_v_;
   int friction_rounds_ = 0;

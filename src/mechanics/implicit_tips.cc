@@ -75,10 +75,32 @@ void ImplicitEulerIntegrator::PrepareTipCorrection() {
   // preconditioner with its rank-one term and pins (ApplyCorrections without this part yet).
   tip_woodbury_ = false;
   if (!tips_linked_) return;
+  // B's columns are +0 above their tool's first linked point, and all +0 for a tool with no
+  // link (its columns of Y are then +0 too, as the solve would give them): the band solves
+  // start at that point, two columns at a time (each column's numbers those of its own solve).
+  std::fill(tip_first_.begin(), tip_first_.end(), n_);
+  for (const TipLink& link : interactions_->tip_links())
+    tip_first_[link.tool] = std::min(tip_first_[link.tool], link.first);
+  int pending = -1;
   for (int j = 0; j < 3 * num_tools_; ++j) {
+    if (tip_first_[j / 3] >= n_) {
+      tip_Y_.col(j).setZero();
+      continue;
+    }
     tip_Y_.col(j) = tip_B_.col(j);
-    band_.SolveInPlace(tip_Y_.col(j).data());
+    if (pending < 0) {
+      pending = j;
+      continue;
+    }
+    band_.SolveTwoInPlace(tip_Y_.col(pending).data(), tip_Y_.col(j).data(),
+                          std::min(tip_first_[pending / 3], tip_first_[j / 3]));
+    ApplyCorrections(tip_Y_.col(pending).data());
     ApplyCorrections(tip_Y_.col(j).data());
+    pending = -1;
+  }
+  if (pending >= 0) {
+    band_.SolveInPlace(tip_Y_.col(pending).data(), tip_first_[pending / 3]);
+    ApplyCorrections(tip_Y_.col(pending).data());
   }
   tip_S_ = tip_c_;
   tip_S_.noalias() -= tip_B_.transpose() * tip_Y_;
