@@ -66,11 +66,20 @@ bool BandSystemSolver::Factor() {
   return solver_.Factorize();
 }
 
-void BandSystemSolver::SolveInPlace(double* x) {
+void BandSystemSolver::SolveInPlace(double* x, int first) {
   if (use_cholmod_) {
     solver_.SolveInPlace(x, 1, &solve_one_work_);
   } else {
-    band_factor_.SolveInPlace(x);
+    band_factor_.SolveInPlace(x, first);
+  }
+}
+
+void BandSystemSolver::SolveTwoInPlace(double* a, double* b, int first) {
+  if (use_cholmod_) {
+    solver_.SolveInPlace(a, 1, &solve_one_work_);
+    solver_.SolveInPlace(b, 1, &solve_one_work_);
+  } else {
+    band_factor_.SolveTwoInPlace(a, b, first);
   }
 }
 

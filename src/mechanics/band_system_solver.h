@@ -26,8 +26,11 @@ class BandSystemSolver {
                 double stiffness_weight);
   /// Factors P; false if it is not positive definite.
   bool Factor();
-  /// x <- P^-1 x (3N values).
-  void SolveInPlace(double* x);
+  /// x <- P^-1 x (3N values); x is +0 in the rows of the points before `first` (a sparse
+  /// right-hand side), which the band factor's forward pass then skips (the same numbers).
+  void SolveInPlace(double* x, int first = 0);
+  /// a <- P^-1 a and b <- P^-1 b, each with SolveInPlace's numbers, `first` for both.
+  void SolveTwoInPlace(double* a, double* b, int first = 0);
   /// Columns 0 and `from`.. of rhs (3N rows, `from` >= 1) <- P^-1 of each; the columns between
   /// are left as they are. The band factor takes them two at a time (each column's numbers
   /// those of a one-column solve), CHOLMOD column 0 alone and the rest in one call.

@@ -140,13 +140,15 @@ struct TwoColumns {
 }  // namespace
 
 template <class T, class Rows>
-[[gnu::always_inline]] inline void BlockBandCholesky::Solve(const Rows& rows) const {
+[[gnu::always_inline]] inline void BlockBandCholesky::Solve(const Rows& rows, int first) const {
   // y1, y2, y3: the last three rows of the pass, newest first, in named registers (an array
   // indexed by the band's offset went through memory and gave nothing; this takes a third off
   // the solve).
   Row3<T> y1{}, y2{}, y3{};
   // Forward: L y = b, y_i = L(i,i)^-1 (b_i - sum_d L(i, i - d) y_(i-d)), d = 1, 2, 3 in order.
-  for (int i = 0; i < n_; ++i) {
+  // Rows of +0 before `first` give y = +0 (L(i,i)^-1's diagonal is positive, and +0 less a
+  // product of +0 is +0): the pass starts at `first` with y1 = y2 = y3 = +0, as it reaches it.
+  for (int i = std::clamp(first, 0, n_); i < n_; ++i) {
     Row3<T> v = rows.Load(i);
     if (i >= 1) Subtract(&v, Product(L(i, 1).data(), y1));
     if (i >= 2) Subtract(&v, Product(L(i, 2).data(), y2));
@@ -171,12 +173,12 @@ template <class T, class Rows>
   }
 }
 
-VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b) const {
-  Solve<double>(OneColumn{b});
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b, int first) const {
+  Solve<double>(OneColumn{b}, first);
 }
 
-VISCERA_AVX_CLONE void BlockBandCholesky::SolveTwoInPlace(double* a, double* b) const {
-  Solve<Pair>(TwoColumns{a, b});
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveTwoInPlace(double* a, double* b, int first) const {
+  Solve<Pair>(TwoColumns{a, b}, first);
 }
 
 }  // namespace viscera::mechanics

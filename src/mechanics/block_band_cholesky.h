@@ -15,11 +15,13 @@ class BlockBandCholesky {
   bool Factor(const BlockBand& a);
 
   /// Solves A x = b in place; b holds 3n values ordered x0 y0 z0 x1 ...
-  void SolveInPlace(double* b) const;
+  /// `first`: b's rows of the blocks before it are +0 (a sparse right-hand side); the forward
+  /// pass, which would leave them +0, starts there, with the same numbers as from block 0.
+  void SolveInPlace(double* b, int first = 0) const;
   /// Solves A x = a and A x = b in place in one pass (each column's numbers exactly
-  /// SolveInPlace's; the factor is read once for both).
+  /// SolveInPlace's; the factor is read once for both); `first` as SolveInPlace's, for both.
   /// @pre a and b do not overlap.
-  void SolveTwoInPlace(double* a, double* b) const;
+  void SolveTwoInPlace(double* a, double* b, int first = 0) const;
 
   /// The factor's blocks (tests): L(i, i - d), d = 0 .. 3, and L(i, i)^-1 (lower triangular).
   int n() const { return n_; }
@@ -32,7 +34,7 @@ class BlockBandCholesky {
   std::vector<Mat3> inv_diag_;
   int n_ = 0;
   template <class T, class Rows>
-  void Solve(const Rows& rows) const;
+  void Solve(const Rows& rows, int first) const;
   const Mat3& L(int i, int d) const { return l_[static_cast<size_t>(i) * BlockBand::kWidth + d]; }
   Mat3& L(int i, int d) { return l_[static_cast<size_t>(i) * BlockBand::kWidth + d]; }
 };

@@ -48,6 +48,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   num_tools_ = static_cast<int>(model.params().tools.size());
   tip_B_.setZero(3 * n_, 3 * num_tools_);
   tip_Y_.setZero(3 * n_, 3 * num_tools_);
+  tip_first_.assign(num_tools_, n_);
   for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
   for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_})
     v->setZero(3 * num_tools_);

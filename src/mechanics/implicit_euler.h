@@ -168,6 +168,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   void PrepareTipCorrection();
   void ApplyTipCorrection(double* x) const;
   void SubtractTipSchur(const double* x, double* y) const;
+  // *out = B' x and y -= B z, on the rows of B that are not +0 (tip_row_begin_, tip_row_end_).
+  void TipTransposedProduct(const double* x, VecX* out) const;
+  void SubtractTipProduct(const VecX& z, double* y) const;
   // dv_t for the tube's dv into tip_dv_; true when a tip contact would pull at the end and was
   // released, or was stiffened (the sub-step is then solved again, at most kMaxTipRounds times).
   bool SolveTips(double h, const Points& v, const double* dv, const State& state);
@@ -222,6 +225,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   int num_tools_ = 0;
   bool tips_linked_ = false, tip_woodbury_ = false;
   MatX tip_B_, tip_Y_, tip_c_, tip_c_inv_, tip_S_;
+  std::vector<int> tip_first_;               // per tool: its first linked point (n_: none)
+  int tip_row_begin_ = 0, tip_row_end_ = 0;  // B's rows that may not be +0 (ReduceTips)
   Eigen::LDLT<MatX> tip_S_ldlt_;
   VecX tip_b_, tip_kv_, tip_dv_, tip_v_;
   int friction_rounds_ = 0;

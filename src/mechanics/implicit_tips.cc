@@ -61,13 +61,33 @@ void ImplicitEulerIntegrator::ReduceTips(double h) {
   tips_linked_ = !interactions_->tip_links().empty();
   if (!tips_linked_) return;
   tip_B_.setZero();
+  int lo = n_, hi = 0;
   for (const TipLink& link : interactions_->tip_links()) {
     const Mat3 block = h * link.d + h * h * link.k;
     for (int i = 0; i < 4; ++i)
       tip_B_.block<3, 3>(3 * (link.first + i), 3 * link.tool) += link.w[i] * block;
+    lo = std::min(lo, link.first);
+    hi = std::max(hi, link.first + 4);
   }
+  // B's rows are +0 outside the links' points. A product B z is row by row: its rows there
+  // are left out. A product B' x is a dot product per column, summed in SIMD lanes by the row's
+  // index: it starts at a multiple of eight rows and runs to the end, so that every lane and
+  // the tail sum the same products in the same order (the +0 ones before add nothing).
+  tip_row_begin_ = (3 * lo) / 8 * 8;
+  tip_row_end_ = std::min(3 * n_, 3 * hi);
   tip_tmp_.noalias() = tip_c_inv_ * tip_b_;
-  b_.noalias() -= tip_B_ * tip_tmp_;
+  SubtractTipProduct(tip_tmp_, b_.data());
+}
+
+void ImplicitEulerIntegrator::TipTransposedProduct(const double* x, VecX* out) const {
+  const Eigen::Index len = 3 * n_ - tip_row_begin_;
+  out->noalias() = tip_B_.middleRows(tip_row_begin_, len).transpose() *
+                   Eigen::Map<const VecX>(x + tip_row_begin_, len);
+}
+
+void ImplicitEulerIntegrator::SubtractTipProduct(const VecX& z, double* y) const {
+  const Eigen::Index len = tip_row_end_ - tip_row_begin_;
+  Eigen::Map<VecX>(y + tip_row_begin_, len).noalias() -= tip_B_.middleRows(tip_row_begin_, len) * z;
 }
 
 void ImplicitEulerIntegrator::PrepareTipCorrection() {
@@ -75,10 +95,32 @@ void ImplicitEulerIntegrator::PrepareTipCorrection() {
   // preconditioner with its rank-one term and pins (ApplyCorrections without this part yet).
   tip_woodbury_ = false;
   if (!tips_linked_) return;
+  // B's columns are +0 above their tool's first linked point, and all +0 for a tool with no
+  // link (its columns of Y are then +0 too, as the solve would give them): the band solves
+  // start at that point, two columns at a time (each column's numbers those of its own solve).
+  std::fill(tip_first_.begin(), tip_first_.end(), n_);
+  for (const TipLink& link : interactions_->tip_links())
+    tip_first_[link.tool] = std::min(tip_first_[link.tool], link.first);
+  int pending = -1;
   for (int j = 0; j < 3 * num_tools_; ++j) {
+    if (tip_first_[j / 3] >= n_) {
+      tip_Y_.col(j).setZero();
+      continue;
+    }
     tip_Y_.col(j) = tip_B_.col(j);
-    band_.SolveInPlace(tip_Y_.col(j).data());
+    if (pending < 0) {
+      pending = j;
+      continue;
+    }
+    band_.SolveTwoInPlace(tip_Y_.col(pending).data(), tip_Y_.col(j).data(),
+                          std::min(tip_first_[pending / 3], tip_first_[j / 3]));
+    ApplyCorrections(tip_Y_.col(pending).data());
     ApplyCorrections(tip_Y_.col(j).data());
+    pending = -1;
+  }
+  if (pending >= 0) {
+    band_.SolveInPlace(tip_Y_.col(pending).data(), tip_first_[pending / 3]);
+    ApplyCorrections(tip_Y_.col(pending).data());
   }
   tip_S_ = tip_c_;
   tip_S_.noalias() -= tip_B_.transpose() * tip_Y_;
@@ -88,24 +130,25 @@ void ImplicitEulerIntegrator::PrepareTipCorrection() {
 
 void ImplicitEulerIntegrator::ApplyTipCorrection(double* x) const {
   Eigen::Map<VecX> y(x, 3 * n_);
-  tip_tmp_.noalias() = tip_B_.transpose() * y;
+  TipTransposedProduct(x, &tip_tmp_);
   tip_tmp2_ = tip_S_ldlt_.solve(tip_tmp_);
   y.noalias() += tip_Y_ * tip_tmp2_;
 }
 
 void ImplicitEulerIntegrator::SubtractTipSchur(const double* x, double* y) const {
-  Eigen::Map<const VecX> xv(x, 3 * n_);
-  Eigen::Map<VecX> yv(y, 3 * n_);
-  tip_tmp_.noalias() = tip_B_.transpose() * xv;
+  TipTransposedProduct(x, &tip_tmp_);
   tip_tmp2_.noalias() = tip_c_inv_ * tip_tmp_;
-  yv.noalias() -= tip_B_ * tip_tmp2_;
+  SubtractTipProduct(tip_tmp2_, y);
 }
 
 bool ImplicitEulerIntegrator::SolveTips(double h, const Points& v, const double* dv,
                                         const State& state) {
   // dv_t = C^-1 (b_t - B' dv): the tips answer the tube's final velocities (impacts included).
   tip_tmp_ = tip_b_;
-  if (tips_linked_) tip_tmp_.noalias() -= tip_B_.transpose() * Eigen::Map<const VecX>(dv, 3 * n_);
+  if (tips_linked_) {
+    TipTransposedProduct(dv, &tip_tmp2_);
+    tip_tmp_ -= tip_tmp2_;
+  }
   tip_dv_.noalias() = tip_c_inv_ * tip_tmp_;
   // Unlinked tips too: a tool pair that did not act at the start and that the solve drives the
   // tip into acts in the next solve (passed by, a tip at rest a hair apart ended 19 % of R deep).
@@ -121,7 +164,7 @@ void ImplicitEulerIntegrator::AdvanceTips(double h, const VecX* depth_dq, State*
   // the tip pressing on it; left behind, the tip sank into it by that much at every sub-step).
   tip_tmp2_.setZero();
   if (depth_dq != nullptr && tips_linked_) {
-    tip_tmp_.noalias() = tip_B_.transpose() * *depth_dq;
+    TipTransposedProduct(depth_dq->data(), &tip_tmp_);
     tip_tmp2_.noalias() = -tip_c_inv_ * tip_tmp_;
   }
   const auto& rows = interactions_->tip_rows();

@@ -140,6 +140,35 @@ TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
   }
 }
 
+// A right-hand side that is +0 before block `first` (the tips' columns): the solve that starts
+// its forward pass there gives the whole solve's numbers, bit for bit, one column or two; and
+// the forward pass does read the rows it starts at (a wrong start would change the answer).
+TEST(BlockBand, SolveFromFirstNonzeroBlockIsTheWholeSolveBitForBit) {
+  const int n = 40;
+  MatX dense;
+  BlockBandCholesky chol;
+  ASSERT_TRUE(chol.Factor(RandomSpdBand(n, 77, &dense)));
+  for (const int first : {0, 1, 3, 17, 36, 39}) {
+    SCOPED_TRACE(first);
+    VecX b = RandomVector(3 * n, 500 + first), c = RandomVector(3 * n, 700 + first);
+    b.head(3 * first).setZero();
+    c.head(3 * first).setZero();
+    VecX whole = b, whole_c = c, from = b, two_b = b, two_c = c;
+    chol.SolveInPlace(whole.data());
+    chol.SolveInPlace(whole_c.data());
+    chol.SolveInPlace(from.data(), first);
+    chol.SolveTwoInPlace(two_b.data(), two_c.data(), first);
+    EXPECT_EQ(std::memcmp(from.data(), whole.data(), sizeof(double) * 3 * n), 0);
+    EXPECT_EQ(std::memcmp(two_b.data(), whole.data(), sizeof(double) * 3 * n), 0);
+    EXPECT_EQ(std::memcmp(two_c.data(), whole_c.data(), sizeof(double) * 3 * n), 0);
+    if (first + 1 < n) {
+      VecX late = b;
+      chol.SolveInPlace(late.data(), first + 1);  // skips block `first`'s nonzero rows
+      EXPECT_GT((late - whole).norm(), 0.0);
+    }
+  }
+}
+
 TEST(BlockBand, FactorRefusesAnIndefiniteMatrix) {
   MatX dense;
   BlockBand a = RandomSpdBand(10, 8, &dense);
