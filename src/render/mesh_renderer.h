@@ -86,10 +86,10 @@ class MeshRenderer {
   void Draw(const VerticesF& positions, const VerticesF& normals, const TrianglesU& triangles,
             const CameraMatrices& camera, const Material& material);
 
-  /// Pattern::kSerosa's slow terms (how far round a vessel reaches, the wet film's patches)
-  /// computed per vertex and interpolated, the fast ones (the vessels' bands, the mottle) per
-  /// fragment: two of its three value noises leave the fragments (~1.3 ms of a 640x480 cavity
-  /// frame on llvmpipe). Off (the default): all per fragment.
+  /// Pattern::kSerosa's three value noises (how far round a vessel reaches, the wet film's
+  /// patches, the bands' waviness and the mottle) computed per vertex and interpolated, the bands
+  /// themselves (a sine of the position along the bowel) per fragment: no noise is left in the
+  /// fragments. Off (the default): all per fragment.
   void set_serosa_per_vertex(bool per_vertex) { serosa_per_vertex_ = per_vertex; }
 
   /// Draws a mesh already in GL buffers (uploaded once for static geometry, or per frame

@@ -123,11 +123,11 @@ TEST(FramePaths, TheKeptStaticPictureAndTheCulledSkinDrawTheReferenceFrame) {
   EXPECT_LT(Overlap(IntestineMask(fast[2]), IntestineMask(reference[0])), 0.95);
 }
 
-// The serosa's slow terms (the vessels' reach round the tube, the wet film) per vertex against
-// all of its pattern per fragment, the rest of the frame alike: the same picture within the
-// thresholds of ExpectSamePicture (mean difference below one level of 255, pink masks overlapping
-// 95 %), for both ring-based skins at viscerad's 16 sides.
-TEST(FramePaths, TheSerosaWithItsSlowTermsPerVertexLooksTheSame) {
+// The serosa's noises (the vessels' reach round the tube, the wet film, the bands' waviness) per
+// vertex against all of its pattern per fragment, the rest of the frame alike: the same picture
+// within the thresholds of ExpectSamePicture (mean difference below one level of 255, pink masks
+// overlapping 95 %), for both ring-based skins at viscerad's 16 sides.
+TEST(FramePaths, TheSerosaWithItsNoisesPerVertexLooksTheSame) {
   const mechanics::ModelParams& params = Cavity().model;
   const Points& q = params.initial_q;
   const Laparoscope scope = SceneLaparoscope(params, q, kWidth, kHeight);
