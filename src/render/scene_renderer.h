@@ -43,6 +43,9 @@ struct SceneOptions {
   /// The serosa's noises per vertex (MeshRenderer::set_serosa_per_vertex). Off: all of its
   /// pattern per fragment (the reference).
   bool serosa_per_vertex = true;
+  /// Whole highlight exponents as products (MeshRenderer::set_integer_exponents). Off: GLSL's
+  /// pow (the reference).
+  bool integer_exponents = true;
 };
 
 class SceneRenderer {

@@ -73,7 +73,9 @@ float SerosaWave(vec3 p) { return Noise(p * 90.0); }
 )";
 
 // After "#version 330 core", "#define PATTERN <n>" (and "#define SEROSA_PER_VERTEX": the serosa's
-// noises, reach, film and wave, computed per vertex and interpolated) and kTissueNoise.
+// noises, reach, film and wave, computed per vertex and interpolated), kTissueNoise (and
+// "#define INTEGER_EXPONENTS" with PowShininess and PowSheenShininess: the material's whole
+// exponents as products, IntegerPowerSource).
 inline constexpr char kTissueFragmentShader[] = R"(
 uniform vec3 u_albedo;
 uniform float u_ambient;
@@ -144,7 +146,11 @@ void main() {
     opacity = mix(opacity, min(1.0, 2.4 * opacity), vessels);
 #endif
 
+#ifdef INTEGER_EXPONENTS
+  float highlight = specular * PowShininess(diffuse) + u_sheen * PowSheenShininess(diffuse);
+#else
   float highlight = specular * pow(diffuse, u_shininess) + u_sheen * pow(diffuse, u_sheen_shininess);
+#endif
   vec3 highlight_colour = mix(vec3(1.0), albedo, u_metallic);
   vec3 colour = albedo * (u_ambient + (1.0 - u_ambient) * diffuse * light) +
                 highlight_colour * (highlight * light);
