@@ -107,6 +107,10 @@ class MeshRenderer {
   /// default); off: pow of the uniforms for every material.
   void set_integer_exponents(bool on) { integer_exponents_ = on; }
 
+  /// Compiles the program `material` is drawn with now, rather than at its first Draw (each is
+  /// llvmpipe JIT code: a first draw of a material mid-stream would hold up that frame).
+  void Prepare(const Material& material) { ProgramFor(material); }
+
   /// Draws a mesh already in GL buffers (uploaded once for static geometry, or per frame
   /// into a GpuMesh of its own: one buffer set per mesh, so no upload waits for a draw).
   /// @throws std::runtime_error when GL reports an error.
