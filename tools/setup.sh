@@ -9,7 +9,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev
   liblcm-dev liblcm-bin libglib2.0-dev
-  libopencv-dev libosmesa6-dev
+  libopencv-dev libosmesa6-dev libjpeg-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev nlohmann-json3-dev
   libsodium-dev libcli11-dev libboost-dev

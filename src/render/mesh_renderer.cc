@@ -20,25 +20,57 @@ MeshRenderer::MeshRenderer() {
     throw std::runtime_error(
         Cat("MeshRenderer needs GL 3.3, the context offers ", major, ".", minor));
   }
-  ProgramFor(Pattern::kPlain);  // shader errors show at construction
+  ProgramFor(Material{});  // shader errors show at construction
   stream_ = std::make_unique<GpuMesh>();
 }
 
 MeshRenderer::~MeshRenderer() = default;
 
-// Compiles the program of one pattern the first time a material asks for it: a scene compiles
-// only the patterns it draws (every program is JIT code llvmpipe keeps with the context).
-const MeshRenderer::Program& MeshRenderer::ProgramFor(Pattern pattern) {
-  const int k = static_cast<int>(pattern);
-  const bool per_vertex = pattern == Pattern::kSerosa && serosa_per_vertex_;
-  Program& p = programs_[per_vertex ? kPatterns : k];
+namespace {
+
+// A whole exponent from 1 to 256, else 0.
+int WholeExponent(float e) {
+  return e >= 1.0f && e <= 256.0f && e == std::floor(e) ? static_cast<int>(e) : 0;
+}
+
+}  // namespace
+
+std::string IntegerPowerSource(const std::string& name, int n) {
+  ThrowUnless(n >= 1, "IntegerPowerSource: exponent ", n, " is not >= 1");
+  // x^n = the product of x^(2^i) over n's bits: at most 2 log2(n) multiplications
+  std::string body = "float " + name + "(float x) {\n  float r = 1.0;\n";
+  for (int bits = n; bits > 0; bits >>= 1) {
+    if ((bits & 1) != 0) body += "  r *= x;\n";
+    if (bits > 1) body += "  x *= x;\n";
+  }
+  return body + "  return r;\n}\n";
+}
+
+// Compiles the program of one pattern and exponents the first time a material asks for it: a
+// scene compiles only what it draws (every program is JIT code llvmpipe keeps with the context).
+const MeshRenderer::Program& MeshRenderer::ProgramFor(const Material& material) {
+  ProgramKey key;
+  key.pattern = material.pattern;
+  key.per_vertex = material.pattern == Pattern::kSerosa && serosa_per_vertex_;
+  if (integer_exponents_ && WholeExponent(material.shininess) > 0 &&
+      WholeExponent(material.sheen_shininess) > 0) {
+    key.shininess = WholeExponent(material.shininess);
+    key.sheen_shininess = WholeExponent(material.sheen_shininess);
+  }
+  Program& p = programs_[key];
   if (p.program != nullptr) return p;
   const std::string version = "#version 330 core\n";
   const std::string vertex_body = std::string(kTissueVertexShader).substr(version.size());
-  const char* define = per_vertex ? "#define SEROSA_PER_VERTEX 1\n" : "";
+  const char* define = key.per_vertex ? "#define SEROSA_PER_VERTEX 1\n" : "";
+  const std::string exponents =
+      key.shininess > 0
+          ? Cat("#define INTEGER_EXPONENTS 1\n", IntegerPowerSource("PowShininess", key.shininess),
+                IntegerPowerSource("PowSheenShininess", key.sheen_shininess))
+          : std::string();
   p.program = std::make_unique<ShaderProgram>(
-      Cat(version, define, per_vertex ? kTissueNoise : "", vertex_body),
-      Cat(version, "#define PATTERN ", k, "\n", define, kTissueNoise, kTissueFragmentShader));
+      Cat(version, define, key.per_vertex ? kTissueNoise : "", vertex_body),
+      Cat(version, "#define PATTERN ", static_cast<int>(key.pattern), "\n", define, kTissueNoise,
+          exponents, kTissueFragmentShader));
   // -1 for a uniform the variant does not use (u_vessel when plain): glUniform ignores it
   auto at = [&](const char* name) { return glGetUniformLocation(p.program->id(), name); };
   p.u_view = at("u_view");
@@ -78,7 +110,7 @@ void MeshRenderer::Draw(const GpuMesh& mesh, const CameraMatrices& camera, const
                         Faces faces) {
   if (mesh.num_indices() == 0) return;
   // Eigen's default column-major storage is what GL expects: no transpose
-  const Program& p = ProgramFor(material.pattern);
+  const Program& p = ProgramFor(material);
   p.program->Use();
   glUniformMatrix4fv(p.u_view, 1, GL_FALSE, camera.view.data());
   glUniformMatrix4fv(p.u_projection, 1, GL_FALSE, camera.projection.data());

@@ -1,8 +1,11 @@
 #pragma once
 /// MeshRenderer: draws indexed triangle meshes with Blinn-Phong shading and a light at
 /// the camera (a laparoscope carries its light), into the current OffscreenContext.
+#include <compare>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <string>
 
 #include <Eigen/Dense>
 
@@ -62,6 +65,11 @@ struct CameraMatrices {
   float spot_outer_deg = 0.0f;
 };
 
+/// GLSL of `float name(float x)`, x to the power n (n >= 1) as a product of x's repeated squares
+/// (at most 2 log2(n) multiplications).
+/// @throws InputError for n < 1.
+std::string IntegerPowerSource(const std::string& name, int n);
+
 class MeshRenderer {
  public:
   /// Compiles the shaders and creates the GL buffers.
@@ -86,11 +94,22 @@ class MeshRenderer {
   void Draw(const VerticesF& positions, const VerticesF& normals, const TrianglesU& triangles,
             const CameraMatrices& camera, const Material& material);
 
-  /// Pattern::kSerosa's slow terms (how far round a vessel reaches, the wet film's patches)
-  /// computed per vertex and interpolated, the fast ones (the vessels' bands, the mottle) per
-  /// fragment: two of its three value noises leave the fragments (~1.3 ms of a 640x480 cavity
-  /// frame on llvmpipe). Off (the default): all per fragment.
+  /// Pattern::kSerosa's three value noises (how far round a vessel reaches, the wet film's
+  /// patches, the bands' waviness and the mottle) computed per vertex and interpolated, the bands
+  /// themselves (a sine of the position along the bowel) per fragment: no noise is left in the
+  /// fragments. Off (the default): all per fragment.
   void set_serosa_per_vertex(bool per_vertex) { serosa_per_vertex_ = per_vertex; }
+
+  /// A material's highlight exponents that are whole numbers from 1 to 256 (every one of the
+  /// palette's) raised by products of squares compiled into its program, not by GLSL's pow:
+  /// llvmpipe's pow is a log2 and an exp2, each a polynomial, and the bowel's two of them cost
+  /// more than a millisecond of a 640x480 frame. The same values up to rounding. On (the
+  /// default); off: pow of the uniforms for every material.
+  void set_integer_exponents(bool on) { integer_exponents_ = on; }
+
+  /// Compiles the program `material` is drawn with now, rather than at its first Draw (each is
+  /// llvmpipe JIT code: a first draw of a material mid-stream would hold up that frame).
+  void Prepare(const Material& material) { ProgramFor(material); }
 
   /// Draws a mesh already in GL buffers (uploaded once for static geometry, or per frame
   /// into a GpuMesh of its own: one buffer set per mesh, so no upload waits for a draw).
@@ -99,18 +118,25 @@ class MeshRenderer {
             Faces faces = Faces::kBoth);
 
  private:
-  // one program per Pattern (kTissueFragmentShader with its PATTERN) and its uniforms
+  // one program per Pattern (kTissueFragmentShader with its PATTERN), serosa per vertex or not,
+  // and highlight exponents (0, 0: pow of the uniforms), and its uniforms
+  struct ProgramKey {
+    Pattern pattern = Pattern::kPlain;
+    bool per_vertex = false;
+    int shininess = 0, sheen_shininess = 0;
+    auto operator<=>(const ProgramKey&) const = default;
+  };
   struct Program {
     std::unique_ptr<ShaderProgram> program;
     int u_view = -1, u_projection = -1, u_albedo = -1, u_ambient = -1, u_specular = -1,
         u_shininess = -1, u_sheen = -1, u_sheen_shininess = -1, u_metallic = -1, u_light_range = -1,
         u_opacity = -1, u_vessel = -1, u_spot = -1;
   };
-  const Program& ProgramFor(Pattern pattern);
+  const Program& ProgramFor(const Material& material);
 
-  static constexpr int kPatterns = 4;
-  Program programs_[kPatterns + 1];  // compiled when first used; the last: per-vertex serosa
+  std::map<ProgramKey, Program> programs_;  // compiled when first used
   bool serosa_per_vertex_ = false;
+  bool integer_exponents_ = true;
   std::unique_ptr<GpuMesh> stream_;  // the mesh of the matrix-based Draw, re-uploaded each call
 };
 

@@ -20,6 +20,12 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
   if (!options_.textures) DropTextures(&palette_);
   if (options_.static_layer) static_layer_ = std::make_unique<StaticLayer>();
   renderer_.set_serosa_per_vertex(options_.serosa_per_vertex);
+  renderer_.set_integer_exponents(options_.integer_exponents);
+  // every material's program compiled now: a first tool or damaged part holds up no frame
+  for (const Material* m : {&palette_.intestine, &palette_.damage, &palette_.tool,
+                            &palette_.mesentery, &palette_.target, &palette_.cavity_wall}) {
+    renderer_.Prepare(*m);
+  }
   const Vec3 around = params.initial_q.rows() > 0
                           ? Vec3(params.initial_q.colwise().mean().transpose())
                           : Vec3(Vec3::Zero());

@@ -40,9 +40,12 @@ struct SceneOptions {
   /// Keep the picture of the static scene (StaticLayer) while the camera stays, and draw only
   /// what moves over a copy of it. Off: everything drawn every frame (the reference).
   bool static_layer = true;
-  /// The serosa's slow terms per vertex (MeshRenderer::set_serosa_per_vertex). Off: all of its
+  /// The serosa's noises per vertex (MeshRenderer::set_serosa_per_vertex). Off: all of its
   /// pattern per fragment (the reference).
   bool serosa_per_vertex = true;
+  /// Whole highlight exponents as products (MeshRenderer::set_integer_exponents). Off: GLSL's
+  /// pow (the reference).
+  bool integer_exponents = true;
 };
 
 class SceneRenderer {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/check.h"
 
@@ -34,6 +35,8 @@ void SkinVertices::Begin(const skin::Mesh& mesh, double length, double radius, T
   length_ = length;
   radius_ = radius;
   on_tissue_ = mesh.surface.size() == mesh.positions.size();
+  if (radius != angles_radius_) angles_.fill(Angle{});
+  angles_radius_ = radius;
   remap_.assign(mesh.positions.size(), -1);
   out->texture.resize(out->positions.size(), Eigen::Vector3f::Zero());
   base_ = static_cast<int32_t>(out->positions.size());
@@ -46,9 +49,16 @@ int32_t SkinVertices::Copy(int v) {
   if (on_tissue_) {
     // AppendSkin's texture space: the tube unrolled
     const Eigen::Vector2d& sa = mesh_->surface[v];
-    out_->texture.emplace_back(static_cast<float>(sa.x() * length_),
-                               static_cast<float>(radius_ * std::cos(sa.y())),
-                               static_cast<float>(radius_ * std::sin(sa.y())));
+    // the ring-based skins repeat a few angles (2 pi side / sides): each one's cosine and sine
+    // are computed once
+    uint64_t bits = 0;
+    std::memcpy(&bits, &sa.y(), sizeof bits);
+    Angle& angle = angles_[(bits ^ (bits >> 29) ^ (bits >> 47)) % angles_.size()];
+    if (!angle.set || angle.bits != bits) {
+      angle = {true, bits, radius_ * std::cos(sa.y()), radius_ * std::sin(sa.y())};
+    }
+    out_->texture.emplace_back(static_cast<float>(sa.x() * length_), static_cast<float>(angle.cos),
+                               static_cast<float>(angle.sin));
   } else {
     out_->texture.push_back(out_->positions.back());
   }

@@ -51,6 +51,14 @@ class SkinVertices {
   bool on_tissue_ = false;
   int32_t base_ = 0;
   std::vector<int32_t> remap_;  // skin vertex -> output vertex, -1: not yet copied
+  // r cos and r sin of the surface angles met so far (r: the radius they were computed with)
+  struct Angle {
+    bool set = false;
+    uint64_t bits = 0;  // the angle's
+    double cos = 0.0, sin = 0.0;
+  };
+  std::array<Angle, 128> angles_{};
+  double angles_radius_ = 0.0;
 };
 
 struct CullCounts {

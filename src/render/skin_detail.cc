@@ -16,6 +16,9 @@ bool Fits(const DetailLevel& level, int sides) {
   return sides % level.side_step == 0 && sides / level.side_step >= 4;
 }
 
+// Side `side` of a ring of m, for 0 <= side <= m (side m is side 0).
+int Wrap(int side, int m) { return side < m ? side : side - m; }
+
 // A normal that turns by an angle a (rad) across a cell of size L shades like a bump of height
 // ~a L / 2: the shading's error counts as that distance.
 constexpr double kShadingWeight = 0.5;
@@ -30,11 +33,12 @@ bool SkinDetail::Within(const skin::Mesh& mesh, const Block& block, const Detail
                         double allowed) const {
   const skin::Mesh::TubeGrid& tube = mesh.tube;
   const int m = tube.sides;
+  // sides 0 .. m, side m being side 0 again
   auto at = [&](int ring, int side) -> const Vec3& {
-    return mesh.positions[static_cast<size_t>(tube.first_vertex + ring * m + side % m)];
+    return mesh.positions[static_cast<size_t>(tube.first_vertex + ring * m + Wrap(side, m))];
   };
   auto normal = [&](int ring, int side) -> const Vec3& {
-    return mesh.normals[static_cast<size_t>(tube.first_vertex + ring * m + side % m)];
+    return mesh.normals[static_cast<size_t>(tube.first_vertex + ring * m + Wrap(side, m))];
   };
   for (int i = block.first_ring; i <= block.last_ring; ++i) {
     const int offset = (i - block.first_ring) % level.ring_stride;
@@ -65,27 +69,46 @@ bool SkinDetail::Within(const skin::Mesh& mesh, const Block& block, const Detail
 int SkinDetail::Strip(const skin::Mesh& mesh, int a, int step_a, int b, int step_b, TriMesh* out) {
   const skin::Mesh::TubeGrid& tube = mesh.tube;
   const int m = tube.sides;
-  auto vertex = [&](int ring, int side) {
-    return vertices_(tube.first_vertex + ring * m + side % m);
-  };
-  auto triangle = [out](uint32_t p, uint32_t q, uint32_t r) {
-    out->indices.insert(out->indices.end(), {p, q, r});
-  };
-  // around both rings by angle: the triangle whose new vertex comes first; on a tie the far
-  // ring's, which with equal steps gives the skin's own triangles (tube_rays.h)
-  int ia = 0, ib = 0, count = 0;
-  while (ia < m || ib < m) {
-    const int na = ia + step_a, nb = ib + step_b;
-    if (ib >= m || (ia < m && na < nb)) {
-      triangle(vertex(a, ia), vertex(a, na), vertex(b, ib));
-      ia = na;
-    } else {
-      triangle(vertex(a, ia), vertex(b, nb), vertex(b, ib));
-      ib = nb;
+  // each ring's kept vertices in the output, side m (side 0 again) last
+  auto ring = [&](int r, int step, std::vector<uint32_t>* at) {
+    at->clear();
+    for (int side = 0; side <= m; side += step) {
+      at->push_back(vertices_(tube.first_vertex + r * m + Wrap(side, m)));
     }
-    ++count;
+  };
+  ring(a, step_a, &ring_a_);
+  ring(b, step_b, &ring_b_);
+  const int na = m / step_a, nb = m / step_b;
+  const size_t first = out->indices.size();
+  out->indices.resize(first + 3 * static_cast<size_t>(na + nb));
+  uint32_t* to = out->indices.data() + first;
+  auto triangle = [&to](uint32_t p, uint32_t q, uint32_t r) {
+    to[0] = p;
+    to[1] = q;
+    to[2] = r;
+    to += 3;
+  };
+  if (step_a == step_b) {
+    // the skin's own triangles (tube_rays.h)
+    for (int k = 0; k < na; ++k) {
+      triangle(ring_a_[k], ring_b_[k + 1], ring_b_[k]);
+      triangle(ring_a_[k], ring_a_[k + 1], ring_b_[k + 1]);
+    }
+    return na + nb;
   }
-  return count;
+  // around both rings by angle: the triangle whose new vertex comes first; on a tie the far
+  // ring's, which with equal steps gives the skin's own triangles
+  int ia = 0, ib = 0;
+  while (ia < na || ib < nb) {
+    if (ib >= nb || (ia < na && (ia + 1) * step_a < (ib + 1) * step_b)) {
+      triangle(ring_a_[ia], ring_a_[ia + 1], ring_b_[ib]);
+      ++ia;
+    } else {
+      triangle(ring_a_[ia], ring_b_[ib + 1], ring_b_[ib]);
+      ++ib;
+    }
+  }
+  return na + nb;
 }
 
 CullCounts SkinDetail::Append(const skin::Mesh& mesh, double length, double radius,

@@ -70,6 +70,7 @@ class SkinDetail {
   std::vector<int> order_;  // drawn blocks, nearest first
   std::vector<int> ring_step_;
   SkinVertices vertices_;
+  std::vector<uint32_t> ring_a_, ring_b_;  // Strip's rings in the output
 };
 
 }  // namespace viscera::render

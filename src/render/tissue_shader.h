@@ -16,7 +16,8 @@ out vec3 v_position;  // view space
 out vec3 v_normal;    // view space
 out vec3 v_texture;   // the tissue's own space (m)
 #ifdef SEROSA_PER_VERTEX
-out vec2 v_serosa;  // the serosa's slow terms at the vertex: the vessels' reach, the wet film
+// the serosa's noises at the vertex: the vessels' reach, the wet film, the bands' waviness
+out vec3 v_serosa;
 #endif
 void main() {
   vec4 p = u_view * vec4(a_position, 1.0);
@@ -24,7 +25,7 @@ void main() {
   v_normal = mat3(u_view) * a_normal;  // u_view is rigid: no inverse transpose needed
   v_texture = a_texture;
 #ifdef SEROSA_PER_VERTEX
-  v_serosa = vec2(SerosaReach(a_texture), SerosaFilm(a_texture));
+  v_serosa = vec3(SerosaReach(a_texture), SerosaFilm(a_texture), SerosaWave(a_texture));
 #endif
   gl_Position = u_projection * p;
 }
@@ -39,7 +40,7 @@ void main() {
 // both sides of a branch on a uniform, so one program with every pattern would cost every
 // fragment all of them.
 //
-// The noise, a line and the serosa's slow terms: before kTissueFragmentShader, and before the
+// The noise, a line and the serosa's noises: before kTissueFragmentShader, and before the
 // vertex shader's body when SEROSA_PER_VERTEX is defined (after "#version 330 core").
 inline constexpr char kTissueNoise[] = R"(
 float Hash(vec3 p) {
@@ -67,10 +68,14 @@ float Line(float n, float width) { return 1.0 - smoothstep(0.0, width, abs(n)); 
 // tube a vessel reaches (0 to 1) and the wet film's patches (-1 to 1).
 float SerosaReach(vec3 p) { return smoothstep(0.0, 0.5, Noise(vec3(p.x * 140.0, p.yz * 25.0))); }
 float SerosaFilm(vec3 p) { return Noise(p * 160.0 + 3.7); }
+// The bands' waviness and the mottle (-1 to 1).
+float SerosaWave(vec3 p) { return Noise(p * 90.0); }
 )";
 
 // After "#version 330 core", "#define PATTERN <n>" (and "#define SEROSA_PER_VERTEX": the serosa's
-// slow terms, reach and film, computed per vertex and interpolated) and kTissueNoise.
+// noises, reach, film and wave, computed per vertex and interpolated), kTissueNoise (and
+// "#define INTEGER_EXPONENTS" with PowShininess and PowSheenShininess: the material's whole
+// exponents as products, IntegerPowerSource).
 inline constexpr char kTissueFragmentShader[] = R"(
 uniform vec3 u_albedo;
 uniform float u_ambient;
@@ -87,7 +92,7 @@ in vec3 v_position;
 in vec3 v_normal;
 in vec3 v_texture;
 #ifdef SEROSA_PER_VERTEX
-in vec2 v_serosa;
+in vec3 v_serosa;
 #endif
 out vec4 frag_colour;
 
@@ -119,13 +124,12 @@ void main() {
 #elif PATTERN == 2
     // serosa: p = (along the bowel, around it), m. Vasa recta: bands around the tube every
     // 7 mm, wavy, each fading out part of the way round; a patchy wet film
-    float wave = Noise(p * 90.0);
-    float band = Line(sin(3.14159 * (p.x / 0.007 + 0.35 * wave)), 0.22);
 #ifdef SEROSA_PER_VERTEX
-    float reach = v_serosa.x, film = v_serosa.y;
+    float reach = v_serosa.x, film = v_serosa.y, wave = v_serosa.z;
 #else
-    float reach = SerosaReach(p), film = SerosaFilm(p);
+    float reach = SerosaReach(p), film = SerosaFilm(p), wave = SerosaWave(p);
 #endif
+    float band = Line(sin(3.14159 * (p.x / 0.007 + 0.35 * wave)), 0.22);
     albedo *= 1.0 + 0.08 * wave;
     albedo = mix(albedo, u_vessel, 0.7 * band * reach);
     specular *= 0.6 + 0.6 * film;
@@ -142,7 +146,11 @@ void main() {
     opacity = mix(opacity, min(1.0, 2.4 * opacity), vessels);
 #endif
 
+#ifdef INTEGER_EXPONENTS
+  float highlight = specular * PowShininess(diffuse) + u_sheen * PowSheenShininess(diffuse);
+#else
   float highlight = specular * pow(diffuse, u_shininess) + u_sheen * pow(diffuse, u_sheen_shininess);
+#endif
   vec3 highlight_colour = mix(vec3(1.0), albedo, u_metallic);
   vec3 colour = albedo * (u_ambient + (1.0 - u_ambient) * diffuse * light) +
                 highlight_colour * (highlight * light);

@@ -135,13 +135,23 @@ void TubeRays::Emit(const std::vector<double>& radii, Mesh* out) const {
   out->triangles = triangles_;
   ComputeVertexNormals(out);
   // where each vertex sits on the tissue: its ring's parameter (caps: their end's) and its side
+  // (ring after ring, the poles first and last: no division per vertex)
   out->surface.resize(count);
   const int first = FirstTubeVertex();
-  for (int v = 0; v < count; ++v) {
-    const int side = v == 0 || v == count - 1 ? 0 : (v - 1) % sides_;
-    const double s = IsCap(v) ? (v < first ? 0.0 : 1.0)
-                              : ring_params_[static_cast<size_t>((v - first) / sides_)];
-    out->surface[static_cast<size_t>(v)] = {s, 2.0 * std::numbers::pi * side / sides_};
+  std::vector<double> angles(static_cast<size_t>(sides_));
+  for (int side = 0; side < sides_; ++side) {
+    angles[static_cast<size_t>(side)] = 2.0 * std::numbers::pi * side / sides_;
+  }
+  out->surface.front() = {0.0, angles[0]};
+  out->surface.back() = {1.0, angles[0]};
+  const int tube_end = first + num_rings() * sides_;
+  for (int v = 1; v + 1 < count; v += sides_) {
+    const double s = v < first      ? 0.0
+                     : v < tube_end ? ring_params_[static_cast<size_t>((v - first) / sides_)]
+                                    : 1.0;
+    for (int side = 0; side < sides_; ++side) {
+      out->surface[static_cast<size_t>(v + side)] = {s, angles[static_cast<size_t>(side)]};
+    }
   }
   // BuildTriangles: the front fan and the strips of the front cap's rings come first
   out->tube = {num_rings(), sides_, first, sides_ + 2 * sides_ * (cap_rings_ - 1)};

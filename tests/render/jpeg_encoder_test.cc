@@ -29,6 +29,33 @@ TEST(JpegEncoder, EncodesBgraAndDecodesToTheSameSizeAndColours) {
   }
 }
 
+// libjpeg-turbo fed BGRA (or BGR, or grey) rows as they are gives the bytes of OpenCV's writer,
+// which copies each row to BGR first: the same picture. Control: another quality differs.
+TEST(JpegEncoder, GivesTheBytesOfOpenCvsWriter) {
+  cv::Mat bgra(120, 160, CV_8UC4);
+  cv::randu(bgra, 0, 255);
+  bgra(cv::Rect(20, 10, 100, 60)).setTo(cv::Scalar(60, 90, 220, 255));
+  cv::Mat bgr, grey;
+  cv::extractChannel(bgra, grey, 1);
+  cv::Mat channels[3];
+  for (int c = 0; c < 3; ++c) cv::extractChannel(bgra, channels[c], c);
+  cv::merge(channels, 3, bgr);
+  for (const cv::Mat& image : {bgra, bgr, grey}) {
+    SCOPED_TRACE(image.channels());
+    std::vector<uint8_t> opencv;
+    ASSERT_TRUE(cv::imencode(".jpg", image, opencv, {cv::IMWRITE_JPEG_QUALITY, 85}));
+    JpegEncoder encoder(85);
+    EXPECT_EQ(encoder.Encode(image), opencv);
+    // control: the comparison sees a change of quality
+    EXPECT_NE(JpegEncoder(84).Encode(image), opencv);
+  }
+  // a view into a larger image (its rows are strided) encodes as its copy
+  const cv::Mat view = bgra(cv::Rect(8, 4, 96, 64));
+  JpegEncoder encoder(85);
+  const std::vector<uint8_t> strided = encoder.Encode(view);
+  EXPECT_EQ(strided, encoder.Encode(view.clone()));
+}
+
 TEST(JpegEncoder, ReusesItsBuffer) {
   const cv::Mat image(120, 160, CV_8UC3, cv::Scalar(1, 2, 3));
   JpegEncoder encoder(75);
