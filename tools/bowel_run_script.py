@@ -138,6 +138,9 @@ def rows(scene, kind, start, end):
         row(t + 0.45, me, port, 1.0, "tube@%.6f" % max(0.0, (s - WALK) / scene.length))
         row(t + 0.65, me, port, 1.0, "tube@%.6f" % max(0.0, (s - WALK / 2) / scene.length))
         row(t + 0.85, me, port, 1.0, aim)
+        # aimed again as the jaws arrive (resolved at t + 0.85, against the bowel as it hangs
+        # then), so that they close where the part is, not where it was 0.4 s before
+        row(t + 1.0, me, port, 1.0, aim)
         row(t + 1.05, me, (0.0, 0.0, 0.0), jaw, "offset")  # closes on it
         if other in held:  # the other hand lets go and backs off above its point
             p, j = held.pop(other)

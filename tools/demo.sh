@@ -30,10 +30,11 @@ if [ "$scene" = bowel_run ]; then
     script="$root/scenes/bowel_run_$run.csv"
     duration=$(tail -1 "$script" | cut -d, -f1)
     echo "== running the bowel: the $run run ($duration s simulated, 100 Hz)"
-    frames=()
-    [ "$run" = rough ] && frames=(--render "$out/frames_$run" --render-every 500 --camera 0.0 -0.05 0.42 0.0 0.0 0.08)
+    # the laparoscope follows the work; the rough run's frames look down on the whole fan
+    view=(--camera-script "$root/scenes/bowel_run_${run}_camera.csv")
+    [ "$run" = rough ] && view=(--render "$out/frames_$run" --render-every 500 --camera 0.0 -0.05 0.42 0.0 0.0 0.08)
     "$build/tools/viscera-sim" "$root/scenes/bowel_run.toml" --duration "$duration" \
-      --tool-script "$script" --report "$out/$run.json" "${frames[@]}" | sed -n '/^running/,$p'
+      --tool-script "$script" --report "$out/$run.json" "${view[@]}" | sed -n '/^running/,$p'
   done
   echo "== reports (JSON) and frames of the rough run (damage in blue-violet) in $out"
   exit 0
