@@ -3,43 +3,21 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 
 #include "common/check.h"
+#include "script/csv_rows.h"
 
 namespace viscera::script {
-namespace {
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r");
-  const size_t e = s.find_last_not_of(" \t\r");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-}  // namespace
 
 CameraScript CameraScript::Load(const std::string& path) {
-  std::ifstream in(path);
-  ThrowUnless(in.good(), path, ": cannot open camera script");
-  std::stringstream text;
-  text << in.rdbuf();
-  return Parse(text.str(), path);
+  return Parse(ReadScriptFile(path, "camera script"), path);
 }
 
 CameraScript CameraScript::Parse(const std::string& text, const std::string& source) {
   static const char* kColumns[] = {"t", "ex", "ey", "ez", "cx", "cy", "cz"};
   CameraScript script;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
   bool header = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (Trim(line).empty() || Trim(line)[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(Trim(cell));
+  ForEachCsvRow(text, [&](int line_no, const std::vector<std::string>& cells) {
     ThrowUnless(cells.size() == 7, source, ":", line_no, ": expected 7 columns (",
                 header ? "a row" : "the header t,ex,ey,ez,cx,cy,cz", "), got ", cells.size());
     if (!header) {
@@ -48,7 +26,7 @@ CameraScript CameraScript::Parse(const std::string& text, const std::string& sou
                     cells[i], "\", expected \"", kColumns[i], "\"");
       }
       header = true;
-      continue;
+      return;
     }
     double v[7] = {};
     for (int i = 0; i < 7; ++i) {
@@ -63,7 +41,7 @@ CameraScript CameraScript::Parse(const std::string& text, const std::string& sou
     ThrowUnless((k.target - k.eye).norm() > 1e-6, source, ":", line_no,
                 ": the lens is on the point it looks at");
     script.frames_.push_back(k);
-  }
+  });
   ThrowUnless(header, source, ": empty camera script (header t,ex,ey,ez,cx,cy,cz)");
   ThrowUnless(!script.frames_.empty(), source, ": no camera rows");
   return script;

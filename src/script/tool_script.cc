@@ -2,19 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "common/check.h"
+#include "script/csv_rows.h"
 
 namespace viscera::script {
 namespace {
-
-std::string Trim(const std::string& s) {
-  const size_t b = s.find_first_not_of(" \t\r");
-  const size_t e = s.find_last_not_of(" \t\r");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
 
 // The point of the tube's surface over the centre-line point c, on the side facing p. On the
 // surface, not the axis: jaws aimed at the axis would press the tube with the whole coupling
@@ -28,28 +21,16 @@ Vec3 OntoSurface(const Tube& tube, const Vec3& c, const Vec3& p) {
 }  // namespace
 
 ToolScript ToolScript::Load(const std::string& path) {
-  std::ifstream in(path);
-  ThrowUnless(in.good(), path, ": cannot open tool script");
-  std::stringstream text;
-  text << in.rdbuf();
-  return Parse(text.str(), path);
+  return Parse(ReadScriptFile(path, "tool script"), path);
 }
 
 ToolScript ToolScript::Parse(const std::string& text, const std::string& source) {
   static const char* kColumns[] = {"t",  "tool", "x",  "y",   "z",  "qw",
                                    "qx", "qy",   "qz", "jaw", "aim"};
   ToolScript script;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
   bool header = false;
   size_t columns = 10;  // 11 with the optional aim column
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (Trim(line).empty() || Trim(line)[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream row(line);
-    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(Trim(cell));
+  ForEachCsvRow(text, [&](int line_no, const std::vector<std::string>& cells) {
     if (!header) {
       ThrowUnless(cells.size() == 10 || cells.size() == 11, source, ":", line_no,
                   ": header must be t,tool,x,y,z,qw,qx,qy,qz,jaw[,aim]");
@@ -59,7 +40,7 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
                     cells[i], "\", expected \"", kColumns[i], "\"");
       }
       header = true;
-      continue;
+      return;
     }
     ThrowUnless(cells.size() == columns, source, ":", line_no, ": expected ", columns,
                 " columns, got ", cells.size());
@@ -110,7 +91,7 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
                 " goes back in time for tool \"", tool, "\"");
     frames.push_back(k);
     script.duration_ = std::max(script.duration_, k.t);
-  }
+  });
   ThrowUnless(header, source, ": empty tool script (no header)");
   return script;
 }
