@@ -37,8 +37,9 @@ void ValidateMesentery(const MesenteryParams& m) {
     const auto [s, l] = m.lengths[i];
     ThrowUnless(std::isfinite(l) && l > 0.0, "mesentery.lengths: length ", l, " at s = ", s,
                 ": must be a finite number > 0");
-    ThrowUnless(i == 0 || s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s,
-                " after s = ", m.lengths[i - 1].first, ": s must increase");
+    if (i == 0) continue;  // (the message's arguments are evaluated whatever the condition)
+    ThrowUnless(s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s, " after s = ",
+                m.lengths[i - 1].first, ": s must increase");
   }
 }
 
