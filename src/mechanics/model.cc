@@ -38,8 +38,8 @@ void ValidateMesentery(const MesenteryParams& m) {
     ThrowUnless(std::isfinite(l) && l > 0.0, "mesentery.lengths: length ", l, " at s = ", s,
                 ": must be a finite number > 0");
     if (i == 0) continue;  // (the message's arguments are evaluated whatever the condition)
-    ThrowUnless(s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s, " after s = ",
-                m.lengths[i - 1].first, ": s must increase");
+    ThrowUnless(s > m.lengths[i - 1].first, "mesentery.lengths: s = ", s,
+                " after s = ", m.lengths[i - 1].first, ": s must increase");
   }
 }
 
