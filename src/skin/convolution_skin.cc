@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "common/check.h"
+#include "common/target_clones.h"
 
 namespace viscera::skin {
 namespace {
@@ -124,9 +125,10 @@ double ConvolutionSkin::Field(int ring, const Vec3& p) const {
 
 // The seeds' loop below vectorizes; AVX2's four doubles a lane halve its square roots and
 // divisions where the CPU has them (no FMA: every result is the one of the plain build).
-__attribute__((target_clones("avx2", "default"))) void ConvolutionSkin::FieldBatch(
-    int ring, const Vec3& origin, int n, const double* dx, const double* dy, const double* dz,
-    const double* r, double* f) const {
+VISCERA_TARGET_CLONES("avx2")
+void ConvolutionSkin::FieldBatch(int ring, const Vec3& origin, int n, const double* dx,
+                                 const double* dy, const double* dz, const double* r,
+                                 double* f) const {
   // Structure of arrays, segments outside and seeds inside: the inner loop has no branches
   // and vectorizes.
   double px[kBlock], py[kBlock], pz[kBlock];
