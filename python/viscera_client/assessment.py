@@ -78,7 +78,8 @@ def running_from_status(status):
         "thresholds": {"pinch_force_n": s.running_pinch_force, "damage_dose_ns": s.running_damage_dose,
                        "traction_break_n": s.running_traction_break, "jaw_area_m2": s.running_jaw_area},
         "pass_marks": {"coverage": s.running_pass_coverage, "time_s": s.running_pass_time,
-                       "path_length_m": s.running_pass_path, "reversals": s.running_pass_reversals,
+                       "path_length_m": s.running_pass_path,
+                       "out_of_view_time_s": s.running_pass_out_of_view, "reversals": s.running_pass_reversals,
                        "slips": s.running_pass_slips, "damage_events": s.running_pass_damage_events,
                        "estimate_error": s.running_pass_estimate_error},
     }

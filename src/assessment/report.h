@@ -76,7 +76,8 @@ struct RunningReport {
   std::vector<std::string> failed;  ///< the marks missed: "coverage", "damage", "time", ...
   // the thresholds and pass marks
   double pinch_force = 0.0, damage_dose = 0.0, traction_break = 0.0, jaw_area = 0.0;
-  double pass_coverage = 0.0, pass_time = 0.0, pass_path = 0.0, pass_estimate_error = 0.0;
+  double pass_coverage = 0.0, pass_time = 0.0, pass_path = 0.0, pass_out_of_view = 0.0;
+  double pass_estimate_error = 0.0;
   int pass_reversals = 0, pass_slips = 0, pass_damage_events = 0;
 };
 

@@ -139,6 +139,7 @@ void RunningScore::Fill(RunningReport* r) const {
   r->pass_coverage = p_.pass_coverage;
   r->pass_time = p_.pass_time;
   r->pass_path = p_.pass_path;
+  r->pass_out_of_view = p_.pass_out_of_view;
   r->pass_reversals = p_.pass_reversals;
   r->pass_slips = p_.pass_slips;
   r->pass_damage_events = p_.pass_damage_events;
@@ -152,6 +153,8 @@ void RunningScore::Fill(RunningReport* r) const {
   if (r->reversals > p_.pass_reversals) r->failed.push_back("reversals");
   if (p_.pass_time > 0.0 && r->time > p_.pass_time) r->failed.push_back("time");
   if (p_.pass_path > 0.0 && r->path_length > p_.pass_path) r->failed.push_back("path");
+  if (p_.pass_out_of_view > 0.0 && r->out_of_view_time > p_.pass_out_of_view)
+    r->failed.push_back("out of view");
   r->passed = r->failed.empty();
 }
 

@@ -59,6 +59,7 @@ nlohmann::json RunningToJson(const RunningReport& r) {
            {{"coverage", r.pass_coverage},
             {"time_s", r.pass_time},
             {"path_length_m", r.pass_path},
+            {"out_of_view_time_s", r.pass_out_of_view},
             {"reversals", r.pass_reversals},
             {"slips", r.pass_slips},
             {"damage_events", r.pass_damage_events},
@@ -103,6 +104,8 @@ RunningReport RunningFromJson(const nlohmann::json& j) {
   r.pass_coverage = pm.at("coverage").get<double>();
   r.pass_time = pm.at("time_s").get<double>();
   r.pass_path = pm.at("path_length_m").get<double>();
+  // reports written before the mark have none: not judged
+  r.pass_out_of_view = pm.value("out_of_view_time_s", 0.0);
   r.pass_reversals = pm.at("reversals").get<int>();
   r.pass_slips = pm.at("slips").get<int>();
   r.pass_damage_events = pm.at("damage_events").get<int>();
@@ -165,9 +168,9 @@ std::string FormatRunning(const RunningReport& r) {
   }
   std::snprintf(line, sizeof line,
                 "  thresholds     pinch %.1f N, dose %.0f N s, traction %.1f N; pass at coverage "
-                "%.0f %%, time %.0f s, path %.1f m (0: not judged)\n",
+                "%.0f %%, time %.0f s, path %.1f m, out of view %.0f s (0: not judged)\n",
                 r.pinch_force, r.damage_dose, r.traction_break, 100.0 * r.pass_coverage,
-                r.pass_time, r.pass_path);
+                r.pass_time, r.pass_path, r.pass_out_of_view);
   out += line;
   if (!r.failed.empty()) {
     out += "  failed on      ";

@@ -42,6 +42,7 @@ constexpr Field<double, double> kDoubles[] = {VISCERA_RUNNING_FIELD(segment_leng
                                               VISCERA_RUNNING_FIELD(pass_coverage),
                                               VISCERA_RUNNING_FIELD(pass_time),
                                               VISCERA_RUNNING_FIELD(pass_path),
+                                              VISCERA_RUNNING_FIELD(pass_out_of_view),
                                               VISCERA_RUNNING_FIELD(pass_estimate_error)};
 
 constexpr Field<int, int32_t> kInts[] = {

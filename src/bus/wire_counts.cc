@@ -105,7 +105,7 @@ void Running(WireCursor& c) {
   c.FixedArray(4);        // damaged
   c.Skip(3 * 8 + 1);      // run_length, estimate_length, estimate_error; passed
   Strings(c);             // failed
-  c.Skip(8 * 8 + 3 * 4);  // the thresholds and pass marks
+  c.Skip(9 * 8 + 3 * 4);  // the thresholds and pass marks
 }
 
 // session_status_t, nested (no fingerprint): the fields in proto/session_status_t.lcm's order

@@ -47,6 +47,7 @@ struct RunningParams {
   double pass_coverage = 1.0;         ///< fraction of the segments inspected, at least
   double pass_time = 0.0;             ///< s, at most (0: not judged)
   double pass_path = 0.0;             ///< m of both tools' paths, at most (0: not judged)
+  double pass_out_of_view = 0.0;      ///< s a tool was out of view, at most (0: not judged)
   int pass_reversals = 0;             ///< direction reversals, at most
   int pass_slips = 2;                 ///< slips, at most
   int pass_damage_events = 0;         ///< damage events, at most

@@ -107,6 +107,7 @@ void ReadRunning(const toml::table& running, mechanics::ModelParams* p) {
               g.pass_coverage, ": must be in [0, 1]");
   g.pass_time = r.NonNegative("pass_time", g.pass_time);
   g.pass_path = r.NonNegative("pass_path", g.pass_path);
+  g.pass_out_of_view = r.NonNegative("pass_out_of_view", g.pass_out_of_view);
   g.pass_reversals = r.NonNegative("pass_reversals", g.pass_reversals);
   g.pass_slips = r.NonNegative("pass_slips", g.pass_slips);
   g.pass_damage_events = r.NonNegative("pass_damage_events", g.pass_damage_events);

@@ -16,6 +16,7 @@
 #include "assessment/running.h"
 #include "mechanics/step.h"
 #include "scene/scene.h"
+#include "script/camera_script.h"
 #include "script/scripted_tools.h"
 #include "script/tool_script.h"
 
@@ -39,8 +40,9 @@ const scene::Scene& BowelRunScene() {
   return scene;
 }
 
-// Plays the first `seconds` of scenes/bowel_run_<kind>.csv at `rate_hz`. The novices are
-// played for their first grasps only, past the ones that tell.
+// Plays the first `seconds` of scenes/bowel_run_<kind>.csv at `rate_hz`, judged through the
+// scope its camera script moves (bowel_run_<kind>_camera.csv). The novices are played for their
+// first grasps only, past the ones that tell.
 Played Play(const std::string& kind, double seconds, double rate_hz) {
   scene::Scene scene = BowelRunScene();
   scene::ChangeRate(&scene.model, rate_hz);
@@ -48,6 +50,13 @@ Played Play(const std::string& kind, double seconds, double rate_hz) {
   const std::string file = VISCERA_SOURCE_DIR "/scenes/bowel_run_" + kind + ".csv";
   const script::ToolScript script = script::ToolScript::Load(file);
   RunningScore score(model.params());
+  const script::CameraScript camera =
+      script::CameraScript::Load(VISCERA_SOURCE_DIR "/scenes/bowel_run_" + kind + "_camera.csv");
+  auto view_at = [&](double t) {
+    const mechanics::ScopeParams& scope = model.params().scope.value();
+    const script::CameraKeyframe k = camera.At(t);
+    return View{k.eye, k.target, scope.up, scope.fov_deg, 640.0 / 480.0};
+  };
   Played run;
   const TissueDamage& damage = score.damage();
   for (const std::string& tool : script.tools()) {
@@ -67,6 +76,7 @@ Played Play(const std::string& kind, double seconds, double rate_hz) {
   for (int k = 0; k < steps; ++k) {
     const auto targets = tools.At(state.t + model.step_size(), workspace.interactions());
     mechanics::Step(model, {{}, targets}, &state, &workspace);
+    score.SetView(view_at(state.t));
     score.AddStep(state, model.step_size());
     for (size_t i = 0; i < holding.size(); ++i) {
       const mechanics::ToolState& ts = state.tools[i];

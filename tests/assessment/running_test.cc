@@ -3,6 +3,8 @@
 // segments, reversals, regrasps, the three damage events at their segments and the verdict.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include "assessment/metrics.h"
 #include "assessment/running.h"
 
@@ -48,9 +50,11 @@ State Idle(const ModelParams& p) {
   return s;
 }
 
-// Each hold, then half a second with both jaws open.
-RunningReport Score(const ModelParams& p, const std::vector<Hold>& holds) {
+// Each hold, then half a second with both jaws open; judged from `view` when one is given.
+RunningReport Score(const ModelParams& p, const std::vector<Hold>& holds,
+                    const std::optional<View>& view = std::nullopt) {
   SessionMetrics m(p);
+  if (view) m.SetView(*view);
   State s = Idle(p);
   for (const Hold& h : holds) {
     mechanics::ToolState& t = s.tools[static_cast<size_t>(h.tool)];
@@ -102,6 +106,37 @@ TEST(RunningScore, SkippedSegmentsAreMissedAndOnlyThose) {
   EXPECT_NEAR(r.coverage, 17.0 / 20.0, 1e-12);
   EXPECT_FALSE(r.passed);
   EXPECT_EQ(r.failed, (std::vector<std::string>{"coverage"}));
+}
+
+// The experts' marks for time and time out of view: a run over one fails on that one alone, a
+// run within both passes.
+TEST(RunningScore, ARunOverTheTimeOrOutOfViewMarkFailsOnThatMark) {
+  // a scope looking along +y from behind the left tool: the right one (x = 0.05) is out of view
+  View narrow;
+  narrow.eye = Vec3(-0.05, -0.3, 0.1);
+  narrow.look_at = Vec3(-0.05, 0.0, 0.1);
+  narrow.fov_y_deg = 5.0;
+  const RunningReport free = Score(Bowel(), Expert(), narrow);
+  ASSERT_TRUE(free.passed);
+  ASSERT_GT(free.time, 1.0);
+  ASSERT_GT(free.out_of_view_time, 1.0);
+  EXPECT_LT(free.out_of_view_time, free.time + 1.0);
+  struct Mark {
+    double mechanics::RunningParams::*key;
+    double figure;
+    const char* name;
+  };
+  for (const Mark& mark :
+       {Mark{&mechanics::RunningParams::pass_time, free.time, "time"},
+        Mark{&mechanics::RunningParams::pass_out_of_view, free.out_of_view_time, "out of view"}}) {
+    SCOPED_TRACE(mark.name);
+    ModelParams p = Bowel();
+    (*p.task.running).*mark.key = 0.99 * mark.figure;
+    const RunningReport over = Score(p, Expert(), narrow);
+    EXPECT_EQ(over.failed, (std::vector<std::string>{mark.name}));
+    (*p.task.running).*mark.key = 1.01 * mark.figure;
+    EXPECT_TRUE(Score(p, Expert(), narrow).passed);
+  }
 }
 
 TEST(RunningScore, TurningBackCountsAReversalAndARetryInPlaceARegrasp) {

@@ -1,11 +1,16 @@
 """Unit tests of the Python client's parts that need no network: the MAC (against its
 definition and by tampering), the fast partial decoders (against lcm-gen's full decode),
-placement, and the load tester's statistics."""
+placement, the load tester's statistics and the pass marks drawn from experts' reports."""
 import dataclasses
 import hashlib
 import hmac
+import json
+import os
 import random
 import struct
+import subprocess
+import sys
+import tempfile
 import unittest
 
 import viscera_proto
@@ -190,6 +195,7 @@ class AssessmentTest(unittest.TestCase):
         s.running_num_damaged, s.running_damaged = 1, [0]
         s.running_num_failed, s.running_failed = 2, ["coverage", "damage"]
         s.running_pinch_force, s.running_pass_coverage, s.running_pass_slips = 10.3, 1.0, 2
+        s.running_pass_out_of_view = 21.5
         r = report_from_status(viscera_proto.session_status_t.decode(s.encode()))["running"]
         self.assertEqual((r["segments"], r["grasps"], r["slips"]), (90, 2, 1))
         self.assertEqual(r["missed"], list(range(2, 90)))
@@ -200,6 +206,41 @@ class AssessmentTest(unittest.TestCase):
         self.assertFalse(r["passed"])
         self.assertEqual(r["thresholds"]["pinch_force_n"], 10.3)
         self.assertEqual(r["pass_marks"]["slips"], 2)
+        self.assertEqual(r["pass_marks"]["out_of_view_time_s"], 21.5)
+
+
+class PassMarksTest(unittest.TestCase):
+    """tools/pass_marks.py: the experts' mean + 1 SD of each mark, from their reports."""
+
+    def run_tool(self, runs):
+        with tempfile.TemporaryDirectory() as d:
+            paths = []
+            for i, run in enumerate(runs):
+                paths.append(os.path.join(d, f"expert{i}.json"))
+                with open(paths[-1], "w") as f:
+                    json.dump({"running": run}, f)
+            tool = os.path.join(os.environ["VISCERA_SOURCE_DIR"], "tools", "pass_marks.py")
+            return subprocess.run([sys.executable, tool] + paths, capture_output=True, text=True)
+
+    @staticmethod
+    def expert(time, path, out_of_view, failed=()):
+        return {"time_s": time, "path_length_m": path, "out_of_view_time_s": out_of_view,
+                "failed": list(failed)}
+
+    def test_each_mark_is_the_experts_mean_plus_one_sd(self):
+        done = self.run_tool([self.expert(140.0, 16.0, 17.0), self.expert(150.0, 17.0, 19.0),
+                              self.expert(145.0, 18.0, 21.0)])
+        self.assertEqual(done.returncode, 0, done.stderr)
+        keys = dict(line.split(" = ") for line in done.stdout.splitlines() if " = " in line)
+        # means 145 s, 17 m, 19 s; sample SDs 5 s, 1 m, 2 s
+        self.assertEqual(keys, {"pass_time": "150.0", "pass_path": "18.0", "pass_out_of_view": "21.0"})
+
+    def test_a_failed_run_or_a_single_run_is_refused(self):
+        hurt = self.expert(150.0, 17.0, 19.0, failed=["damage"])
+        refused = self.run_tool([self.expert(140.0, 16.0, 17.0), hurt])
+        self.assertNotEqual(refused.returncode, 0)
+        self.assertIn("failed on damage", refused.stderr)
+        self.assertNotEqual(self.run_tool([self.expert(140.0, 16.0, 17.0)]).returncode, 0)
 
 
 class SolverCountTest(unittest.TestCase):
