@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Capacity sweep (docs/capacity.md): viscerad pinned to one core, tools/loadtest.py pinned to
 # another, in a private loopback-only network namespace. For the fall and cavity scenes, at
-# 100 Hz and 1 kHz (poses at the mechanics rate), without and with a 25 Hz frame stream, it
+# 100 Hz and 1 kHz (poses at the mechanics rate), without and with a 25 Hz frame stream (and,
+# as `-skeleton`, with the 30 Hz skeleton stream a page that draws the session itself reads), it
 # runs the load tester over growing session counts and writes, per configuration, the JSON
 # reports and plots into OUT_DIR/<config>/, then the table OUT_DIR/capacity.md.
 # Usage: tools/capacity.sh [OUT_DIR] [SECONDS_PER_RUN] [CONFIG...]
-#   CONFIG: fall-100, fall-100-frames, fall-1000, ..., cavity-1000-frames (default: all 8)
+#   CONFIG: fall-100, fall-100-frames, fall-1000, ..., cavity-1000-frames (default: those 8),
+#           cavity-100-skeleton, ...
 # Environment: VISCERA_SERVER_CPU (1), VISCERA_CLIENT_CPU (0), VISCERA_BUILD_DIR (build).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -30,7 +32,7 @@ mkdir -p "$out"
 # on a 2-vCPU machine shared with other work (docs/capacity.md); widen them on a quiet one.
 sweep() {
   case "$1" in
-    fall-100 | cavity-100) echo 2,4,6,8,12 ;;
+    fall-100 | cavity-100 | *-100-skeleton) echo 2,4,6,8,10,12,14 ;;
     fall-1000) echo 1,2,3 ;;
     *-100-frames) echo 1,2,3,4 ;;
     *-1000*) echo 1,2 ;;
@@ -46,6 +48,7 @@ for config in "${configs[@]}"; do
                                       --scene-file "$root/bench/scenes/probe_tool.toml")
   frame_args=()
   [[ $frames == frames ]] && frame_args=(--frames --frame-rate 25)
+  [[ $frames == skeleton ]] && frame_args=(--skeleton-rate 30)
   dir="$out/$config"
   mkdir -p "$dir"
   # --frame-lease 0: the load tester takes frames without renewing a frame lease; every

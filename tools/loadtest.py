@@ -92,6 +92,9 @@ def parse_args(argv):
                    help="mechanics rate of each session (Hz; default: the scene's)")
     p.add_argument("--frames", action="store_true", help="ask for frames and measure them")
     p.add_argument("--frame-rate", type=float, default=25.0, help="with --frames (Hz)")
+    p.add_argument("--skeleton-rate", type=float, default=-1.0,
+                   help="skeleton states per second each session publishes, as for a page that "
+                        "draws the session itself (Hz; default: none)")
     p.add_argument("--key-file", help="pre-shared key file (sign and check MACs)")
     p.add_argument("--json", metavar="REPORT.json", help="write the report here")
     p.add_argument("--plots", metavar="DIR", help="write PNG plots here (matplotlib)")
@@ -230,7 +233,7 @@ def create_sessions(client, args, n, scene_toml, log, servers):
                 h = client.create(scene=args.scene, scene_toml=scene_toml, server=target,
                                   rate_hz=args.session_rate,
                                   frame_rate_hz=args.frame_rate if args.frames else -1.0,
-                                  skeleton_rate_hz=-1.0, timeout_s=10.0)
+                                  skeleton_rate_hz=args.skeleton_rate, timeout_s=10.0)
             except ValueError as e:  # refused by the client's own checks (a rate out of range)
                 raise Refused(f"{e} (every session would be refused alike: stopping)")
             except VisceraError as e:
