@@ -5,8 +5,8 @@ Commercial trainers set a metric's pass mark at the experts' mean + 1 SD. Give t
 the experts' runs (`viscera report --json`, or `viscera-sim --report`), at least two; prints each
 mark's mean, SD and mean + 1 SD, and the `[running]` keys to paste into the scene:
   tools/pass_marks.py expert1.json expert2.json ...
-A run that missed a segment, hurt the bowel or did not pass otherwise is refused: a pass mark
-from a failed run would let the next one fail the same way.
+A run that missed a segment, hurt the bowel, slipped too often or turned back is refused: a
+mark drawn from a failed run would let the next one fail the same way.
 """
 import argparse
 import json
