@@ -159,6 +159,7 @@ const Viewer = (() => {
       this.gl = gl;
       this.vao = gl.createVertexArray();
       this.buffers = [gl.createBuffer(), gl.createBuffer(), gl.createBuffer()];
+      this.sizes = [-1, -1, -1];  // bytes each buffer holds
       this.index = gl.createBuffer();
       this.count = 0;
       gl.bindVertexArray(this.vao);
@@ -170,11 +171,19 @@ const Viewer = (() => {
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.index);
       gl.bindVertexArray(null);
     }
+    // positions, normals, texture points (or null: the positions) and triangles (or null: those
+    // before); a buffer of the same size is written over, not made again
     Upload(positions, normals, texture, indices, dynamic) {
       const gl = this.gl, usage = dynamic ? gl.DYNAMIC_DRAW : gl.STATIC_DRAW;
       [positions, normals, texture || positions].forEach((data, k) => {
+        const array = data instanceof Float32Array ? data : new Float32Array(data);
         gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[k]);
-        gl.bufferData(gl.ARRAY_BUFFER, data instanceof Float32Array ? data : new Float32Array(data), usage);
+        if (dynamic && this.sizes[k] === array.byteLength) {
+          gl.bufferSubData(gl.ARRAY_BUFFER, 0, array);
+        } else {
+          gl.bufferData(gl.ARRAY_BUFFER, array, usage);
+          this.sizes[k] = array.byteLength;
+        }
       });
       if (indices !== null) {
         gl.bindVertexArray(this.vao);
@@ -210,34 +219,98 @@ const Viewer = (() => {
     return {program, u};
   }
 
+  // x^n as the product of x^(2^i) over n's bits (render::IntegerPowerSource)
+  function IntegerPower(name, n) {
+    let body = 'float ' + name + '(float x) {\n  float r = 1.0;\n';
+    for (let bits = n; bits > 0; bits >>= 1) {
+      if (bits & 1) body += '  r *= x;\n';
+      if (bits > 1) body += '  x *= x;\n';
+    }
+    return body + '  return r;\n}\n';
+  }
+  const WholeExponent = (e) => (e >= 1 && e <= 256 && e === Math.floor(e) ? e : 0);
+
+  const SameCamera = (a, b) => a === b || (a !== null && b !== null &&
+      ['view', 'projection'].every((k) => a[k].length === b[k].length && a[k].every((x, i) => x === b[k][i])) &&
+      ['light_range', 'spot_inner_deg', 'spot_outer_deg'].every((k) => a[k] === b[k]));
+
   class Renderer {
     constructor(canvas, scene) {
       this.scene = scene;
       canvas.width = scene.width;
       canvas.height = scene.height;
       // opaque, as a JPEG: a translucent film must not leave the canvas itself see-through
-      const gl = canvas.getContext('webgl2', {alpha: false, antialias: false, preserveDrawingBuffer: false});
+      const gl = canvas.getContext('webgl2', {alpha: false, antialias: false, depth: true,
+                                              preserveDrawingBuffer: false});
       if (!gl) throw new Error('this browser has no WebGL2');
       this.gl = gl;
-      const version = '#version 300 es\nprecision highp float;\n';
-      const vertex = version + scene.shaders.vertex;
-      this.programs = [0, 1, 2, 3].map((k) =>
-        Compile(gl, vertex, version + '#define PATTERN ' + k + '\n' + scene.shaders.fragment));
+      this.programs = new Map();
       this.statics = scene.meshes.map((m) => {
         const mesh = new Mesh(gl);
         mesh.Upload(m.mesh.positions, m.mesh.normals, m.mesh.texture || null, m.mesh.indices, false);
         return {mesh, material: m.material, faces: m.faces};
       });
+      // every program the scene draws, compiled now rather than mid-stream
+      for (const m of [scene.materials.intestine, scene.materials.tool, scene.materials.mesentery,
+                       ...this.statics.map((st) => st.material)]) this.ProgramFor(m);
       this.tube = new Tube(scene.tube);
       this.intestine = new Mesh(gl);
       this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, this.tube.indices, true);
       this.tools = new Mesh(gl);
+      this.tools_shown = null;  // the tools' triangles in this.tools
       this.film = new Mesh(gl);
       this.point = [0, 0, 0];
       this.intestine_drawn = true;  // false: everything but the intestine (the tests' control)
+      // the static picture (wall, organs, targets) for one camera, colour and depth
+      // (render::StaticLayer), and the program that copies it into the canvas's
+      this.layer = this.Layer(scene.width, scene.height);
+      this.layer_camera = null;
+      this.copy = Compile(gl, '#version 300 es\n' +
+        'void main() { gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0); }\n',
+        '#version 300 es\nprecision highp float;\nuniform sampler2D u_colour;\nuniform highp sampler2D u_depth;\n' +
+        'out vec4 frag_colour;\nvoid main() {\n  ivec2 p = ivec2(gl_FragCoord.xy);\n' +
+        '  frag_colour = texelFetch(u_colour, p, 0);\n  gl_FragDepth = texelFetch(u_depth, p, 0).r;\n}\n');
+      gl.useProgram(this.copy.program);
+      gl.uniform1i(gl.getUniformLocation(this.copy.program, 'u_colour'), 0);
+      gl.uniform1i(gl.getUniformLocation(this.copy.program, 'u_depth'), 1);
+      this.empty = gl.createVertexArray();
+    }
+    // a framebuffer with colour and depth textures (unit 0 and 1)
+    Layer(width, height) {
+      const gl = this.gl, framebuffer = gl.createFramebuffer();
+      gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+      [[gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, gl.COLOR_ATTACHMENT0],
+       [gl.DEPTH_COMPONENT24, gl.DEPTH_COMPONENT, gl.UNSIGNED_INT, gl.DEPTH_ATTACHMENT]].forEach(([inner, format, type, attachment], unit) => {
+        const texture = gl.createTexture();
+        gl.activeTexture(gl.TEXTURE0 + unit);
+        gl.bindTexture(gl.TEXTURE_2D, texture);
+        gl.texImage2D(gl.TEXTURE_2D, 0, inner, width, height, 0, format, type, null);
+        for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, attachment, gl.TEXTURE_2D, texture, 0);
+      });
+      gl.activeTexture(gl.TEXTURE0);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      return framebuffer;
+    }
+    // The program of a material's pattern and exponents, as render::MeshRenderer makes it: the
+    // serosa's noises per vertex, the highlights' whole exponents as products.
+    ProgramFor(material) {
+      const pattern = material.pattern | 0, per_vertex = pattern === 2;
+      const a = WholeExponent(material.shininess), b = WholeExponent(material.sheen_shininess);
+      const whole = a > 0 && b > 0, key = pattern + (per_vertex ? 'v' : '') + (whole ? ' ' + a + ' ' + b : '');
+      let p = this.programs.get(key);
+      if (p !== undefined) return p;
+      const sh = this.scene.shaders, version = '#version 300 es\nprecision highp float;\n';
+      const define = per_vertex ? '#define SEROSA_PER_VERTEX 1\n' : '';
+      const exponents = whole ? '#define INTEGER_EXPONENTS 1\n' + IntegerPower('PowShininess', a) +
+                                IntegerPower('PowSheenShininess', b) : '';
+      p = Compile(this.gl, version + define + (per_vertex ? sh.noise : '') + sh.vertex,
+                  version + '#define PATTERN ' + pattern + '\n' + define + sh.noise + exponents + sh.fragment);
+      this.programs.set(key, p);
+      return p;
     }
     Use(material, faces) {
-      const gl = this.gl, c = this.scene.camera, p = this.programs[material.pattern] || this.programs[0];
+      const gl = this.gl, c = this.scene.camera, p = this.ProgramFor(material);
       gl.useProgram(p.program);
       gl.uniformMatrix4fv(p.u.u_view, false, c.view);
       gl.uniformMatrix4fv(p.u.u_projection, false, c.projection);
@@ -256,7 +329,8 @@ const Viewer = (() => {
       const translucent = material.opacity < 1;
       if (translucent) {
         gl.enable(gl.BLEND);
-        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+        // the colour blended, the frame's alpha kept opaque
+        gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ZERO, gl.ONE);
         gl.depthMask(false);
       } else {
         gl.disable(gl.BLEND);
@@ -269,53 +343,85 @@ const Viewer = (() => {
         gl.cullFace(faces === 'front' ? gl.BACK : gl.FRONT);
       }
     }
-    // Draws control points q (flat, 3 per point) and the tools' triangles (or null).
+    Clear() {
+      const gl = this.gl, b = this.scene.background;
+      gl.depthMask(true);
+      gl.clearColor(b[0], b[1], b[2], 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    }
+    // Draws control points q (flat, 3 per point) and the tools' triangles (or null): a copy of
+    // the static picture (drawn again when the camera changed), the intestine, the tools and the
+    // mesentery over it, as the server's render::SceneRenderer.
     Draw(q, tools) {
       const gl = this.gl, s = this.scene, m = s.materials;
       gl.viewport(0, 0, s.width, s.height);
       gl.enable(gl.DEPTH_TEST);
+      if (!SameCamera(this.layer_camera, s.camera)) {
+        gl.bindFramebuffer(gl.FRAMEBUFFER, this.layer);
+        this.Clear();
+        for (const st of this.statics) {
+          this.Use(st.material, st.faces);
+          st.mesh.Draw();
+        }
+        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        this.layer_camera = s.camera;
+      }
+      // one triangle over the canvas writes the layer's colour and depth (a blit into the
+      // canvas cost SwiftShader four times as much)
+      gl.useProgram(this.copy.program);
+      gl.disable(gl.BLEND);
+      gl.disable(gl.CULL_FACE);
       gl.depthMask(true);
-      gl.clearColor(s.background[0], s.background[1], s.background[2], 1);
-      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-      this.tube.Build(q);
-      this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
-      this.Use(m.intestine, 'front');
-      if (this.intestine_drawn) this.intestine.Draw();
+      gl.depthFunc(gl.ALWAYS);
+      gl.bindVertexArray(this.empty);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      gl.depthFunc(gl.LESS);
+      if (this.intestine_drawn) {
+        this.tube.Build(q);
+        this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
+        this.Use(m.intestine, 'front');
+        this.intestine.Draw();
+      }
       if (tools !== null) {
-        this.tools.Upload(tools.positions, tools.normals, null, tools.indices, true);
+        if (tools !== this.tools_shown) this.tools.Upload(tools.positions, tools.normals, null, tools.indices, true);
+        this.tools_shown = tools;
         this.Use(m.tool, 'front');
         this.tools.Draw();
       }
-      for (const st of this.statics) {
-        this.Use(st.material, st.faces);
-        st.mesh.Draw();
-      }
-      const film = s.mesentery;
-      if (film) {  // a ruled film from the root to the centre line, drawn last (translucent)
-        const k = film.s.length, positions = new Float32Array(6 * k), texture = new Float32Array(6 * k);
-        const normals = new Float32Array(6 * k), indices = [];
-        for (let i = 0; i < k; ++i) {
-          CurvePoint(q, s.tube.points, film.s[i], this.point);
-          positions.set(film.root.slice(3 * i, 3 * i + 3), 6 * i);
-          positions.set(this.point, 6 * i + 3);
-          const along = s.tube.length * i / (k - 1);
-          texture.set([along, 0, 0, along, film.across, 0], 6 * i);
-        }
-        for (let i = 0; i < k; ++i) {  // across the film: the rung and the root line's direction
-          const a = 6 * Math.max(i - 1, 0), b = 6 * Math.min(i + 1, k - 1);
-          const rung = sub(positions.slice(6 * i + 3, 6 * i + 6), positions.slice(6 * i, 6 * i + 3));
-          const line = sub(positions.slice(b, b + 3), positions.slice(a, a + 3));
-          const n = unit(cross(line, rung));
-          normals.set(n, 6 * i);
-          normals.set(n, 6 * i + 3);
-          if (i + 1 < k) indices.push(2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1);
-        }
-        this.film.Upload(positions, normals, texture, indices, true);
-        this.Use(m.mesentery, 'both');
-        this.film.Draw();
-      }
+      if (s.mesentery) this.DrawFilm(q, s.mesentery);
       gl.disable(gl.BLEND);
       gl.depthMask(true);
+    }
+    // a ruled film from the root to the centre line, drawn last (translucent)
+    DrawFilm(q, film) {
+      const s = this.scene, k = film.s.length;
+      if (this.film_positions === undefined) {
+        this.film_positions = new Float32Array(6 * k);
+        this.film_normals = new Float32Array(6 * k);
+        this.film_texture = new Float32Array(6 * k);
+        const indices = [];
+        for (let i = 0; i + 1 < k; ++i) indices.push(2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1);
+        this.film_indices = indices;
+      }
+      const positions = this.film_positions, normals = this.film_normals, texture = this.film_texture;
+      for (let i = 0; i < k; ++i) {
+        CurvePoint(q, s.tube.points, film.s[i], this.point);
+        positions.set(film.root.slice(3 * i, 3 * i + 3), 6 * i);
+        positions.set(this.point, 6 * i + 3);
+        const along = s.tube.length * i / (k - 1);
+        texture.set([along, 0, 0, along, film.across, 0], 6 * i);
+      }
+      for (let i = 0; i < k; ++i) {  // across the film: the rung and the root line's direction
+        const a = 6 * Math.max(i - 1, 0), b = 6 * Math.min(i + 1, k - 1);
+        const rung = sub(positions.slice(6 * i + 3, 6 * i + 6), positions.slice(6 * i, 6 * i + 3));
+        const line = sub(positions.slice(b, b + 3), positions.slice(a, a + 3));
+        const n = unit(cross(line, rung));
+        normals.set(n, 6 * i);
+        normals.set(n, 6 * i + 3);
+      }
+      this.film.Upload(positions, normals, texture, this.film.count === 0 ? this.film_indices : null, true);
+      this.Use(s.materials.mesentery, 'both');
+      this.film.Draw();
     }
   }
 
