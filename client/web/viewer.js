@@ -192,6 +192,14 @@ const Viewer = (() => {
         this.count = indices.length;
       }
     }
+    // the first `count` of `indices` as the triangles, into the index buffer made before
+    Triangles(indices, count) {
+      const gl = this.gl;
+      gl.bindVertexArray(this.vao);
+      gl.bufferSubData(gl.ELEMENT_ARRAY_BUFFER, 0, indices, 0, count);
+      gl.bindVertexArray(null);
+      this.count = count;
+    }
     Draw() {
       if (this.count === 0) return;
       this.gl.bindVertexArray(this.vao);
@@ -228,6 +236,8 @@ const Viewer = (() => {
     }
     return body + '  return r;\n}\n';
   }
+  // levels of detail: [every n-th ring, every n-th side] (render::kDetailLevels)
+  const DETAIL = [[1, 1], [2, 1], [4, 1], [2, 2], [4, 2]];
   const WholeExponent = (e) => (e >= 1 && e <= 256 && e === Math.floor(e) ? e : 0);
 
   const SameCamera = (a, b) => a === b || (a !== null && b !== null &&
@@ -261,6 +271,17 @@ const Viewer = (() => {
       this.film = new Mesh(gl);
       this.point = [0, 0, 0];
       this.intestine_drawn = true;  // false: everything but the intestine (the tests' control)
+      // the level of detail's and culling's (Visible): the triangles to draw, the sides of the
+      // view each vertex is beyond, per block its first ring, level and nearest depth, the order
+      // the blocks are drawn in, the sides each ring keeps
+      this.kept = new Uint32Array(this.tube.indices.length);
+      this.codes = new Uint8Array(this.tube.positions.length / 3);
+      const blocks = Math.ceil((this.tube.rings - 1) / 4);
+      this.blocks = new Float64Array(3 * blocks);
+      this.order = new Uint32Array(blocks);
+      this.ring_step = new Uint8Array(this.tube.rings);
+      this.eye = new Float64Array(3);
+      this.count = 0;
       // the static picture (wall, organs, targets) for one camera, colour and depth
       // (render::StaticLayer), and the program that copies it into the canvas's
       this.layer = this.Layer(scene.width, scene.height);
@@ -379,6 +400,7 @@ const Viewer = (() => {
       if (this.intestine_drawn) {
         this.tube.Build(q);
         this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
+        this.intestine.Triangles(this.kept, this.Visible());
         this.Use(m.intestine, 'front');
         this.intestine.Draw();
       }
@@ -391,6 +413,154 @@ const Viewer = (() => {
       if (s.mesentery) this.DrawFilm(q, s.mesentery);
       gl.disable(gl.BLEND);
       gl.depthMask(true);
+    }
+    // The intestine's triangles to draw, into this.kept (their count), as the server's
+    // render::SkinDetail picks them: the tube cut into blocks of 4 rings; a block wholly beyond
+    // one side of the view is left out, the others drawn nearest first, each at the coarsest level
+    // of detail (every ring or every 2nd or 4th, every side or every 2nd) whose surface stays within
+    // a pixel of the full skin's at the block's nearest depth (positions, and normals' turn times
+    // half the cell); the caps at full detail. Of those, the triangles facing away from the eye
+    // (by more than a thousandth of edge-on) are left out too: GL would drop them, but
+    // SwiftShader only after it has set each one up.
+    Visible() {
+      const c = this.scene.camera, V = c.view, P = c.projection, tube = this.tube, X = tube.positions;
+      const m = tube.sides, K = tube.rings, first = 1 + (tube.cap - 1) * m, codes = this.codes;
+      const M = new Float64Array(16);  // P V, column-major
+      for (let col = 0; col < 4; ++col) {
+        for (let row = 0; row < 4; ++row) {
+          let sum = 0;
+          for (let k = 0; k < 4; ++k) sum += P[4 * k + row] * V[4 * col + k];
+          M[4 * col + row] = sum;
+        }
+      }
+      for (let v = 0, i = 0; i < X.length; ++v, i += 3) {  // which sides of the view each vertex is beyond
+        const x = X[i], y = X[i + 1], z = X[i + 2];
+        const cx = M[0] * x + M[4] * y + M[8] * z + M[12], cy = M[1] * x + M[5] * y + M[9] * z + M[13];
+        const cz = M[2] * x + M[6] * y + M[10] * z + M[14], cw = M[3] * x + M[7] * y + M[11] * z + M[15];
+        codes[v] = (cx < -cw) | (cx > cw) << 1 | (cy < -cw) << 2 | (cy > cw) << 3 | (cz < -cw) << 4 | (cz > cw) << 5;
+      }
+      // the eye (-R^T t of the rigid view), depth in front of it, metres per pixel at depth 1
+      this.eye[0] = -(V[0] * V[12] + V[1] * V[13] + V[2] * V[14]);
+      this.eye[1] = -(V[4] * V[12] + V[5] * V[13] + V[6] * V[14]);
+      this.eye[2] = -(V[8] * V[12] + V[9] * V[13] + V[10] * V[14]);
+      const pixel = 2 / (Math.max(1, this.scene.height) * Math.abs(P[5]));
+      this.count = 0;
+      const I = tube.indices, caps = 3 * (m + 2 * m * (tube.cap - 1));
+      for (const [begin, end] of [[0, caps], [I.length - caps, I.length]]) {
+        for (let t = begin; t < end; t += 3) this.Keep(I[t], I[t + 1], I[t + 2]);
+      }
+      const blocks = this.blocks, step = this.ring_step;
+      let drawn = 0;
+      step.fill(2);
+      for (let b = 0, a0 = 0; a0 + 1 < K; ++b, a0 += 4) {
+        const a1 = Math.min(a0 + 4, K - 1);
+        let outside = 63, near = Infinity;
+        const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+        for (let v = first + a0 * m; v < first + (a1 + 1) * m; ++v) {
+          outside &= codes[v];
+          for (let k = 0; k < 3; ++k) {
+            lo[k] = Math.min(lo[k], X[3 * v + k]);
+            hi[k] = Math.max(hi[k], X[3 * v + k]);
+          }
+        }
+        let level = 4;  // outside: its rings take the sides of the drawn neighbour
+        if (outside === 0) {
+          near = -V[14];  // the box's nearest corner's depth, -(view z)
+          for (let k = 0; k < 3; ++k) near -= Math.max(V[4 * k + 2] * lo[k], V[4 * k + 2] * hi[k]);
+          const allowed = pixel * Math.max(0, near);
+          for (level = 4; level > 0; --level) {
+            const [stride, sides] = DETAIL[level];
+            if (m % sides === 0 && m / sides >= 4 && this.Within(a0, a1, stride, sides, allowed)) break;
+          }
+          this.order[drawn++] = b;
+        }
+        blocks[3 * b] = a0;
+        blocks[3 * b + 1] = level;
+        blocks[3 * b + 2] = near;
+        const sides = DETAIL[level][1];
+        for (let i = a0; i <= a1; ++i) step[i] = i === a0 || i === a1 ? Math.min(step[i], sides) : sides;
+      }
+      step[0] = step[K - 1] = 1;
+      const order = this.order.subarray(0, drawn).sort((x, y) => blocks[3 * x + 2] - blocks[3 * y + 2]);
+      for (const b of order) {
+        const a0 = blocks[3 * b], a1 = Math.min(a0 + 4, K - 1), stride = DETAIL[blocks[3 * b + 1]][0];
+        for (let a = a0; a < a1; a += stride) {
+          const next = Math.min(a + stride, a1);
+          this.Strip(first + a * m, step[a], first + next * m, step[next]);
+        }
+      }
+      return this.count;
+    }
+    // Whether the rings a0..a1 drawn every `stride`-th ring and `sides`-th side stay within
+    // `allowed` (m) of the full skin (render::SkinDetail::Within)
+    Within(a0, a1, stride, sides, allowed) {
+      const tube = this.tube, X = tube.positions, N = tube.normals, m = tube.sides;
+      const first = 1 + (tube.cap - 1) * m, at = (ring, side) => 3 * (first + ring * m + (side < m ? side : side - m));
+      for (let i = a0; i <= a1; ++i) {
+        const offset = (i - a0) % stride, i0 = i - offset, i1 = Math.min(i0 + stride, a1);
+        const t = i1 > i0 ? (i - i0) / (i1 - i0) : 0;
+        for (let j = 0; j < m; ++j) {
+          const j0 = j - j % sides, u = (j - j0) / sides;
+          if (offset === 0 && j === j0) continue;  // a kept vertex
+          const p = at(i, j), p00 = at(i0, j0), p01 = at(i0, j0 + sides), p10 = at(i1, j0), p11 = at(i1, j0 + sides);
+          const w00 = (1 - t) * (1 - u), w01 = (1 - t) * u, w10 = t * (1 - u), w11 = t * u;
+          let off = 0, turn = 0, ring = 0, side = 0, shade = 0;
+          const s = [0, 0, 0];
+          for (let k = 0; k < 3; ++k) {
+            const d = X[p + k] - (w00 * X[p00 + k] + w01 * X[p01 + k] + w10 * X[p10 + k] + w11 * X[p11 + k]);
+            off += d * d;
+            s[k] = w00 * N[p00 + k] + w01 * N[p01 + k] + w10 * N[p10 + k] + w11 * N[p11 + k];
+            shade += s[k] * s[k];
+            ring += (X[p10 + k] - X[p00 + k]) ** 2;
+            side += (X[p01 + k] - X[p00 + k]) ** 2;
+          }
+          shade = Math.sqrt(shade) || 1;
+          for (let k = 0; k < 3; ++k) turn += (N[p + k] - s[k] / shade) ** 2;
+          // the shading's error as a bump of that slope across the coarse cell
+          const cell = Math.sqrt(Math.max(ring, side));
+          if (Math.max(Math.sqrt(off), 0.5 * Math.sqrt(turn) * cell) > allowed) return false;
+        }
+      }
+      return true;
+    }
+    // The triangles joining the ring at vertex a (every step_a-th side) to the ring at b
+    // (render::SkinDetail::Strip): with equal steps the skin's own, else around both by angle.
+    Strip(a, step_a, b, step_b) {
+      const m = this.tube.sides, na = m / step_a, nb = m / step_b;
+      const A = (k) => a + (k * step_a) % m, B = (k) => b + (k * step_b) % m;
+      if (step_a === step_b) {
+        for (let k = 0; k < na; ++k) {
+          this.Keep(A(k), B(k + 1), B(k));
+          this.Keep(A(k), A(k + 1), B(k + 1));
+        }
+        return;
+      }
+      let ia = 0, ib = 0;
+      while (ia < na || ib < nb) {
+        if (ib >= nb || (ia < na && (ia + 1) * step_a < (ib + 1) * step_b)) {
+          this.Keep(A(ia), A(ia + 1), B(ib));
+          ++ia;
+        } else {
+          this.Keep(A(ia), B(ib + 1), B(ib));
+          ++ib;
+        }
+      }
+    }
+    // triangle a b d into this.kept unless wholly beyond a side of the view or facing away
+    Keep(a, b, d) {
+      const codes = this.codes;
+      if ((codes[a] & codes[b] & codes[d]) !== 0) return;
+      const X = this.tube.positions, e = this.eye, ia = 3 * a, ib = 3 * b, id = 3 * d;
+      const ax = X[ia], ay = X[ia + 1], az = X[ia + 2];
+      const ux = X[ib] - ax, uy = X[ib + 1] - ay, uz = X[ib + 2] - az;
+      const wx = X[id] - ax, wy = X[id + 1] - ay, wz = X[id + 2] - az;
+      const nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;  // counter-clockwise: front
+      const sx = e[0] - ax, sy = e[1] - ay, sz = e[2] - az, along = nx * sx + ny * sy + nz * sz;
+      if (along < 0 && along * along > 1e-6 * (nx * nx + ny * ny + nz * nz) * (sx * sx + sy * sy + sz * sz)) return;
+      const kept = this.kept;
+      kept[this.count++] = a;
+      kept[this.count++] = b;
+      kept[this.count++] = d;
     }
     // a ruled film from the root to the centre line, drawn last (translucent)
     DrawFilm(q, film) {
@@ -483,5 +653,5 @@ const Viewer = (() => {
     }
   }
 
-  return {Player, Tube, CurvePoint};
+  return {Player, Renderer, Tube, CurvePoint};
 })();
