@@ -454,19 +454,22 @@ const Viewer = (() => {
       step.fill(2);
       for (let b = 0, a0 = 0; a0 + 1 < K; ++b, a0 += 4) {
         const a1 = Math.min(a0 + 4, K - 1);
-        let outside = 63, near = Infinity;
-        const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-        for (let v = first + a0 * m; v < first + (a1 + 1) * m; ++v) {
+        let outside = 63, near = Infinity, x0 = Infinity, y0 = Infinity, z0 = Infinity;
+        let x1 = -Infinity, y1 = -Infinity, z1 = -Infinity;  // the block's bounding box
+        for (let v = first + a0 * m, i = 3 * v; v < first + (a1 + 1) * m; ++v, i += 3) {
           outside &= codes[v];
-          for (let k = 0; k < 3; ++k) {
-            lo[k] = Math.min(lo[k], X[3 * v + k]);
-            hi[k] = Math.max(hi[k], X[3 * v + k]);
-          }
+          const x = X[i], y = X[i + 1], z = X[i + 2];
+          if (x < x0) x0 = x;
+          if (x > x1) x1 = x;
+          if (y < y0) y0 = y;
+          if (y > y1) y1 = y;
+          if (z < z0) z0 = z;
+          if (z > z1) z1 = z;
         }
         let level = 4;  // outside: its rings take the sides of the drawn neighbour
         if (outside === 0) {
-          near = -V[14];  // the box's nearest corner's depth, -(view z)
-          for (let k = 0; k < 3; ++k) near -= Math.max(V[4 * k + 2] * lo[k], V[4 * k + 2] * hi[k]);
+          // the box's nearest corner's depth, -(view z)
+          near = -V[14] - Math.max(V[2] * x0, V[2] * x1) - Math.max(V[6] * y0, V[6] * y1) - Math.max(V[10] * z0, V[10] * z1);
           const allowed = pixel * Math.max(0, near);
           for (level = 4; level > 0; --level) {
             const [stride, sides] = DETAIL[level];
@@ -494,31 +497,31 @@ const Viewer = (() => {
     // Whether the rings a0..a1 drawn every `stride`-th ring and `sides`-th side stay within
     // `allowed` (m) of the full skin (render::SkinDetail::Within)
     Within(a0, a1, stride, sides, allowed) {
-      const tube = this.tube, X = tube.positions, N = tube.normals, m = tube.sides;
-      const first = 1 + (tube.cap - 1) * m, at = (ring, side) => 3 * (first + ring * m + (side < m ? side : side - m));
+      const tube = this.tube, X = tube.positions, N = tube.normals, m = tube.sides, first = 1 + (tube.cap - 1) * m;
+      const allowed2 = allowed * allowed;
       for (let i = a0; i <= a1; ++i) {
         const offset = (i - a0) % stride, i0 = i - offset, i1 = Math.min(i0 + stride, a1);
-        const t = i1 > i0 ? (i - i0) / (i1 - i0) : 0;
+        const t = i1 > i0 ? (i - i0) / (i1 - i0) : 0, r0 = first + i0 * m, r1 = first + i1 * m;
         for (let j = 0; j < m; ++j) {
-          const j0 = j - j % sides, u = (j - j0) / sides;
+          const j0 = j - j % sides;
           if (offset === 0 && j === j0) continue;  // a kept vertex
-          const p = at(i, j), p00 = at(i0, j0), p01 = at(i0, j0 + sides), p10 = at(i1, j0), p11 = at(i1, j0 + sides);
+          const u = (j - j0) / sides, j1 = j0 + sides < m ? j0 + sides : j0 + sides - m;
+          const p = 3 * (first + i * m + j), p00 = 3 * (r0 + j0), p01 = 3 * (r0 + j1), p10 = 3 * (r1 + j0), p11 = 3 * (r1 + j1);
           const w00 = (1 - t) * (1 - u), w01 = (1 - t) * u, w10 = t * (1 - u), w11 = t * u;
-          let off = 0, turn = 0, ring = 0, side = 0, shade = 0;
-          const s = [0, 0, 0];
-          for (let k = 0; k < 3; ++k) {
-            const d = X[p + k] - (w00 * X[p00 + k] + w01 * X[p01 + k] + w10 * X[p10 + k] + w11 * X[p11 + k]);
-            off += d * d;
-            s[k] = w00 * N[p00 + k] + w01 * N[p01 + k] + w10 * N[p10 + k] + w11 * N[p11 + k];
-            shade += s[k] * s[k];
-            ring += (X[p10 + k] - X[p00 + k]) ** 2;
-            side += (X[p01 + k] - X[p00 + k]) ** 2;
-          }
-          shade = Math.sqrt(shade) || 1;
-          for (let k = 0; k < 3; ++k) turn += (N[p + k] - s[k] / shade) ** 2;
+          const dx = X[p] - (w00 * X[p00] + w01 * X[p01] + w10 * X[p10] + w11 * X[p11]);
+          const dy = X[p + 1] - (w00 * X[p00 + 1] + w01 * X[p01 + 1] + w10 * X[p10 + 1] + w11 * X[p11 + 1]);
+          const dz = X[p + 2] - (w00 * X[p00 + 2] + w01 * X[p01 + 2] + w10 * X[p10 + 2] + w11 * X[p11 + 2]);
+          if (dx * dx + dy * dy + dz * dz > allowed2) return false;
           // the shading's error as a bump of that slope across the coarse cell
-          const cell = Math.sqrt(Math.max(ring, side));
-          if (Math.max(Math.sqrt(off), 0.5 * Math.sqrt(turn) * cell) > allowed) return false;
+          let sx = w00 * N[p00] + w01 * N[p01] + w10 * N[p10] + w11 * N[p11];
+          let sy = w00 * N[p00 + 1] + w01 * N[p01 + 1] + w10 * N[p10 + 1] + w11 * N[p11 + 1];
+          let sz = w00 * N[p00 + 2] + w01 * N[p01 + 2] + w10 * N[p10 + 2] + w11 * N[p11 + 2];
+          const shade = Math.sqrt(sx * sx + sy * sy + sz * sz) || 1;
+          sx = N[p] - sx / shade; sy = N[p + 1] - sy / shade; sz = N[p + 2] - sz / shade;
+          const ax = X[p10] - X[p00], ay = X[p10 + 1] - X[p00 + 1], az = X[p10 + 2] - X[p00 + 2];
+          const bx = X[p01] - X[p00], by = X[p01 + 1] - X[p00 + 1], bz = X[p01 + 2] - X[p00 + 2];
+          const cell2 = Math.max(ax * ax + ay * ay + az * az, bx * bx + by * by + bz * bz);
+          if (0.25 * (sx * sx + sy * sy + sz * sz) * cell2 > allowed2) return false;
         }
       }
       return true;
@@ -527,14 +530,15 @@ const Viewer = (() => {
     // (render::SkinDetail::Strip): with equal steps the skin's own, else around both by angle.
     Strip(a, step_a, b, step_b) {
       const m = this.tube.sides, na = m / step_a, nb = m / step_b;
-      const A = (k) => a + (k * step_a) % m, B = (k) => b + (k * step_b) % m;
       if (step_a === step_b) {
-        for (let k = 0; k < na; ++k) {
-          this.Keep(A(k), B(k + 1), B(k));
-          this.Keep(A(k), A(k + 1), B(k + 1));
+        for (let j = 0; j < m; j += step_a) {
+          const next = j + step_a < m ? j + step_a : 0;
+          this.Keep(a + j, b + next, b + j);
+          this.Keep(a + j, a + next, b + next);
         }
         return;
       }
+      const A = (k) => a + (k * step_a) % m, B = (k) => b + (k * step_b) % m;
       let ia = 0, ib = 0;
       while (ia < na || ib < nb) {
         if (ib >= nb || (ia < na && (ia + 1) * step_a < (ib + 1) * step_b)) {
