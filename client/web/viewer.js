@@ -192,6 +192,23 @@ const Viewer = (() => {
         this.count = indices.length;
       }
     }
+    // new positions and normals of as many vertices as before
+    Move(positions, normals) {
+      const gl = this.gl;
+      [positions, normals].forEach((data, k) => {
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[k]);
+        gl.bufferSubData(gl.ARRAY_BUFFER, 0, data);
+      });
+    }
+    // a fourth attribute (location 3, 3 floats a vertex) from `buffer`
+    Attribute(buffer) {
+      const gl = this.gl;
+      gl.bindVertexArray(this.vao);
+      gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+      gl.enableVertexAttribArray(3);
+      gl.vertexAttribPointer(3, 3, gl.FLOAT, false, 0, 0);
+      gl.bindVertexArray(null);
+    }
     // the first `count` of `indices` as the triangles, into the index buffer made before
     Triangles(indices, count) {
       const gl = this.gl;
@@ -207,7 +224,7 @@ const Viewer = (() => {
     }
   }
 
-  function Compile(gl, vertex, fragment) {
+  function Compile(gl, vertex, fragment, captured = null) {
     const shader = (type, text) => {
       const s = gl.createShader(type);
       gl.shaderSource(s, text);
@@ -218,6 +235,7 @@ const Viewer = (() => {
     const program = gl.createProgram();
     gl.attachShader(program, shader(gl.VERTEX_SHADER, vertex));
     gl.attachShader(program, shader(gl.FRAGMENT_SHADER, fragment));
+    if (captured !== null) gl.transformFeedbackVaryings(program, captured, gl.SEPARATE_ATTRIBS);
     gl.linkProgram(program);
     if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
     const names = ['u_view', 'u_projection', 'u_albedo', 'u_ambient', 'u_specular', 'u_shininess', 'u_sheen',
@@ -263,8 +281,10 @@ const Viewer = (() => {
       // every program the scene draws, compiled now rather than mid-stream
       for (const m of [scene.materials.intestine, scene.materials.tool, scene.materials.mesentery,
                        ...this.statics.map((st) => st.material)]) this.ProgramFor(m);
+      this.ProgramFor(scene.materials.intestine, true);
       this.tube = new Tube(scene.tube);
       this.intestine = new Mesh(gl);
+      this.serosa = null;  // the serosa's noises at the intestine's vertices (Serosa)
       this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, this.tube.indices, true);
       this.tools = new Mesh(gl);
       this.tools_shown = null;  // the tools' triangles in this.tools
@@ -314,24 +334,54 @@ const Viewer = (() => {
       return framebuffer;
     }
     // The program of a material's pattern and exponents, as render::MeshRenderer makes it: the
-    // serosa's noises per vertex, the highlights' whole exponents as products.
-    ProgramFor(material) {
+    // serosa's noises per vertex, the highlights' whole exponents as products. `given`: the
+    // serosa's noises come with the vertices (the intestine's, this.serosa); `captured`: the
+    // names of the vertex shader's outputs kept by a transform feedback.
+    ProgramFor(material, given = false, captured = null) {
       const pattern = material.pattern | 0, per_vertex = pattern === 2;
       const a = WholeExponent(material.shininess), b = WholeExponent(material.sheen_shininess);
-      const whole = a > 0 && b > 0, key = pattern + (per_vertex ? 'v' : '') + (whole ? ' ' + a + ' ' + b : '');
+      const whole = a > 0 && b > 0, attribute = per_vertex && given;
+      const key = pattern + (per_vertex ? 'v' : '') + (attribute ? 'a' : '') + (whole ? ' ' + a + ' ' + b : '') +
+                  (captured ? ' ' + captured : '');
       let p = this.programs.get(key);
       if (p !== undefined) return p;
       const sh = this.scene.shaders, version = '#version 300 es\nprecision highp float;\n';
-      const define = per_vertex ? '#define SEROSA_PER_VERTEX 1\n' : '';
+      const define = (per_vertex ? '#define SEROSA_PER_VERTEX 1\n' : '') + (attribute ? '#define SEROSA_ATTRIBUTE 1\n' : '');
       const exponents = whole ? '#define INTEGER_EXPONENTS 1\n' + IntegerPower('PowShininess', a) +
                                 IntegerPower('PowSheenShininess', b) : '';
-      p = Compile(this.gl, version + define + (per_vertex ? sh.noise : '') + sh.vertex,
-                  version + '#define PATTERN ' + pattern + '\n' + define + sh.noise + exponents + sh.fragment);
+      p = Compile(this.gl, version + define + (per_vertex && !attribute ? sh.noise : '') + sh.vertex,
+                  version + '#define PATTERN ' + pattern + '\n' + define + sh.noise + exponents + sh.fragment, captured);
       this.programs.set(key, p);
       return p;
     }
-    Use(material, faces) {
-      const gl = this.gl, c = this.scene.camera, p = this.ProgramFor(material);
+    // The serosa's noises at each vertex of the intestine, by the server's vertex shader run
+    // once over its texture points (which never change: the parametric skin's rings keep their
+    // radii and places along the bowel) and kept by a transform feedback.
+    Serosa() {
+      const gl = this.gl, vertices = this.tube.texture.length / 3;
+      const p = this.ProgramFor(this.scene.materials.intestine, false, ['v_serosa']);
+      this.serosa = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.serosa);
+      gl.bufferData(gl.ARRAY_BUFFER, 12 * vertices, gl.STATIC_DRAW);
+      gl.bindBuffer(gl.ARRAY_BUFFER, null);
+      const feedback = gl.createTransformFeedback();
+      gl.useProgram(p.program);
+      gl.bindVertexArray(this.intestine.vao);
+      gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, feedback);
+      gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, this.serosa);
+      gl.enable(gl.RASTERIZER_DISCARD);
+      gl.beginTransformFeedback(gl.POINTS);
+      gl.drawArrays(gl.POINTS, 0, vertices);
+      gl.endTransformFeedback();
+      gl.disable(gl.RASTERIZER_DISCARD);
+      gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
+      gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
+      gl.bindVertexArray(null);
+      gl.deleteTransformFeedback(feedback);
+      this.intestine.Attribute(this.serosa);
+    }
+    Use(material, faces, given = false) {
+      const gl = this.gl, c = this.scene.camera, p = this.ProgramFor(material, given);
       gl.useProgram(p.program);
       gl.uniformMatrix4fv(p.u.u_view, false, c.view);
       gl.uniformMatrix4fv(p.u.u_projection, false, c.projection);
@@ -399,9 +449,14 @@ const Viewer = (() => {
       gl.depthFunc(gl.LESS);
       if (this.intestine_drawn) {
         this.tube.Build(q);
-        this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
+        if (this.serosa === null) {
+          this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
+          this.Serosa();
+        } else {
+          this.intestine.Move(this.tube.positions, this.tube.normals);
+        }
         this.intestine.Triangles(this.kept, this.Visible());
-        this.Use(m.intestine, 'front');
+        this.Use(m.intestine, 'front', true);
         this.intestine.Draw();
       }
       if (tools !== null) {
