@@ -143,11 +143,11 @@ std::string SceneJson(const mechanics::ModelParams& params,
   // after its GLSL ES version and precision
   std::string vertex = render::kTissueVertexShader;
   vertex.erase(0, vertex.find('\n') + 1);  // "#version 330 core"
-  std::string out = Cat("{\"width\":", width, ",\"height\":", height,
-                        ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(),
-                        ",\"noise\":", nlohmann::json(render::kTissueNoise).dump(),
-                        ",\"fragment\":", nlohmann::json(render::kTissueFragmentShader).dump(),
-                        "},\"camera\":");
+  std::string out =
+      Cat("{\"width\":", width, ",\"height\":", height,
+          ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(),
+          ",\"noise\":", nlohmann::json(render::kTissueNoise).dump(),
+          ",\"fragment\":", nlohmann::json(render::kTissueFragmentShader).dump(), "},\"camera\":");
   out.append(CameraOf(scope, width, height));
   out.append(",\"background\":");
   Numbers(&out, std::vector<float>(palette.background.data(), palette.background.data() + 3));
