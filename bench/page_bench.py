@@ -3,8 +3,8 @@ session in a loopback-only namespace): `viscera view` on the session, then for e
 headless Chromium with those flags opens the page and, once it draws, is watched for SECONDS:
 the frames the page drew per second, the page's JavaScript per frame (Viewer.Player.Frame: the
 skin rebuilt and the GL calls issued, not the rasterization, which runs in Chromium's GPU
-process), a frame drawn and finished (a pixel read back, median of 20, after the window) and Chromium's
-CPU (cores: CPU seconds per second, by process).
+process), a frame drawn and finished (a pixel read back, median of 20, after the window) and
+Chromium's CPU (cores: CPU seconds per second, by process).
 
 Usage: page_bench.py VISCERA SESSION LCM_URL SCENE_DIR WORK SECONDS VARIANT...
   VARIANT: Chromium flags added to tests/e2e/devtools_pipe.py's, space-separated; "!FLAG" drops
