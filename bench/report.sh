@@ -34,6 +34,7 @@ benchmarks=(
   "server|text|sh bench/server_bench.sh $build"
   "frames|text|sh bench/frames_bench.sh $build"
   "frame-lease|text|bash bench/frame_lease_bench.sh $build"
+  "page|text|bash bench/page_bench.sh $build"
   "pacer|text|$build/bench/bench_pacer 10 1000 0 50 100 200 400"
   "haptic|text|sh bench/haptic_bench.sh $build"
 )

@@ -139,14 +139,15 @@ std::string SceneJson(const mechanics::ModelParams& params,
   const render::Palette palette = render::DefaultPalette();
   const render::Laparoscope scope =
       render::SceneLaparoscope(params, ControlPoints(first), width, height);
-  // the server's own shaders: the page prefixes its GLSL ES version and precision
+  // the server's own shaders, in pieces the page puts together as render::MeshRenderer does,
+  // after its GLSL ES version and precision
   std::string vertex = render::kTissueVertexShader;
   vertex.erase(0, vertex.find('\n') + 1);  // "#version 330 core"
   std::string out =
       Cat("{\"width\":", width, ",\"height\":", height,
-          ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(), ",\"fragment\":",
-          nlohmann::json(Cat(render::kTissueNoise, render::kTissueFragmentShader)).dump(),
-          "},\"camera\":");
+          ",\"shaders\":{\"vertex\":", nlohmann::json(vertex).dump(),
+          ",\"noise\":", nlohmann::json(render::kTissueNoise).dump(),
+          ",\"fragment\":", nlohmann::json(render::kTissueFragmentShader).dump(), "},\"camera\":");
   out.append(CameraOf(scope, width, height));
   out.append(",\"background\":");
   Numbers(&out, std::vector<float>(palette.background.data(), palette.background.data() + 3));

@@ -8,30 +8,27 @@
 
 const Viewer = (() => {
   // ---- the intestine: uniform Catmull-Rom curve with reflected end points ----------------
-  function CurvePoint(q, n, s, out) {
+  // coordinate a of control point k, the end points reflected beyond the ends
+  function At(q, n, k, a) {
+    if (k < 0) return 2 * q[a] - q[3 + a];
+    if (k >= n) return 2 * q[3 * (n - 1) + a] - q[3 * (n - 2) + a];
+    return q[3 * k + a];
+  }
+  function CurvePoint(q, n, s, out, at = 0) {
     const x = Math.min(Math.max(s, 0), 1) * (n - 1);
     const j = Math.min(Math.floor(x), n - 2);
     const u = x - j;
-    const at = (k, a) => {
-      if (k < 0) return 2 * q[a] - q[3 + a];
-      if (k >= n) return 2 * q[3 * (n - 1) + a] - q[3 * (n - 2) + a];
-      return q[3 * k + a];
-    };
     const u2 = u * u, u3 = u2 * u;
     const w0 = -0.5 * u3 + u2 - 0.5 * u, w1 = 1.5 * u3 - 2.5 * u2 + 1;
     const w2 = -1.5 * u3 + 2 * u2 + 0.5 * u, w3 = 0.5 * u3 - 0.5 * u2;
     for (let a = 0; a < 3; ++a) {
-      out[a] = w0 * at(j - 1, a) + w1 * at(j, a) + w2 * at(j + 1, a) + w3 * at(j + 2, a);
+      out[at + a] = w0 * At(q, n, j - 1, a) + w1 * At(q, n, j, a) + w2 * At(q, n, j + 1, a) + w3 * At(q, n, j + 2, a);
     }
     return u;
   }
   const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-  const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
   const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
-  const scale = (a, k) => [a[0] * k, a[1] * k, a[2] * k];
-  const unit = (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return scale(a, 1 / l); };
-  // v reflected in the plane with normal n (any length)
-  const reflect = (v, n) => { const nn = dot(n, n); return nn > 0 ? sub(v, scale(n, 2 * dot(v, n) / nn)) : v; };
+  const unit = (a) => { const l = Math.hypot(a[0], a[1], a[2]) || 1; return [a[0] / l, a[1] / l, a[2] / l]; };
 
   class Tube {
     constructor(t) {
@@ -45,6 +42,17 @@ const Viewer = (() => {
       this.texture = new Float32Array(3 * vertices);
       this.indices = this.Triangles();
       this.first_normal = null;  // kept from build to build: the rings do not spin
+      // per ring: centre, tangent, normal (3 each), radius, curve parameter u; reused
+      const K = this.rings;
+      this.centres = new Float64Array(3 * K);
+      this.tangents = new Float64Array(3 * K);
+      this.frames = new Float64Array(3 * K);
+      this.radii = new Float64Array(K);
+      this.ahead = new Float64Array(3);
+      this.behind = new Float64Array(3);
+      this.cos = Float64Array.from({length: this.sides}, (_, j) => Math.cos(2 * Math.PI * j / this.sides));
+      this.sin = Float64Array.from({length: this.sides}, (_, j) => Math.sin(2 * Math.PI * j / this.sides));
+      this.at = 0;
     }
     // rows of `sides` vertices from the front pole's ring to the back pole's, as TubeRays
     Triangles() {
@@ -61,69 +69,87 @@ const Viewer = (() => {
       for (let j = 0; j < m; ++j) out.push(back, v(rows - 1, j), v(rows - 1, j + 1));
       return new Uint32Array(out);
     }
+    Put(x, y, z, dx, dy, dz, tx, ty, tz) {
+      const i = 3 * this.at++, P = this.positions, N = this.normals, T = this.texture;
+      P[i] = x; P[i + 1] = y; P[i + 2] = z;
+      N[i] = dx; N[i + 1] = dy; N[i + 2] = dz;
+      T[i] = tx; T[i + 1] = ty; T[i + 2] = tz;
+    }
+    // ring k's vertices; theta: polar angle from the end's axis (caps, end -1 or 1), or none
+    Ring(k, theta, end) {
+      const C = this.centres, Tg = this.tangents, F = this.frames, m = this.sides;
+      const i = 3 * k, r = this.radii[k], along0 = k / (this.rings - 1) * this.t.length;
+      const tx = Tg[i], ty = Tg[i + 1], tz = Tg[i + 2], nx = F[i], ny = F[i + 1], nz = F[i + 2];
+      const bx = ty * nz - tz * ny, by = tz * nx - tx * nz, bz = tx * ny - ty * nx;  // tangent x normal
+      const cap = theta !== undefined, st = cap ? Math.sin(theta) : 1, ct = cap ? Math.cos(theta) : 0;
+      const e = cap ? end * ct : 0, along = cap ? end * r * ct : 0;
+      for (let j = 0; j < m; ++j) {
+        const cp = this.cos[j], sp = this.sin[j];
+        let dx = cp * nx + sp * bx, dy = cp * ny + sp * by, dz = cp * nz + sp * bz;
+        if (cap) {
+          dx = st * dx + e * tx; dy = st * dy + e * ty; dz = st * dz + e * tz;
+        }
+        this.Put(C[i] + r * dx, C[i + 1] + r * dy, C[i + 2] + r * dz, dx, dy, dz, along0 + along, r * cp, r * sp);
+      }
+    }
+    Pole(k, end) {
+      const i = 3 * k, C = this.centres, Tg = this.tangents, r = this.radii[k];
+      const dx = end * Tg[i], dy = end * Tg[i + 1], dz = end * Tg[i + 2];
+      this.Put(C[i] + r * dx, C[i + 1] + r * dy, C[i + 2] + r * dz, dx, dy, dz,
+               k / (this.rings - 1) * this.t.length + end * r, 0, 0);
+    }
     Build(q) {
-      const t = this.t, n = t.points, K = this.rings, m = this.sides;
-      const centres = [], tangents = [], radii = [], ss = [];
-      const p = [0, 0, 0], p2 = [0, 0, 0];
+      const t = this.t, n = t.points, K = this.rings, C = this.centres, Tg = this.tangents, F = this.frames;
+      const ahead = this.ahead, behind = this.behind, h = 1e-4;
       for (let k = 0; k < K; ++k) {
-        const s = k / (K - 1);
-        const u = CurvePoint(q, n, s, p);
-        const h = 1e-4;
-        CurvePoint(q, n, Math.min(s + h, 1), p2);
-        const ahead = sub(p2, p);
-        CurvePoint(q, n, Math.max(s - h, 0), p2);
-        tangents.push(unit(sub(ahead, sub(p2, p))));
-        centres.push([p[0], p[1], p[2]]);
+        const s = k / (K - 1), i = 3 * k;
+        const u = CurvePoint(q, n, s, C, i);
+        CurvePoint(q, n, Math.min(s + h, 1), ahead);
+        CurvePoint(q, n, Math.max(s - h, 0), behind);
+        let x = ahead[0] - behind[0], y = ahead[1] - behind[1], z = ahead[2] - behind[2];
+        const l = Math.hypot(x, y, z) || 1;
+        Tg[i] = x / l; Tg[i + 1] = y / l; Tg[i + 2] = z / l;
         const c = Math.cos(Math.PI * u);
-        radii.push(t.radius_min + c * c * (t.radius_max - t.radius_min));
-        ss.push(s);
+        this.radii[k] = t.radius_min + c * c * (t.radius_max - t.radius_min);
       }
       // frames by double reflection (Wang et al. 2008), from the last build's first normal
       let normal = this.first_normal;
       if (normal === null) {
-        const t0 = tangents[0], a = [Math.abs(t0[0]), Math.abs(t0[1]), Math.abs(t0[2])];
+        const a = [Math.abs(Tg[0]), Math.abs(Tg[1]), Math.abs(Tg[2])];
         normal = a[0] <= a[1] && a[0] <= a[2] ? [1, 0, 0] : a[1] <= a[2] ? [0, 1, 0] : [0, 0, 1];
       }
-      normal = unit(sub(normal, scale(tangents[0], dot(normal, tangents[0]))));
+      const along = normal[0] * Tg[0] + normal[1] * Tg[1] + normal[2] * Tg[2];
+      normal = unit([normal[0] - along * Tg[0], normal[1] - along * Tg[1], normal[2] - along * Tg[2]]);
       this.first_normal = normal;
-      const normals = [normal];
+      F[0] = normal[0]; F[1] = normal[1]; F[2] = normal[2];
       for (let k = 1; k < K; ++k) {
-        const v1 = sub(centres[k], centres[k - 1]);
-        const rl = reflect(normals[k - 1], v1), tl = reflect(tangents[k - 1], v1);
-        normals.push(unit(reflect(rl, sub(tangents[k], tl))));
-      }
-      let at = 0;
-      const put = (pos, dir, tex) => {
-        this.positions.set(pos, 3 * at);
-        this.normals.set(dir, 3 * at);
-        this.texture.set(tex, 3 * at);
-        ++at;
-      };
-      const ring = (k, theta, end) => {  // theta: polar angle from the end's axis (caps), or none
-        const c = centres[k], tk = tangents[k], nk = normals[k], bk = cross(tk, nk), r = radii[k];
-        for (let j = 0; j < m; ++j) {
-          const phi = 2 * Math.PI * j / m, cp = Math.cos(phi), sp = Math.sin(phi);
-          let dir = [cp * nk[0] + sp * bk[0], cp * nk[1] + sp * bk[1], cp * nk[2] + sp * bk[2]];
-          let along = 0;
-          if (theta !== undefined) {
-            const st = Math.sin(theta), ct = Math.cos(theta);
-            dir = [st * dir[0] + end * ct * tk[0], st * dir[1] + end * ct * tk[1], st * dir[2] + end * ct * tk[2]];
-            along = end * r * ct;
-          }
-          put([c[0] + r * dir[0], c[1] + r * dir[1], c[2] + r * dir[2]], dir,
-              [ss[k] * t.length + along, r * cp, r * sp]);
+        const i = 3 * k, o = i - 3;
+        // r = the last normal reflected in the plane normal to v1 = the step between centres,
+        // tl = the last tangent reflected so, then r reflected in the plane normal to t - tl
+        const v1x = C[i] - C[o], v1y = C[i + 1] - C[o + 1], v1z = C[i + 2] - C[o + 2];
+        const c1 = v1x * v1x + v1y * v1y + v1z * v1z;
+        let rx = F[o], ry = F[o + 1], rz = F[o + 2], lx = Tg[o], ly = Tg[o + 1], lz = Tg[o + 2];
+        if (c1 > 0) {
+          const a = 2 * (v1x * rx + v1y * ry + v1z * rz) / c1, b = 2 * (v1x * lx + v1y * ly + v1z * lz) / c1;
+          rx -= a * v1x; ry -= a * v1y; rz -= a * v1z;
+          lx -= b * v1x; ly -= b * v1y; lz -= b * v1z;
         }
-      };
-      const C = this.cap;
-      const pole = (k, end) => {
-        const d = scale(tangents[k], end), r = radii[k], c = centres[k];
-        put([c[0] + r * d[0], c[1] + r * d[1], c[2] + r * d[2]], d, [ss[k] * t.length + end * r, 0, 0]);
-      };
-      pole(0, -1);
-      for (let i = 1; i < C; ++i) ring(0, Math.PI / 2 * i / C, -1);
-      for (let k = 0; k < K; ++k) ring(k);
-      for (let i = C - 1; i >= 1; --i) ring(K - 1, Math.PI / 2 * i / C, 1);
-      pole(K - 1, 1);
+        const v2x = Tg[i] - lx, v2y = Tg[i + 1] - ly, v2z = Tg[i + 2] - lz;
+        const c2 = v2x * v2x + v2y * v2y + v2z * v2z;
+        if (c2 > 0) {
+          const a = 2 * (v2x * rx + v2y * ry + v2z * rz) / c2;
+          rx -= a * v2x; ry -= a * v2y; rz -= a * v2z;
+        }
+        const l = Math.hypot(rx, ry, rz) || 1;
+        F[i] = rx / l; F[i + 1] = ry / l; F[i + 2] = rz / l;
+      }
+      this.at = 0;
+      const cap = this.cap;
+      this.Pole(0, -1);
+      for (let i = 1; i < cap; ++i) this.Ring(0, Math.PI / 2 * i / cap, -1);
+      for (let k = 0; k < K; ++k) this.Ring(k);
+      for (let i = cap - 1; i >= 1; --i) this.Ring(K - 1, Math.PI / 2 * i / cap, 1);
+      this.Pole(K - 1, 1);
     }
   }
 
@@ -133,6 +159,7 @@ const Viewer = (() => {
       this.gl = gl;
       this.vao = gl.createVertexArray();
       this.buffers = [gl.createBuffer(), gl.createBuffer(), gl.createBuffer()];
+      this.sizes = [-1, -1, -1];  // bytes each buffer holds
       this.index = gl.createBuffer();
       this.count = 0;
       gl.bindVertexArray(this.vao);
@@ -144,11 +171,19 @@ const Viewer = (() => {
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, this.index);
       gl.bindVertexArray(null);
     }
+    // positions, normals, texture points (or null: the positions) and triangles (or null: those
+    // before); a buffer of the same size is written over, not made again
     Upload(positions, normals, texture, indices, dynamic) {
       const gl = this.gl, usage = dynamic ? gl.DYNAMIC_DRAW : gl.STATIC_DRAW;
       [positions, normals, texture || positions].forEach((data, k) => {
+        const array = data instanceof Float32Array ? data : new Float32Array(data);
         gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[k]);
-        gl.bufferData(gl.ARRAY_BUFFER, data instanceof Float32Array ? data : new Float32Array(data), usage);
+        if (dynamic && this.sizes[k] === array.byteLength) {
+          gl.bufferSubData(gl.ARRAY_BUFFER, 0, array);
+        } else {
+          gl.bufferData(gl.ARRAY_BUFFER, array, usage);
+          this.sizes[k] = array.byteLength;
+        }
       });
       if (indices !== null) {
         gl.bindVertexArray(this.vao);
@@ -157,6 +192,31 @@ const Viewer = (() => {
         this.count = indices.length;
       }
     }
+    // new positions and normals of as many vertices as before
+    Move(positions, normals) {
+      const gl = this.gl;
+      [positions, normals].forEach((data, k) => {
+        gl.bindBuffer(gl.ARRAY_BUFFER, this.buffers[k]);
+        gl.bufferSubData(gl.ARRAY_BUFFER, 0, data);
+      });
+    }
+    // a fourth attribute (location 3, 3 floats a vertex) from `buffer`
+    Attribute(buffer) {
+      const gl = this.gl;
+      gl.bindVertexArray(this.vao);
+      gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+      gl.enableVertexAttribArray(3);
+      gl.vertexAttribPointer(3, 3, gl.FLOAT, false, 0, 0);
+      gl.bindVertexArray(null);
+    }
+    // the first `count` of `indices` as the triangles, into the index buffer made before
+    Triangles(indices, count) {
+      const gl = this.gl;
+      gl.bindVertexArray(this.vao);
+      gl.bufferSubData(gl.ELEMENT_ARRAY_BUFFER, 0, indices, 0, count);
+      gl.bindVertexArray(null);
+      this.count = count;
+    }
     Draw() {
       if (this.count === 0) return;
       this.gl.bindVertexArray(this.vao);
@@ -164,7 +224,7 @@ const Viewer = (() => {
     }
   }
 
-  function Compile(gl, vertex, fragment) {
+  function Compile(gl, vertex, fragment, captured = null) {
     const shader = (type, text) => {
       const s = gl.createShader(type);
       gl.shaderSource(s, text);
@@ -175,6 +235,7 @@ const Viewer = (() => {
     const program = gl.createProgram();
     gl.attachShader(program, shader(gl.VERTEX_SHADER, vertex));
     gl.attachShader(program, shader(gl.FRAGMENT_SHADER, fragment));
+    if (captured !== null) gl.transformFeedbackVaryings(program, captured, gl.SEPARATE_ATTRIBS);
     gl.linkProgram(program);
     if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
     const names = ['u_view', 'u_projection', 'u_albedo', 'u_ambient', 'u_specular', 'u_shininess', 'u_sheen',
@@ -184,34 +245,143 @@ const Viewer = (() => {
     return {program, u};
   }
 
+  // x^n as the product of x^(2^i) over n's bits (render::IntegerPowerSource)
+  function IntegerPower(name, n) {
+    let body = 'float ' + name + '(float x) {\n  float r = 1.0;\n';
+    for (let bits = n; bits > 0; bits >>= 1) {
+      if (bits & 1) body += '  r *= x;\n';
+      if (bits > 1) body += '  x *= x;\n';
+    }
+    return body + '  return r;\n}\n';
+  }
+  // levels of detail: [every n-th ring, every n-th side] (render::kDetailLevels)
+  const DETAIL = [[1, 1], [2, 1], [4, 1], [2, 2], [4, 2]];
+  const WholeExponent = (e) => (e >= 1 && e <= 256 && e === Math.floor(e) ? e : 0);
+
+  const SameCamera = (a, b) => a === b || (a !== null && b !== null &&
+      ['view', 'projection'].every((k) => a[k].length === b[k].length && a[k].every((x, i) => x === b[k][i])) &&
+      ['light_range', 'spot_inner_deg', 'spot_outer_deg'].every((k) => a[k] === b[k]));
+
   class Renderer {
     constructor(canvas, scene) {
       this.scene = scene;
       canvas.width = scene.width;
       canvas.height = scene.height;
       // opaque, as a JPEG: a translucent film must not leave the canvas itself see-through
-      const gl = canvas.getContext('webgl2', {alpha: false, antialias: false, preserveDrawingBuffer: false});
+      const gl = canvas.getContext('webgl2', {alpha: false, antialias: false, depth: true,
+                                              preserveDrawingBuffer: false});
       if (!gl) throw new Error('this browser has no WebGL2');
       this.gl = gl;
-      const version = '#version 300 es\nprecision highp float;\n';
-      const vertex = version + scene.shaders.vertex;
-      this.programs = [0, 1, 2, 3].map((k) =>
-        Compile(gl, vertex, version + '#define PATTERN ' + k + '\n' + scene.shaders.fragment));
+      this.programs = new Map();
       this.statics = scene.meshes.map((m) => {
         const mesh = new Mesh(gl);
         mesh.Upload(m.mesh.positions, m.mesh.normals, m.mesh.texture || null, m.mesh.indices, false);
         return {mesh, material: m.material, faces: m.faces};
       });
+      // every program the scene draws, compiled now rather than mid-stream
+      for (const m of [scene.materials.intestine, scene.materials.tool, scene.materials.mesentery,
+                       ...this.statics.map((st) => st.material)]) this.ProgramFor(m);
+      this.ProgramFor(scene.materials.intestine, true);
       this.tube = new Tube(scene.tube);
       this.intestine = new Mesh(gl);
+      this.serosa = null;  // the serosa's noises at the intestine's vertices (Serosa)
       this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, this.tube.indices, true);
       this.tools = new Mesh(gl);
+      this.tools_shown = null;  // the tools' triangles in this.tools
       this.film = new Mesh(gl);
       this.point = [0, 0, 0];
       this.intestine_drawn = true;  // false: everything but the intestine (the tests' control)
+      // the level of detail's and culling's (Visible): the triangles to draw, the sides of the
+      // view each vertex is beyond, per block its first ring, level and nearest depth, the order
+      // the blocks are drawn in, the sides each ring keeps
+      this.kept = new Uint32Array(this.tube.indices.length);
+      this.codes = new Uint8Array(this.tube.positions.length / 3);
+      const blocks = Math.ceil((this.tube.rings - 1) / 4);
+      this.blocks = new Float64Array(3 * blocks);
+      this.order = new Uint32Array(blocks);
+      this.ring_step = new Uint8Array(this.tube.rings);
+      this.eye = new Float64Array(3);
+      this.count = 0;
+      // the static picture (wall, organs, targets) for one camera, colour and depth
+      // (render::StaticLayer), and the program that copies it into the canvas's
+      this.layer = this.Layer(scene.width, scene.height);
+      this.layer_camera = null;
+      this.copy = Compile(gl, '#version 300 es\n' +
+        'void main() { gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0); }\n',
+        '#version 300 es\nprecision highp float;\nuniform sampler2D u_colour;\nuniform highp sampler2D u_depth;\n' +
+        'out vec4 frag_colour;\nvoid main() {\n  ivec2 p = ivec2(gl_FragCoord.xy);\n' +
+        '  frag_colour = texelFetch(u_colour, p, 0);\n  gl_FragDepth = texelFetch(u_depth, p, 0).r;\n}\n');
+      gl.useProgram(this.copy.program);
+      gl.uniform1i(gl.getUniformLocation(this.copy.program, 'u_colour'), 0);
+      gl.uniform1i(gl.getUniformLocation(this.copy.program, 'u_depth'), 1);
+      this.empty = gl.createVertexArray();
     }
-    Use(material, faces) {
-      const gl = this.gl, c = this.scene.camera, p = this.programs[material.pattern] || this.programs[0];
+    // a framebuffer with colour and depth textures (unit 0 and 1)
+    Layer(width, height) {
+      const gl = this.gl, framebuffer = gl.createFramebuffer();
+      gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+      [[gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, gl.COLOR_ATTACHMENT0],
+       [gl.DEPTH_COMPONENT24, gl.DEPTH_COMPONENT, gl.UNSIGNED_INT, gl.DEPTH_ATTACHMENT]].forEach(([inner, format, type, attachment], unit) => {
+        const texture = gl.createTexture();
+        gl.activeTexture(gl.TEXTURE0 + unit);
+        gl.bindTexture(gl.TEXTURE_2D, texture);
+        gl.texImage2D(gl.TEXTURE_2D, 0, inner, width, height, 0, format, type, null);
+        for (const p of [gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER]) gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST);
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, attachment, gl.TEXTURE_2D, texture, 0);
+      });
+      gl.activeTexture(gl.TEXTURE0);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      return framebuffer;
+    }
+    // The program of a material's pattern and exponents, as render::MeshRenderer makes it: the
+    // serosa's noises per vertex, the highlights' whole exponents as products. `given`: the
+    // serosa's noises come with the vertices (the intestine's, this.serosa); `captured`: the
+    // names of the vertex shader's outputs kept by a transform feedback.
+    ProgramFor(material, given = false, captured = null) {
+      const pattern = material.pattern | 0, per_vertex = pattern === 2;
+      const a = WholeExponent(material.shininess), b = WholeExponent(material.sheen_shininess);
+      const whole = a > 0 && b > 0, attribute = per_vertex && given;
+      const key = pattern + (per_vertex ? 'v' : '') + (attribute ? 'a' : '') + (whole ? ' ' + a + ' ' + b : '') +
+                  (captured ? ' ' + captured : '');
+      let p = this.programs.get(key);
+      if (p !== undefined) return p;
+      const sh = this.scene.shaders, version = '#version 300 es\nprecision highp float;\n';
+      const define = (per_vertex ? '#define SEROSA_PER_VERTEX 1\n' : '') + (attribute ? '#define SEROSA_ATTRIBUTE 1\n' : '');
+      const exponents = whole ? '#define INTEGER_EXPONENTS 1\n' + IntegerPower('PowShininess', a) +
+                                IntegerPower('PowSheenShininess', b) : '';
+      p = Compile(this.gl, version + define + (per_vertex && !attribute ? sh.noise : '') + sh.vertex,
+                  version + '#define PATTERN ' + pattern + '\n' + define + sh.noise + exponents + sh.fragment, captured);
+      this.programs.set(key, p);
+      return p;
+    }
+    // The serosa's noises at each vertex of the intestine, by the server's vertex shader run
+    // once over its texture points (which never change: the parametric skin's rings keep their
+    // radii and places along the bowel) and kept by a transform feedback.
+    Serosa() {
+      const gl = this.gl, vertices = this.tube.texture.length / 3;
+      const p = this.ProgramFor(this.scene.materials.intestine, false, ['v_serosa']);
+      this.serosa = gl.createBuffer();
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.serosa);
+      gl.bufferData(gl.ARRAY_BUFFER, 12 * vertices, gl.STATIC_DRAW);
+      gl.bindBuffer(gl.ARRAY_BUFFER, null);
+      const feedback = gl.createTransformFeedback();
+      gl.useProgram(p.program);
+      gl.bindVertexArray(this.intestine.vao);
+      gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, feedback);
+      gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, this.serosa);
+      gl.enable(gl.RASTERIZER_DISCARD);
+      gl.beginTransformFeedback(gl.POINTS);
+      gl.drawArrays(gl.POINTS, 0, vertices);
+      gl.endTransformFeedback();
+      gl.disable(gl.RASTERIZER_DISCARD);
+      gl.bindBufferBase(gl.TRANSFORM_FEEDBACK_BUFFER, 0, null);
+      gl.bindTransformFeedback(gl.TRANSFORM_FEEDBACK, null);
+      gl.bindVertexArray(null);
+      gl.deleteTransformFeedback(feedback);
+      this.intestine.Attribute(this.serosa);
+    }
+    Use(material, faces, given = false) {
+      const gl = this.gl, c = this.scene.camera, p = this.ProgramFor(material, given);
       gl.useProgram(p.program);
       gl.uniformMatrix4fv(p.u.u_view, false, c.view);
       gl.uniformMatrix4fv(p.u.u_projection, false, c.projection);
@@ -230,7 +400,8 @@ const Viewer = (() => {
       const translucent = material.opacity < 1;
       if (translucent) {
         gl.enable(gl.BLEND);
-        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+        // the colour blended, the frame's alpha kept opaque
+        gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ZERO, gl.ONE);
         gl.depthMask(false);
       } else {
         gl.disable(gl.BLEND);
@@ -243,53 +414,243 @@ const Viewer = (() => {
         gl.cullFace(faces === 'front' ? gl.BACK : gl.FRONT);
       }
     }
-    // Draws control points q (flat, 3 per point) and the tools' triangles (or null).
+    Clear() {
+      const gl = this.gl, b = this.scene.background;
+      gl.depthMask(true);
+      gl.clearColor(b[0], b[1], b[2], 1);
+      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    }
+    // Draws control points q (flat, 3 per point) and the tools' triangles (or null): a copy of
+    // the static picture (drawn again when the camera changed), the intestine, the tools and the
+    // mesentery over it, as the server's render::SceneRenderer.
     Draw(q, tools) {
       const gl = this.gl, s = this.scene, m = s.materials;
       gl.viewport(0, 0, s.width, s.height);
       gl.enable(gl.DEPTH_TEST);
+      if (!SameCamera(this.layer_camera, s.camera)) {
+        gl.bindFramebuffer(gl.FRAMEBUFFER, this.layer);
+        this.Clear();
+        for (const st of this.statics) {
+          this.Use(st.material, st.faces);
+          st.mesh.Draw();
+        }
+        gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+        this.layer_camera = s.camera;
+      }
+      // one triangle over the canvas writes the layer's colour and depth (a blit into the
+      // canvas cost SwiftShader four times as much)
+      gl.useProgram(this.copy.program);
+      gl.disable(gl.BLEND);
+      gl.disable(gl.CULL_FACE);
       gl.depthMask(true);
-      gl.clearColor(s.background[0], s.background[1], s.background[2], 1);
-      gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
-      this.tube.Build(q);
-      this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
-      this.Use(m.intestine, 'front');
-      if (this.intestine_drawn) this.intestine.Draw();
+      gl.depthFunc(gl.ALWAYS);
+      gl.bindVertexArray(this.empty);
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      gl.depthFunc(gl.LESS);
+      if (this.intestine_drawn) {
+        this.tube.Build(q);
+        if (this.serosa === null) {
+          this.intestine.Upload(this.tube.positions, this.tube.normals, this.tube.texture, null, true);
+          this.Serosa();
+        } else {
+          this.intestine.Move(this.tube.positions, this.tube.normals);
+        }
+        this.intestine.Triangles(this.kept, this.Visible());
+        this.Use(m.intestine, 'front', true);
+        this.intestine.Draw();
+      }
       if (tools !== null) {
-        this.tools.Upload(tools.positions, tools.normals, null, tools.indices, true);
+        if (tools !== this.tools_shown) this.tools.Upload(tools.positions, tools.normals, null, tools.indices, true);
+        this.tools_shown = tools;
         this.Use(m.tool, 'front');
         this.tools.Draw();
       }
-      for (const st of this.statics) {
-        this.Use(st.material, st.faces);
-        st.mesh.Draw();
-      }
-      const film = s.mesentery;
-      if (film) {  // a ruled film from the root to the centre line, drawn last (translucent)
-        const k = film.s.length, positions = new Float32Array(6 * k), texture = new Float32Array(6 * k);
-        const normals = new Float32Array(6 * k), indices = [];
-        for (let i = 0; i < k; ++i) {
-          CurvePoint(q, s.tube.points, film.s[i], this.point);
-          positions.set(film.root.slice(3 * i, 3 * i + 3), 6 * i);
-          positions.set(this.point, 6 * i + 3);
-          const along = s.tube.length * i / (k - 1);
-          texture.set([along, 0, 0, along, film.across, 0], 6 * i);
-        }
-        for (let i = 0; i < k; ++i) {  // across the film: the rung and the root line's direction
-          const a = 6 * Math.max(i - 1, 0), b = 6 * Math.min(i + 1, k - 1);
-          const rung = sub(positions.slice(6 * i + 3, 6 * i + 6), positions.slice(6 * i, 6 * i + 3));
-          const line = sub(positions.slice(b, b + 3), positions.slice(a, a + 3));
-          const n = unit(cross(line, rung));
-          normals.set(n, 6 * i);
-          normals.set(n, 6 * i + 3);
-          if (i + 1 < k) indices.push(2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1);
-        }
-        this.film.Upload(positions, normals, texture, indices, true);
-        this.Use(m.mesentery, 'both');
-        this.film.Draw();
-      }
+      if (s.mesentery) this.DrawFilm(q, s.mesentery);
       gl.disable(gl.BLEND);
       gl.depthMask(true);
+    }
+    // The intestine's triangles to draw, into this.kept (their count), as the server's
+    // render::SkinDetail picks them: the tube cut into blocks of 4 rings; a block wholly beyond
+    // one side of the view is left out, the others drawn nearest first, each at the coarsest level
+    // of detail (every ring or every 2nd or 4th, every side or every 2nd) whose surface stays within
+    // a pixel of the full skin's at the block's nearest depth (positions, and normals' turn times
+    // half the cell); the caps at full detail. Of those, the triangles facing away from the eye
+    // (by more than a thousandth of edge-on) are left out too: GL would drop them, but
+    // SwiftShader only after it has set each one up.
+    Visible() {
+      const c = this.scene.camera, V = c.view, P = c.projection, tube = this.tube, X = tube.positions;
+      const m = tube.sides, K = tube.rings, first = 1 + (tube.cap - 1) * m, codes = this.codes;
+      const M = new Float64Array(16);  // P V, column-major
+      for (let col = 0; col < 4; ++col) {
+        for (let row = 0; row < 4; ++row) {
+          let sum = 0;
+          for (let k = 0; k < 4; ++k) sum += P[4 * k + row] * V[4 * col + k];
+          M[4 * col + row] = sum;
+        }
+      }
+      for (let v = 0, i = 0; i < X.length; ++v, i += 3) {  // which sides of the view each vertex is beyond
+        const x = X[i], y = X[i + 1], z = X[i + 2];
+        const cx = M[0] * x + M[4] * y + M[8] * z + M[12], cy = M[1] * x + M[5] * y + M[9] * z + M[13];
+        const cz = M[2] * x + M[6] * y + M[10] * z + M[14], cw = M[3] * x + M[7] * y + M[11] * z + M[15];
+        codes[v] = (cx < -cw) | (cx > cw) << 1 | (cy < -cw) << 2 | (cy > cw) << 3 | (cz < -cw) << 4 | (cz > cw) << 5;
+      }
+      // the eye (-R^T t of the rigid view), depth in front of it, metres per pixel at depth 1
+      this.eye[0] = -(V[0] * V[12] + V[1] * V[13] + V[2] * V[14]);
+      this.eye[1] = -(V[4] * V[12] + V[5] * V[13] + V[6] * V[14]);
+      this.eye[2] = -(V[8] * V[12] + V[9] * V[13] + V[10] * V[14]);
+      const pixel = 2 / (Math.max(1, this.scene.height) * Math.abs(P[5]));
+      this.count = 0;
+      const I = tube.indices, caps = 3 * (m + 2 * m * (tube.cap - 1));
+      for (const [begin, end] of [[0, caps], [I.length - caps, I.length]]) {
+        for (let t = begin; t < end; t += 3) this.Keep(I[t], I[t + 1], I[t + 2]);
+      }
+      const blocks = this.blocks, step = this.ring_step;
+      let drawn = 0;
+      step.fill(2);
+      for (let b = 0, a0 = 0; a0 + 1 < K; ++b, a0 += 4) {
+        const a1 = Math.min(a0 + 4, K - 1);
+        let outside = 63, near = Infinity, x0 = Infinity, y0 = Infinity, z0 = Infinity;
+        let x1 = -Infinity, y1 = -Infinity, z1 = -Infinity;  // the block's bounding box
+        for (let v = first + a0 * m, i = 3 * v; v < first + (a1 + 1) * m; ++v, i += 3) {
+          outside &= codes[v];
+          const x = X[i], y = X[i + 1], z = X[i + 2];
+          if (x < x0) x0 = x;
+          if (x > x1) x1 = x;
+          if (y < y0) y0 = y;
+          if (y > y1) y1 = y;
+          if (z < z0) z0 = z;
+          if (z > z1) z1 = z;
+        }
+        let level = 4;  // outside: its rings take the sides of the drawn neighbour
+        if (outside === 0) {
+          // the box's nearest corner's depth, -(view z)
+          near = -V[14] - Math.max(V[2] * x0, V[2] * x1) - Math.max(V[6] * y0, V[6] * y1) - Math.max(V[10] * z0, V[10] * z1);
+          const allowed = pixel * Math.max(0, near);
+          for (level = 4; level > 0; --level) {
+            const [stride, sides] = DETAIL[level];
+            if (m % sides === 0 && m / sides >= 4 && this.Within(a0, a1, stride, sides, allowed)) break;
+          }
+          this.order[drawn++] = b;
+        }
+        blocks[3 * b] = a0;
+        blocks[3 * b + 1] = level;
+        blocks[3 * b + 2] = near;
+        const sides = DETAIL[level][1];
+        for (let i = a0; i <= a1; ++i) step[i] = i === a0 || i === a1 ? Math.min(step[i], sides) : sides;
+      }
+      step[0] = step[K - 1] = 1;
+      const order = this.order.subarray(0, drawn).sort((x, y) => blocks[3 * x + 2] - blocks[3 * y + 2]);
+      for (const b of order) {
+        const a0 = blocks[3 * b], a1 = Math.min(a0 + 4, K - 1), stride = DETAIL[blocks[3 * b + 1]][0];
+        for (let a = a0; a < a1; a += stride) {
+          const next = Math.min(a + stride, a1);
+          this.Strip(first + a * m, step[a], first + next * m, step[next]);
+        }
+      }
+      return this.count;
+    }
+    // Whether the rings a0..a1 drawn every `stride`-th ring and `sides`-th side stay within
+    // `allowed` (m) of the full skin (render::SkinDetail::Within)
+    Within(a0, a1, stride, sides, allowed) {
+      const tube = this.tube, X = tube.positions, N = tube.normals, m = tube.sides, first = 1 + (tube.cap - 1) * m;
+      const allowed2 = allowed * allowed;
+      for (let i = a0; i <= a1; ++i) {
+        const offset = (i - a0) % stride, i0 = i - offset, i1 = Math.min(i0 + stride, a1);
+        const t = i1 > i0 ? (i - i0) / (i1 - i0) : 0, r0 = first + i0 * m, r1 = first + i1 * m;
+        for (let j = 0; j < m; ++j) {
+          const j0 = j - j % sides;
+          if (offset === 0 && j === j0) continue;  // a kept vertex
+          const u = (j - j0) / sides, j1 = j0 + sides < m ? j0 + sides : j0 + sides - m;
+          const p = 3 * (first + i * m + j), p00 = 3 * (r0 + j0), p01 = 3 * (r0 + j1), p10 = 3 * (r1 + j0), p11 = 3 * (r1 + j1);
+          const w00 = (1 - t) * (1 - u), w01 = (1 - t) * u, w10 = t * (1 - u), w11 = t * u;
+          const dx = X[p] - (w00 * X[p00] + w01 * X[p01] + w10 * X[p10] + w11 * X[p11]);
+          const dy = X[p + 1] - (w00 * X[p00 + 1] + w01 * X[p01 + 1] + w10 * X[p10 + 1] + w11 * X[p11 + 1]);
+          const dz = X[p + 2] - (w00 * X[p00 + 2] + w01 * X[p01 + 2] + w10 * X[p10 + 2] + w11 * X[p11 + 2]);
+          if (dx * dx + dy * dy + dz * dz > allowed2) return false;
+          // the shading's error as a bump of that slope across the coarse cell
+          let sx = w00 * N[p00] + w01 * N[p01] + w10 * N[p10] + w11 * N[p11];
+          let sy = w00 * N[p00 + 1] + w01 * N[p01 + 1] + w10 * N[p10 + 1] + w11 * N[p11 + 1];
+          let sz = w00 * N[p00 + 2] + w01 * N[p01 + 2] + w10 * N[p10 + 2] + w11 * N[p11 + 2];
+          const shade = Math.sqrt(sx * sx + sy * sy + sz * sz) || 1;
+          sx = N[p] - sx / shade; sy = N[p + 1] - sy / shade; sz = N[p + 2] - sz / shade;
+          const ax = X[p10] - X[p00], ay = X[p10 + 1] - X[p00 + 1], az = X[p10 + 2] - X[p00 + 2];
+          const bx = X[p01] - X[p00], by = X[p01 + 1] - X[p00 + 1], bz = X[p01 + 2] - X[p00 + 2];
+          const cell2 = Math.max(ax * ax + ay * ay + az * az, bx * bx + by * by + bz * bz);
+          if (0.25 * (sx * sx + sy * sy + sz * sz) * cell2 > allowed2) return false;
+        }
+      }
+      return true;
+    }
+    // The triangles joining the ring at vertex a (every step_a-th side) to the ring at b
+    // (render::SkinDetail::Strip): with equal steps the skin's own, else around both by angle.
+    Strip(a, step_a, b, step_b) {
+      const m = this.tube.sides, na = m / step_a, nb = m / step_b;
+      if (step_a === step_b) {
+        for (let j = 0; j < m; j += step_a) {
+          const next = j + step_a < m ? j + step_a : 0;
+          this.Keep(a + j, b + next, b + j);
+          this.Keep(a + j, a + next, b + next);
+        }
+        return;
+      }
+      const A = (k) => a + (k * step_a) % m, B = (k) => b + (k * step_b) % m;
+      let ia = 0, ib = 0;
+      while (ia < na || ib < nb) {
+        if (ib >= nb || (ia < na && (ia + 1) * step_a < (ib + 1) * step_b)) {
+          this.Keep(A(ia), A(ia + 1), B(ib));
+          ++ia;
+        } else {
+          this.Keep(A(ia), B(ib + 1), B(ib));
+          ++ib;
+        }
+      }
+    }
+    // triangle a b d into this.kept unless wholly beyond a side of the view or facing away
+    Keep(a, b, d) {
+      const codes = this.codes;
+      if ((codes[a] & codes[b] & codes[d]) !== 0) return;
+      const X = this.tube.positions, e = this.eye, ia = 3 * a, ib = 3 * b, id = 3 * d;
+      const ax = X[ia], ay = X[ia + 1], az = X[ia + 2];
+      const ux = X[ib] - ax, uy = X[ib + 1] - ay, uz = X[ib + 2] - az;
+      const wx = X[id] - ax, wy = X[id + 1] - ay, wz = X[id + 2] - az;
+      const nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;  // counter-clockwise: front
+      const sx = e[0] - ax, sy = e[1] - ay, sz = e[2] - az, along = nx * sx + ny * sy + nz * sz;
+      if (along < 0 && along * along > 1e-6 * (nx * nx + ny * ny + nz * nz) * (sx * sx + sy * sy + sz * sz)) return;
+      const kept = this.kept;
+      kept[this.count++] = a;
+      kept[this.count++] = b;
+      kept[this.count++] = d;
+    }
+    // a ruled film from the root to the centre line, drawn last (translucent)
+    DrawFilm(q, film) {
+      const s = this.scene, k = film.s.length;
+      if (this.film_positions === undefined) {
+        this.film_positions = new Float32Array(6 * k);
+        this.film_normals = new Float32Array(6 * k);
+        this.film_texture = new Float32Array(6 * k);
+        const indices = [];
+        for (let i = 0; i + 1 < k; ++i) indices.push(2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1);
+        this.film_indices = indices;
+      }
+      const positions = this.film_positions, normals = this.film_normals, texture = this.film_texture;
+      for (let i = 0; i < k; ++i) {
+        CurvePoint(q, s.tube.points, film.s[i], this.point);
+        positions.set(film.root.slice(3 * i, 3 * i + 3), 6 * i);
+        positions.set(this.point, 6 * i + 3);
+        const along = s.tube.length * i / (k - 1);
+        texture.set([along, 0, 0, along, film.across, 0], 6 * i);
+      }
+      for (let i = 0; i < k; ++i) {  // across the film: the rung and the root line's direction
+        const a = 6 * Math.max(i - 1, 0), b = 6 * Math.min(i + 1, k - 1);
+        const rung = sub(positions.slice(6 * i + 3, 6 * i + 6), positions.slice(6 * i, 6 * i + 3));
+        const line = sub(positions.slice(b, b + 3), positions.slice(a, a + 3));
+        const n = unit(cross(line, rung));
+        normals.set(n, 6 * i);
+        normals.set(n, 6 * i + 3);
+      }
+      this.film.Upload(positions, normals, texture, this.film.count === 0 ? this.film_indices : null, true);
+      this.Use(s.materials.mesentery, 'both');
+      this.film.Draw();
     }
   }
 
@@ -351,5 +712,5 @@ const Viewer = (() => {
     }
   }
 
-  return {Player, Tube, CurvePoint};
+  return {Player, Renderer, Tube, CurvePoint};
 })();

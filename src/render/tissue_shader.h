@@ -19,12 +19,19 @@ out vec3 v_texture;   // the tissue's own space (m)
 // the serosa's noises at the vertex: the vessels' reach, the wet film, the bands' waviness
 out vec3 v_serosa;
 #endif
+#ifdef SEROSA_ATTRIBUTE
+// the same noises given with each vertex, computed once by this shader (a skin whose texture
+// points never change: the viewer page's parametric skin)
+layout(location = 3) in vec3 a_serosa;
+#endif
 void main() {
   vec4 p = u_view * vec4(a_position, 1.0);
   v_position = p.xyz;
   v_normal = mat3(u_view) * a_normal;  // u_view is rigid: no inverse transpose needed
   v_texture = a_texture;
-#ifdef SEROSA_PER_VERTEX
+#if defined(SEROSA_ATTRIBUTE)
+  v_serosa = a_serosa;
+#elif defined(SEROSA_PER_VERTEX)
   v_serosa = vec3(SerosaReach(a_texture), SerosaFilm(a_texture), SerosaWave(a_texture));
 #endif
   gl_Position = u_projection * p;
@@ -73,7 +80,8 @@ float SerosaWave(vec3 p) { return Noise(p * 90.0); }
 )";
 
 // After "#version 330 core", "#define PATTERN <n>" (and "#define SEROSA_PER_VERTEX": the serosa's
-// noises, reach, film and wave, computed per vertex and interpolated), kTissueNoise (and
+// noises, reach, film and wave, computed per vertex, or given with it by SEROSA_ATTRIBUTE, and
+// interpolated), kTissueNoise (and
 // "#define INTEGER_EXPONENTS" with PowShininess and PowSheenShininess: the material's whole
 // exponents as products, IntegerPowerSource).
 inline constexpr char kTissueFragmentShader[] = R"(

@@ -25,6 +25,7 @@ import urllib.request
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from devtools_pipe import Browser, Failure  # noqa: E402
+from viewer_page import FRAME_COST, start_view, stop  # noqa: E402
 
 viscerad, viscera, scene_dir = sys.argv[1:4]
 URL = "udpm://239.255.76.67:7667?ttl=0"
@@ -69,23 +70,6 @@ COMPARE = r"""(async () => {
   }
   return {page: a, server: b, iou: both / Math.max(either, 1), control: control / Math.max(a, 1),
           lesion_page: ga, lesion_server: gb, step: v.latest.step, image: [img.naturalWidth, img.naturalHeight]};
-})()"""
-
-
-# Wall time of one frame drawn and finished (gl.finish), and of the skin alone, median of 20.
-COST = r"""(() => {
-  const v = window.viscera, r = v.renderer, q = v.latest.points, frames = [], skins = [];
-  for (let i = 0; i < 20; ++i) {
-    const t0 = performance.now();
-    r.tube.Build(q);
-    const t1 = performance.now();
-    v.Frame(performance.now() + 1e6);
-    r.gl.finish();
-    frames.push(performance.now() - t1);
-    skins.push(t1 - t0);
-  }
-  const median = (x) => x.sort((a, b) => a - b)[x.length >> 1];
-  return {frame_ms: median(frames), skin_ms: median(skins)};
 })()"""
 
 
@@ -157,14 +141,10 @@ def main():
     if created.returncode != 0:
         fail(f"create: {created.stderr}")
     session = str(json.loads(created.stdout)["session"])
-    procs.append(subprocess.Popen([viscera, "view", session, "--http", HTTP[7:], "--lcm-url", URL,
-                                   "--scene-dir", scene_dir], stderr=open(f"{work}/view.err", "w")))
-    for _ in range(300):
-        if "http://127.0.0.1:18082/" in open(f"{work}/view.err").read():
-            break
-        time.sleep(0.1)
-    else:
-        fail("viscera view never listened (30 s)")
+    try:
+        procs.append(start_view(viscera, session, HTTP[7:], URL, scene_dir, work))
+    except RuntimeError as e:
+        fail(str(e))
 
     with Browser(work) as browser:
         try:
@@ -217,7 +197,7 @@ def main():
             fps = (page.evaluate("viscera.drawn") - drawn) / (time.monotonic() - start)
             print(f"the page drew {fps:.1f} fps (headless Chromium, software WebGL, 640x480, load "
                   f"{os.getloadavg()[0]:.1f})")
-            cost = page.evaluate(COST, timeout=120)
+            cost = page.evaluate(FRAME_COST, timeout=120)
             print(f"a page frame costs {cost['frame_ms']:.1f} ms of wall time (the intestine's skin "
                   f"{cost['skin_ms']:.1f} ms of it), median of 20 drawn back to back and finished")
         except Failure as e:
@@ -231,12 +211,5 @@ def main():
 try:
     main()
 finally:
-    for p in reversed(procs):
-        if p.poll() is None:
-            p.send_signal(signal.SIGCONT)
-            p.terminate()
-            try:
-                p.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                p.kill()
+    stop(procs)
     subprocess.run(["rm", "-rf", work])

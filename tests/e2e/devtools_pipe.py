@@ -4,6 +4,7 @@ no network besides the page's own, so it runs in a loopback-only namespace (in_n
     with Browser(workdir) as browser:
         page = browser.open("http://127.0.0.1:18080/")
         page.evaluate("document.title")
+        browser.cpu_seconds()  # CPU time of its processes so far, by process type
 """
 import json
 import os
@@ -31,7 +32,8 @@ class Failure(Exception):
 
 
 class Browser:
-    def __init__(self, work, window="800,600"):
+    def __init__(self, work, window="800,600", flags=FLAGS):
+        """flags: Chromium's command line besides the window, profile and first page."""
         self.work = work
         self.buffer, self.next_id = b"", 0
         to_r, self.to_w = os.pipe()
@@ -47,7 +49,7 @@ class Browser:
             os.close(101)
         self.log = open(os.path.join(work, "chromium.log"), "wb")
         self.proc = subprocess.Popen(
-            [find_browser()] + FLAGS + [f"--window-size={window}", f"--user-data-dir={work}/profile", "about:blank"],
+            [find_browser()] + list(flags) + [f"--window-size={window}", f"--user-data-dir={work}/profile", "about:blank"],
             stdin=subprocess.DEVNULL, stdout=self.log, stderr=self.log, preexec_fn=plumb, close_fds=False,
             start_new_session=True)
         os.close(to_r)
@@ -64,6 +66,25 @@ class Browser:
         text = open(os.path.join(self.work, "chromium.log"), "rb").read().decode(errors="replace")
         # without a D-Bus (containers, namespaces) Chromium complains at length: not the cause
         return [line for line in text.splitlines() if "dbus" not in line][-lines:]
+
+    def cpu_seconds(self):
+        """User + system CPU time of the browser's processes, in seconds, by Chromium's process
+        type ("browser", "gpu-process", "renderer", "utility", ...): those alive now, each since it
+        started (Chromium starts them all in its own process group)."""
+        hz, out = os.sysconf("SC_CLK_TCK"), {}
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+                with open(f"/proc/{pid}/cmdline", "rb") as f:
+                    args = f.read().replace(b"\0", b" ").split()  # a title set: one string
+            except OSError:
+                continue  # gone meanwhile
+            if int(fields[2]) != self.proc.pid:  # the process group (field 5)
+                continue
+            kind = next((a[7:].decode() for a in args if a.startswith(b"--type=")), "browser")
+            out[kind] = out.get(kind, 0.0) + (int(fields[11]) + int(fields[12])) / hz  # utime, stime
+        return out
 
     def call(self, method, params=None, session=None, timeout=20.0):
         """One DevTools command's result (events in between are skipped); Failure on an error."""
