@@ -8,7 +8,7 @@
 ///                 is sent once more, because Chromium shows a part only when the next begins
 ///   /frame.jpg    the latest frame once (503 before the first)
 ///   /stats.json   MjpegServerStats as JSON
-///   /viewer.js    the page's WebGL renderer (client/web/viewer.js)
+///   /viewer.js    the page's WebGL renderer (client/web/viewer_tube.js and viewer.js)
 ///   /scene.json   what the page draws the session from (SetScene; 404 when there is none,
 ///                 503 until it is set)
 ///   /skeleton     a WebSocket (Boost.Beast) of skeleton messages (PostSkeleton), the latest

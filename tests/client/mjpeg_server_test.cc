@@ -548,6 +548,10 @@ TEST(MjpegServer, SceneAndScriptRoutes) {
   const std::string script = Get(server.port(), "/viewer.js");
   EXPECT_EQ(StatusOf(script), 200);
   EXPECT_NE(BodyOf(script).find("getContext('webgl2'"), std::string::npos);
+  // one script: the intestine's skin (viewer_tube.js) before the renderer that uses it
+  const size_t tube = BodyOf(script).find("const ViewerTube = ");
+  ASSERT_NE(tube, std::string::npos);
+  EXPECT_LT(tube, BodyOf(script).find("const Viewer = "));
   EXPECT_EQ(StatusOf(Get(server.port(), "/skeleton")), 400);  // not an upgrade
   server.DropScene();  // the session's skeleton did not fit the scene: server frames only
   EXPECT_EQ(StatusOf(Get(server.port(), "/scene.json")), 404);
