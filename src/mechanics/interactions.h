@@ -130,6 +130,11 @@ class Interactions {
   bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
     return friction_.Revise(v, dv, tip_dv, tool_velocity_);
   }
+  /// After ReviseFriction: StickSlipFriction::ApplyRevisions (the revised pairs as the changes
+  /// of the last evaluation's terms, or false when a tool's pair changed).
+  bool ApplyFrictionRevisions(std::vector<StickSlipFriction::Change>* changes) {
+    return friction_.ApplyRevisions(changes);
+  }
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);

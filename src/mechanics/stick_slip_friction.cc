@@ -65,6 +65,17 @@ const FrictionAnchor* StickSlipFriction::Find(uint64_t key) const {
   return nullptr;
 }
 
+bool StickSlipFriction::Sticks(uint64_t key, bool held) const {
+  return (held && std::find(slid_.begin(), slid_.end(), key) == slid_.end()) ||
+         std::find(stuck_.begin(), stuck_.end(), key) != stuck_.end();
+}
+
+Vec3 StickSlipFriction::SlideDirection(const Vec3& stretch, const Vec3& slip) const {
+  const Vec3 trial = stretch + h_ * slip;
+  const double size = trial.norm();
+  return size > 0.0 ? Vec3(trial / size) : Vec3(slip.normalized());
+}
+
 void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty* p, Mat3* k,
                             Mat3* d) {
   const double limit = mu * std::max(p->normal_force, 0.0);
@@ -89,10 +100,9 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   // within a sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at
   // mu 0.3.)
   const double trial_force = (kt * trial + ct * p->slip).norm();
-  const bool stuck =
-      ((anchored ? !found->sliding && trial_force <= kOverload * limit : trial_force <= limit) &&
-       std::find(slid_.begin(), slid_.end(), key) == slid_.end()) ||
-      std::find(stuck_.begin(), stuck_.end(), key) != stuck_.end();
+  const bool held =
+      anchored ? !found->sliding && trial_force <= kOverload * limit : trial_force <= limit;
+  const bool stuck = Sticks(key, held);
   Vec3 force, direction = Vec3::Zero();
   if (stuck) {
     // -k_t s - c v_t at the start; the solve's K and D make it -k_t (s + h v_t') - c v_t'.
@@ -103,8 +113,7 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
     // mu f_n against the trial stretch (the stretch moved by h v_t), held over the sub-step:
     // linearized, its turning with the motion is no longer dissipative (a slip that turned back
     // within the sub-step got work from it: the shipped fall gained 1e-8 J a step).
-    const double size = trial.norm();
-    direction = size > 0.0 ? Vec3(trial / size) : Vec3(p->slip.normalized());
+    direction = SlideDirection(stretch, p->slip);
     force = -limit * direction;
   }
   p->force += force;
@@ -117,8 +126,11 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   pair.lever = p->lever;
   pair.normal = n;
   pair.stretch = stretch;
+  pair.slip = p->slip;
   pair.limit = limit;
   pair.stuck = stuck;
+  pair.evaluated_stuck = stuck;
+  pair.held = held;
   pair.direction = direction;
   pairs_.push_back(pair);
 }
@@ -163,6 +175,38 @@ bool StickSlipFriction::Revise(const Points& v, const double* dv, const double* 
     revised = true;
   }
   return revised;
+}
+
+bool StickSlipFriction::ApplyRevisions(std::vector<Change>* changes) {
+  for (const Pair& pair : pairs_) {
+    if (pair.kind == ContactKind::kTool && Sticks(pair.key, pair.held) != pair.stuck) return false;
+  }
+  const double kt = tangential_stiffness_;
+  const double ct = cp_.damping;
+  changes->clear();
+  for (Pair& pair : pairs_) {
+    const bool stuck = Sticks(pair.key, pair.held);
+    if (stuck != pair.stuck) {
+      // As Add makes it: stuck, -k_t s - c v_t with its spring and damper; sliding, the cone's
+      // force against the trial stretch.
+      pair.stuck = stuck;
+      pair.direction = stuck ? Vec3::Zero() : SlideDirection(pair.stretch, pair.slip);
+    }
+    if (pair.stuck == pair.evaluated_stuck) continue;
+    const Vec3 held_force = -kt * pair.stretch - ct * pair.slip;
+    const Vec3 sliding_force = -pair.limit * SlideDirection(pair.stretch, pair.slip);
+    const Mat3 tangent = Mat3::Identity() - pair.normal * pair.normal.transpose();
+    const double sign = pair.stuck ? 1.0 : -1.0;
+    Change change;
+    change.kind = pair.kind;
+    change.a = pair.a;
+    change.b = pair.b;
+    change.k = (sign * kt) * tangent;
+    change.d = (sign * ct) * tangent;
+    change.force = pair.stuck ? Vec3(held_force - sliding_force) : Vec3(sliding_force - held_force);
+    changes->push_back(change);
+  }
+  return true;
 }
 
 void StickSlipFriction::Advance(const Points& dq, double h, State* state) {
