@@ -161,8 +161,7 @@ class Interactions {
   Vec3 OtherVelocity(const collision::ContactCandidate& c, const ShaftLever& lever) const;
   // The force law on a candidate's geometry, at the velocities last gathered (a pair apart is
   // left as it is without them where nothing acts speculatively).
-  ContactPenalty Evaluate(const collision::ContactCandidate& c,
-                          const ContactPenalty& geometry) const;
+  ContactPenalty Evaluate(const collision::ContactCandidate& c, const PairGeometry& geometry) const;
   ContactWindow Window(int sphere) const { return ContactWindow::Of(chain_.spheres()[sphere]); }
   Vec3 SphereVelocity(int sphere, const Points& qd) const { return Window(sphere).Gather(qd); }
   void GatherVelocities(const Points& qd);
