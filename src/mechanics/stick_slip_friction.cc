@@ -40,6 +40,7 @@ StickSlipFriction::StickSlipFriction(const ContactParams& cp, const collision::S
   cursor_.assign(bucket_.size(), 0);
   stuck_.reserve(spheres * 8);
   slid_.reserve(spheres * 8);
+  moved_.assign(spheres, Vec3::Zero());
 }
 
 void StickSlipFriction::Use(const std::vector<FrictionAnchor>* anchors, double h) {
@@ -120,8 +121,8 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   Pair pair;
   pair.key = key;
   pair.kind = c.kind;
-  pair.a = ContactWindow::Of(chain_.spheres()[c.a]);
-  if (c.kind == ContactKind::kSelf) pair.b = ContactWindow::Of(chain_.spheres()[c.b]);
+  pair.a = c.a;
+  pair.b = c.kind == ContactKind::kSelf ? c.b : -1;
   pair.tool = c.kind == ContactKind::kTool ? c.b : 0;
   pair.lever = p->lever;
   pair.normal = n;
@@ -135,10 +136,16 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   pairs_.push_back(pair);
 }
 
-Vec3 StickSlipFriction::Motion(const Pair& pair, const Points& x, const double* dx,
-                               const Vec3& tip) {
-  Vec3 relative = pair.a.Gather(x, dx);
-  if (pair.kind == ContactKind::kSelf) relative -= pair.b.Gather(x, dx);
+void StickSlipFriction::GatherSpheres(const Points& x, const double* dx) {
+  const auto& spheres = chain_.spheres();
+  moved_.resize(spheres.size());  // the chain's count: no allocation
+  for (size_t k = 0; k < spheres.size(); ++k)
+    moved_[k] = ContactWindow::Of(spheres[k]).Gather(x, dx);
+}
+
+Vec3 StickSlipFriction::Motion(const Pair& pair, const Vec3& tip) const {
+  Vec3 relative = moved_[pair.a];
+  if (pair.kind == ContactKind::kSelf) relative -= moved_[pair.b];
   if (pair.kind == ContactKind::kTool) relative -= pair.lever.Apply(tip);
   return relative - pair.normal.dot(relative) * pair.normal;
 }
@@ -148,13 +155,14 @@ bool StickSlipFriction::Revise(const Points& v, const double* dv, const double* 
   const double kt = tangential_stiffness_;
   const double ct = cp_.damping;
   bool revised = false;
+  if (!pairs_.empty()) GatherSpheres(v, dv);
   for (const Pair& pair : pairs_) {
     Vec3 tip = Vec3::Zero();
     if (pair.kind == ContactKind::kTool) {
       tip = tool_velocity[pair.tool];
       if (tip_dv != nullptr) tip += Eigen::Map<const Vec3>(tip_dv + 3 * pair.tool);
     }
-    const Vec3 slip = Motion(pair, v, dv, tip);
+    const Vec3 slip = Motion(pair, tip);
     if (pair.stuck) {
       // Held stuck, the contact pushed well beyond the cone over the sub-step (a launched loop's
       // stuck springs stopped it dead): it slides.
@@ -199,8 +207,8 @@ bool StickSlipFriction::ApplyRevisions(std::vector<Change>* changes) {
     const double sign = pair.stuck ? 1.0 : -1.0;
     Change change;
     change.kind = pair.kind;
-    change.a = pair.a;
-    change.b = pair.b;
+    change.a = ContactWindow::Of(chain_.spheres()[pair.a]);
+    if (pair.b >= 0) change.b = ContactWindow::Of(chain_.spheres()[pair.b]);
     change.k = (sign * kt) * tangent;
     change.d = (sign * ct) * tangent;
     change.force = pair.stuck ? Vec3(held_force - sliding_force) : Vec3(sliding_force - held_force);
@@ -212,11 +220,12 @@ bool StickSlipFriction::ApplyRevisions(std::vector<Change>* changes) {
 void StickSlipFriction::Advance(const Points& dq, double h, State* state) {
   const double kt = tangential_stiffness_;
   next_anchors_.clear();
+  if (!pairs_.empty()) GatherSpheres(dq, nullptr);
   for (const Pair& pair : pairs_) {
     const Vec3 tip = pair.kind == ContactKind::kTool
                          ? Vec3(h * state->tools[pair.tool].tip_velocity)
                          : Vec3::Zero();
-    const Vec3 moved = Motion(pair, dq, nullptr, tip);
+    const Vec3 moved = Motion(pair, tip);
     Vec3 stretch = pair.stretch + moved;
     const double size = kt * stretch.norm();
     // The next sub-step starts as this one ended: a stuck spring pulled beyond the cone slides,

@@ -104,8 +104,8 @@ class StickSlipFriction {
     uint64_t key = 0;
     collision::ContactKind kind = collision::ContactKind::kSelf;
     int tool = 0;
-    ContactWindow a, b;  // b: a self pair's other side
-    ShaftLever lever;    // a tool pair's
+    int a = 0, b = -1;  // spheres; b: a self pair's other side
+    ShaftLever lever;   // a tool pair's
     Vec3 normal = Vec3::Zero();
     Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
     Vec3 slip = Vec3::Zero();     // the tangential relative velocity at the start
@@ -120,9 +120,12 @@ class StickSlipFriction {
   bool Sticks(uint64_t key, bool held) const;
   // A sliding pair's direction: its trial stretch's (the stretch moved by h v_t), or its slip's.
   Vec3 SlideDirection(const Vec3& stretch, const Vec3& slip) const;
-  // A pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N values, or
-  // nullptr), less the lever rule's share of the tool's `tip` for a tool pair.
-  static Vec3 Motion(const Pair& pair, const Points& x, const double* dx, const Vec3& tip);
+  // moved_[k] <- sphere k's motion: its window's of x (#N by 3) plus dx (3N values, or nullptr).
+  // Once per sphere rather than once per pair and side: the same sums, in the same order.
+  void GatherSpheres(const Points& x, const double* dx);
+  // A pair's tangential relative motion from moved_, less the lever rule's share of the tool's
+  // `tip` for a tool pair.
+  Vec3 Motion(const Pair& pair, const Vec3& tip) const;
 
   const ContactParams& cp_;
   const collision::SphereChain& chain_;
@@ -140,6 +143,7 @@ class StickSlipFriction {
   std::vector<uint64_t> stuck_;  // pairs Revise made stick in this sub-step
   std::vector<uint64_t> slid_;   // ... and slide
   std::vector<FrictionAnchor> next_anchors_;
+  std::vector<Vec3> moved_;  // per sphere (GatherSpheres)
 };
 
 }  // namespace viscera::mechanics
