@@ -46,7 +46,13 @@ StickSlipFriction::StickSlipFriction(const ContactParams& cp, const collision::S
 void StickSlipFriction::Use(const std::vector<FrictionAnchor>* anchors, double h) {
   anchors_ = anchors;
   h_ = h;
-  if (anchors == nullptr) return;
+  indexed_ = false;
+  hint_ = 0;
+}
+
+void StickSlipFriction::IndexAnchors() {
+  const std::vector<FrictionAnchor>* anchors = anchors_;
+  indexed_ = true;
   const int spheres = chain_.size();
   std::fill(bucket_.begin(), bucket_.end(), 0);
   for (const FrictionAnchor& a : *anchors) ++bucket_[AnchorBucket(a.key, spheres) + 1];
@@ -57,11 +63,17 @@ void StickSlipFriction::Use(const std::vector<FrictionAnchor>* anchors, double h
     order_[cursor_[AnchorBucket((*anchors)[i].key, spheres)]++] = static_cast<int>(i);
 }
 
-const FrictionAnchor* StickSlipFriction::Find(uint64_t key) const {
+const FrictionAnchor* StickSlipFriction::Find(uint64_t key) {
+  const std::vector<FrictionAnchor>& anchors = *anchors_;
+  if (hint_ < anchors.size() && anchors[hint_].key == key) return &anchors[hint_++];
+  if (!indexed_) IndexAnchors();
   const size_t bucket = AnchorBucket(key, chain_.size());
   for (int j = bucket_[bucket]; j < bucket_[bucket + 1]; ++j) {
-    const FrictionAnchor& a = (*anchors_)[order_[j]];
-    if (a.key == key) return &a;
+    const FrictionAnchor& a = anchors[order_[j]];
+    if (a.key == key) {
+      hint_ = static_cast<size_t>(order_[j]) + 1;
+      return &a;
+    }
   }
   return nullptr;
 }

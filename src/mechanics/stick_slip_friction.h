@@ -58,7 +58,10 @@ class StickSlipFriction {
   void Use(const std::vector<FrictionAnchor>* anchors, double h);
   bool active() const { return anchors_ != nullptr; }
   /// A force evaluation starts: no pair held yet.
-  void ClearPairs() { pairs_.clear(); }
+  void ClearPairs() {
+    pairs_.clear();
+    hint_ = 0;
+  }
   /// A sub-step starts: every contact sticks or slides as its anchor has it.
   void ClearRevisions() {
     stuck_.clear();
@@ -115,7 +118,12 @@ class StickSlipFriction {
     bool held = false;              // it sticks unless a revision made it slide (Add's trial)
     Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
   };
-  const FrictionAnchor* Find(uint64_t key) const;
+  // The anchor of `key`, or nullptr. The anchors are in the order of the last evaluation's
+  // pairs, which the next evaluation meets in the same order but for the pairs that came or
+  // went: the one after the last found is tried first, the bucket index (made on the first miss
+  // after Use) only when it is not the one.
+  const FrictionAnchor* Find(uint64_t key);
+  void IndexAnchors();
   // Whether a pair sticks: as its trial has it (held), unless Revise made it slide or stick.
   bool Sticks(uint64_t key, bool held) const;
   // A sliding pair's direction: its trial stretch's (the stretch moved by h v_t), or its slip's.
@@ -134,10 +142,12 @@ class StickSlipFriction {
   // The anchors the sub-step starts from and its length (Use).
   const std::vector<FrictionAnchor>* anchors_ = nullptr;
   double h_ = 0.0;
-  // The anchors by the pair's kind and first sphere (a counting sort, made by Use): bucket
-  // kind * spheres + a holds order_[bucket_[i] .. bucket_[i + 1]), a few pairs each, so that a
-  // contact finds its anchor in O(1) rather than by a search.
+  // The anchors by the pair's kind and first sphere (a counting sort, made at the first miss of the
+  // hint): bucket kind * spheres + a holds order_[bucket_[i] .. bucket_[i + 1]), a few pairs each,
+  // so that a contact finds its anchor in O(1) rather than by a search.
   std::vector<int> bucket_, cursor_, order_;
+  bool indexed_ = false;
+  size_t hint_ = 0;  // the anchor Find tries first
   double energy_ = 0.0;
   std::vector<Pair> pairs_;      // held in the last force evaluation
   std::vector<uint64_t> stuck_;  // pairs Revise made stick in this sub-step
