@@ -134,6 +134,16 @@ void Report(benchmark::State& bench, const Model& model, int spheres, const Tall
     // Since the workspace was made (warm-ups included): the exact coupling's work per sub-step.
     bench.counters["cg_per_substep"] =
         static_cast<double>(implicit->cg_iterations()) / std::max<int64_t>(1, implicit->substeps());
+    // Solves done again per step: a contact's stick or slip revised (of which without evaluating
+    // the sub-step again: friction_resolves), a tip contact revised, a
+    // BDF2 sub-step taken again as backward Euler (impacts, stretch), a sub-step halved.
+    bench.counters["friction_redos"] = static_cast<double>(implicit->friction_redos()) / steps;
+    bench.counters["friction_resolves"] =
+        static_cast<double>(implicit->friction_resolves()) / steps;
+    bench.counters["tip_redos"] = static_cast<double>(implicit->tip_redos()) / steps;
+    bench.counters["bdf2_redos"] =
+        static_cast<double>(implicit->impact_redos() + implicit->stretch_redos()) / steps;
+    bench.counters["halved"] = static_cast<double>(implicit->halved_substeps()) / steps;
     if (model.params().contacts.impact_constraints) {
       bench.counters["impact_substeps"] = static_cast<double>(implicit->impact_substeps()) / steps;
       bench.counters["impact_contacts"] = static_cast<double>(implicit->impact_contacts()) /

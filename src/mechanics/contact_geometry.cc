@@ -67,8 +67,8 @@ void ContactGeometry::SelfBatch(const std::array<int, 4>& batch, int count) {
   for (int l = 0; l < count; ++l) penalties_[batch[l]] = SelfPenalty(separation[l]);
 }
 
-ContactPenalty ContactGeometry::SelfPenalty(const collision::PairSeparation& separation) const {
-  ContactPenalty p;
+PairGeometry ContactGeometry::SelfPenalty(const collision::PairSeparation& separation) const {
+  PairGeometry p;
   p.normal = separation.normal;
   p.clearance = separation.distance - 2.0 * radius_;
   p.depth = -p.clearance;
@@ -83,17 +83,17 @@ void ContactGeometry::RefreshTools() {
   }
 }
 
-ContactPenalty ContactGeometry::Of(const ContactCandidate& c) const {
+PairGeometry ContactGeometry::Of(const ContactCandidate& c) const {
   if (!grasps_.Held(c)) return Raw(c);
-  ContactPenalty p;
+  PairGeometry p;
   p.clearance = 1.0;  // m: never a contact, never within any margin
   p.depth = -p.clearance;
   return p;
 }
 
-ContactPenalty ContactGeometry::Raw(const ContactCandidate& c) const {
+PairGeometry ContactGeometry::Raw(const ContactCandidate& c) const {
   const collision::Sphere& sa = chain_.spheres()[c.a];
-  ContactPenalty p;
+  PairGeometry p;
   double reach = radius_;
   double distance = 0.0;
   switch (c.kind) {

@@ -44,19 +44,19 @@ class ContactGeometry {
   void RefreshTools();
 
   /// Candidate i's geometry (by index in the list). @pre Ensure since the last change.
-  const ContactPenalty& operator[](size_t i) const { return penalties_[i]; }
-  const std::vector<ContactPenalty>& penalties() const { return penalties_; }
+  const PairGeometry& operator[](size_t i) const { return penalties_[i]; }
+  const std::vector<PairGeometry>& penalties() const { return penalties_; }
   /// The deepest self or environment candidate's depth (m).
   double deepest() const { return deepest_; }
   /// A candidate's geometry, held spheres included (whether they are out of the shaft).
-  ContactPenalty Raw(const collision::ContactCandidate& c) const;
+  PairGeometry Raw(const collision::ContactCandidate& c) const;
 
  private:
   // Raw, except that a tool's contact with the part of the tube its jaws hold is no contact
   // (far away).
-  ContactPenalty Of(const collision::ContactCandidate& c) const;
+  PairGeometry Of(const collision::ContactCandidate& c) const;
   // A self pair's penalty from its centres' separation (Raw's and SelfBatch's).
-  ContactPenalty SelfPenalty(const collision::PairSeparation& separation) const;
+  PairGeometry SelfPenalty(const collision::PairSeparation& separation) const;
   // Raw of `count` (1 to 4) self candidates, by index in the list, into penalties_.
   void SelfBatch(const std::array<int, 4>& batch, int count);
 
@@ -68,7 +68,7 @@ class ContactGeometry {
   // The model's obstacles (immutable), prepared once for the narrow phase's queries.
   std::vector<collision::PreparedObstacle> obstacles_;
   std::vector<collision::ToolCapsule> capsules_;
-  std::vector<ContactPenalty> penalties_;  // per candidate, valid while valid_
+  std::vector<PairGeometry> penalties_;  // per candidate, valid while valid_
   bool valid_ = false;
   double deepest_ = 0.0;
 };

@@ -29,15 +29,20 @@ struct ShaftLever {
   }
 };
 
-/// One contact candidate at one evaluation: its geometry (ContactGeometry) and, once the law has
-/// been evaluated on it, its force.
-struct ContactPenalty {
+/// One contact candidate's geometry (ContactGeometry), kept for every candidate of the list: the
+/// law's output is not part of it, so that the narrow phase writes and its readers scan little.
+struct PairGeometry {
+  Vec3 normal = Vec3::Zero();
+  double depth = 0.0;      // penetration (m), > 0 when active
+  double clearance = 0.0;  // signed distance beyond contact (m)
+  ShaftLever lever;        // tool contacts: where on the shaft
+};
+
+/// One contact candidate at one evaluation: its geometry and, once the law has been evaluated on
+/// it, its force.
+struct ContactPenalty : PairGeometry {
   bool active = false;
   Vec3 force = Vec3::Zero();  // on the sphere
-  Vec3 normal = Vec3::Zero();
-  double depth = 0.0;         // penetration (m), > 0 when active
-  double clearance = 0.0;     // signed distance beyond contact (m)
-  ShaftLever lever;           // tool contacts: where on the shaft
   double normal_force = 0.0;  // N, stick-slip: the friction cone's normal force when active
   Vec3 slip = Vec3::Zero();   // tangential relative velocity (m/s) when active
 };
@@ -92,9 +97,10 @@ class ContactLaw {
   /// at the contact). A pair apart acts only if it closes enough to touch within speculative_h
   /// (the implicit sub-step; 0: never). Friction: the regularized law, or with stick_slip only
   /// the cone's normal force (StickSlipFriction adds the rest).
-  ContactPenalty Evaluate(collision::ContactKind kind, const ContactPenalty& geometry,
+  ContactPenalty Evaluate(collision::ContactKind kind, const PairGeometry& geometry,
                           const Vec3& relative, double speculative_h, bool stick_slip) const {
-    ContactPenalty p = geometry;
+    ContactPenalty p;
+    static_cast<PairGeometry&>(p) = geometry;
     const double vn = relative.dot(p.normal);
     // A pair that is apart but closing fast enough to touch within the implicit step acts now:
     // its linearized spring k (depth + n.dq) then pushes from the moment of contact, instead of

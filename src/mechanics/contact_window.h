@@ -77,6 +77,12 @@ struct ContactWindow {
     }
     return m;
   }
+  /// J x, x's 3N values.
+  Vec3 Gather(const double* x) const {
+    Vec3 m = Vec3::Zero();
+    for (int a = 0; a < 4; ++a) m += w[a] * Eigen::Map<const Vec3>(x + 3 * (first + a));
+    return m;
+  }
   /// F += J^T f (F: #N by 3, or its 3N values).
   void Scatter(const Vec3& f, Points* F) const { Scatter(f, F->data()); }
   void Scatter(const Vec3& f, double* F) const { contact_window::AddForce(F, first, w, f); }

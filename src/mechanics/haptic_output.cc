@@ -25,7 +25,7 @@ void HapticOutput::StartStep() {
 }
 
 void HapticOutput::EndStep(const std::vector<collision::ContactCandidate>& list,
-                           const std::vector<ContactPenalty>& geometry, const ContactLaw& law,
+                           const std::vector<PairGeometry>& geometry, const ContactLaw& law,
                            const Grasps& grasps, State* state) const {
   // The coupling's reaction, k (tip - target) + c v, faded when idle.
   for (size_t t = 0; t < state->tools.size(); ++t) {
@@ -50,7 +50,7 @@ void HapticOutput::EndStep(const std::vector<collision::ContactCandidate>& list,
     for (size_t i = 0; i < list.size(); ++i) {
       const collision::ContactCandidate& c = list[i];
       if (c.kind != collision::ContactKind::kTool || c.b != static_cast<int>(t)) continue;
-      const ContactPenalty& p = geometry[i];
+      const PairGeometry& p = geometry[i];
       // The contact's stiffness along n, moved to the tip: L n n' L = m m'.
       const Vec3 m = p.lever.Apply(p.normal);
       const double m2 = m.squaredNorm();

@@ -34,7 +34,7 @@ class HapticOutput {
   /// stiffness of each touching tool contact of `list` (with `geometry`, its narrow phase at the
   /// step's end, and `law`) and of the grasp, each in series with the coupling.
   void EndStep(const std::vector<collision::ContactCandidate>& list,
-               const std::vector<ContactPenalty>& geometry, const ContactLaw& law,
+               const std::vector<PairGeometry>& geometry, const ContactLaw& law,
                const Grasps& grasps, State* state) const;
 
  private:

@@ -72,7 +72,7 @@ bool ImpactSets::Limit(double h, Points* u, Points* v) {
     bool grew = false;
     for (size_t i = 0; i < list.size(); ++i) {
       if (in_set_[i] || list[i].kind == ContactKind::kTool) continue;
-      const ContactPenalty& p = geometry_[i];
+      const PairGeometry& p = geometry_[i];
       const double un = (velocity_[list[i].a] - other(list[i])).dot(p.normal);
       // The end depth, depth - h u_n, must not exceed `allowed`; never asks a pair to separate.
       // Slower pairs are the penalty's (the law stops them within `allowed`): a tool pressing
@@ -94,7 +94,7 @@ bool ImpactSets::Limit(double h, Points* u, Points* v) {
     contacts_.clear();
     for (int i : set_) {
       const ContactCandidate& c = list[i];
-      const ContactPenalty& p = geometry_[i];
+      const PairGeometry& p = geometry_[i];
       const double un = (velocity_[c.a] - other(c)).dot(p.normal);
       // The velocity whose kinetic energy counts (the step's end), when it is not u itself.
       double vn = un;
@@ -128,7 +128,7 @@ bool ImpactSets::GatherEnd(EndConstraint kind, double h, const Points& v_check,
       radius_;
   const double impact_speed = impact ? impact_speed_ : 0.0;
   // The least normal speed that ends the sub-step within `allowed`; impacts are never pushed apart.
-  auto target = [&](const ContactPenalty& p) {
+  auto target = [&](const PairGeometry& p) {
     return impact ? std::min(0.0, (p.depth - allowed) / h) : (p.depth - allowed) / h;
   };
   geometry_.Ensure();  // the sub-step's start, as the forces saw it
@@ -174,7 +174,7 @@ bool ImpactSets::GatherEnd(EndConstraint kind, double h, const Points& v_check,
   for (size_t i = 0; i < list.size(); ++i) {
     if (in_end_set_[i] || list[i].kind == ContactKind::kTool) continue;
     const ContactCandidate& c = list[i];
-    const ContactPenalty& p = geometry_[i];
+    const PairGeometry& p = geometry_[i];
     if (p.depth <= shallow) continue;
     const Vec3 other = c.kind == ContactKind::kSelf ? end_velocity_[c.b] : Vec3::Zero();
     const double un = (end_velocity_[c.a] - other).dot(p.normal);
@@ -187,7 +187,7 @@ bool ImpactSets::GatherEnd(EndConstraint kind, double h, const Points& v_check,
   contacts->clear();
   for (int i : end_set_) {
     const ContactCandidate& c = list[i];
-    const ContactPenalty& p = geometry_[i];
+    const PairGeometry& p = geometry_[i];
     const Vec3 other = c.kind == ContactKind::kSelf ? SphereVelocity(c.b, v_base) : Vec3::Zero();
     const double un = (SphereVelocity(c.a, v_base) - other).dot(p.normal);
     contacts->push_back(

@@ -44,6 +44,10 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
   b_.setZero(3 * n_);
+  b_evaluated_.setZero(3 * n_);
+  dv_solved_.setZero(3 * n_);
+  if (stick_slip_)
+    friction_changes_.reserve(static_cast<size_t>(interactions_->chain().size()) * 8);
   cg_.Resize(3 * n_);
   num_tools_ = static_cast<int>(model.params().tools.size());
   tip_B_.setZero(3 * n_, 3 * num_tools_);
@@ -124,6 +128,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   y->resize(3 * n_);
   band_.system().Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
+  if (friction_changed_) AddFrictionChanges(x.data(), y->data());
   if (tip_woodbury_) SubtractTipSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
@@ -162,6 +167,52 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   last_cg_iterations_ = result.iterations;
   cg_iterations_ += result.iterations;
   return result.converged;
+}
+
+namespace {
+// J x for a friction change's relative motion (x: 3N values).
+Vec3 ChangeMotion(const StickSlipFriction::Change& c, const double* x) {
+  Vec3 r = c.a.Gather(x);
+  if (c.kind == collision::ContactKind::kSelf) r -= c.b.Gather(x);
+  return r;
+}
+// y += J^T f.
+void ScatterChange(const StickSlipFriction::Change& c, const Vec3& f, double* y) {
+  c.a.Scatter(f, y);
+  if (c.kind == collision::ContactKind::kSelf) c.b.Scatter(-f, y);
+}
+}  // namespace
+
+void ImplicitEulerIntegrator::AddFrictionChanges(const double* x, double* y) const {
+  for (const StickSlipFriction::Change& c : friction_changes_) {
+    const Vec3 r = ChangeMotion(c, x);
+    ScatterChange(c, change_stiffness_ * (c.k * r) + change_damping_ * (c.d * r), y);
+  }
+}
+
+bool ImplicitEulerIntegrator::SolveFrictionChanges(const StepWeights& w, double h,
+                                                   Eigen::Ref<VecX> dv, State* state,
+                                                   bool* converged) {
+  if (!friction_changed_) b_evaluated_ = b_;
+  if (!interactions_->ApplyFrictionRevisions(&friction_changes_)) return false;
+  friction_changed_ = true;
+  change_stiffness_ = w.stiffness;
+  change_damping_ = w.h_eff;
+  // b = ĥ (F - ĥ K v) + μ (M Δv - ĥ K Δq): each pair's change of F and K.
+  const bool multistep = w.history > 0.0;
+  b_ = b_evaluated_;
+  for (const StickSlipFriction::Change& c : friction_changes_) {
+    Vec3 moved = w.h_eff * ChangeMotion(c, state->qd.data());
+    if (multistep) moved += w.history * ChangeMotion(c, state->last_dq.data());
+    ScatterChange(c, w.h_eff * (c.force - c.k * moved), b_.data());
+  }
+  // CG from the last solve's answer: its correction is that less the band's answer to the new b.
+  dv_solved_ = dv;
+  dv = b_;
+  ApplyBandInverse(dv.data());
+  state->cg_correction = dv_solved_ - dv;
+  *converged = RefineExactly(b_, h, dv, state, true);
+  return true;
 }
 
 void ImplicitEulerIntegrator::WarmStart(bool again, State* state) const {
@@ -210,6 +261,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   solving_again_ = false;
   ++substeps_;
   const bool tips = HasTips(*state);
+  friction_changed_ = false;
+  friction_changes_.clear();
   if (tips) interactions_->PlaceTips(*state, tip_end_);
   if (stick_slip_) interactions_->UseFriction(&state->friction, h);
   ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_, interactions_);
@@ -286,51 +339,65 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     state->cg_correction.setZero();
     state->cg_previous_correction.setZero();
   }
-  if (!converged) {
-    // A solve that did not converge: the sub-step again as two halves (each nearer the
-    // last, better conditioned), or, at the deepest halving, accepted and counted.
-    if (halvings < kMaxHalvings) {
-      ++cg_halved_;
-      AdvanceHalves(loads, h, halvings, std::numeric_limits<double>::infinity(), state);
-      return;
-    }
-    ++cg_unconverged_;
-    ++state->unconverged_solves;
-  }
   const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
-  if (multistep) {
-    step_dq_ = w.history * state->last_dq + w.h_eff * (v + dv_points);
-    // Done again as backward Euler: a sub-step that leaves more unseen stretch than a tenth of
-    // the guard's (BDF2 builds on the last sub-step's motion and gives that stretch back as
-    // energy, which backward Euler's damping absorbs: a stretched hairpin snapping straight
-    // gained 0.9 % of its energy in a step at 500 Hz), and one that needs impact or depth
-    // constraints (they hold the end velocity and let it move q by h v', backward Euler's
-    // kinematics; BDF2's motion would keep a third of the last sub-step's closing).
-    const bool stretched =
-        stretch_redo_ && !LinearizationGuard::UnseenStretchWithin(
-                             q, step_dq_, LinearizationGuard::kMaxUnseenStretchBdf2);
-    if (stretched || (impact_redo_ && NeedsEndConstraints(h, step_dq_))) {
-      ++(stretched ? stretch_redos_ : impact_redos_);
-      --substeps_;
-      AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
+  bool correct_depth = false;
+  int64_t impacts_before = impact_substeps_;
+  for (;;) {
+    if (!converged) {
+      // A solve that did not converge: the sub-step again as two halves (each nearer the
+      // last, better conditioned), or, at the deepest halving, accepted and counted.
+      if (halvings < kMaxHalvings) {
+        ++cg_halved_;
+        AdvanceHalves(loads, h, halvings, std::numeric_limits<double>::infinity(), state);
+        return;
+      }
+      ++cg_unconverged_;
+      ++state->unconverged_solves;
+    }
+    if (multistep) {
+      step_dq_ = w.history * state->last_dq + w.h_eff * (v + dv_points);
+      // Done again as backward Euler: a sub-step that leaves more unseen stretch than a tenth of
+      // the guard's (BDF2 builds on the last sub-step's motion and gives that stretch back as
+      // energy, which backward Euler's damping absorbs: a stretched hairpin snapping straight
+      // gained 0.9 % of its energy in a step at 500 Hz), and one that needs impact or depth
+      // constraints (they hold the end velocity and let it move q by h v', backward Euler's
+      // kinematics; BDF2's motion would keep a third of the last sub-step's closing).
+      const bool stretched =
+          stretch_redo_ && !LinearizationGuard::UnseenStretchWithin(
+                               q, step_dq_, LinearizationGuard::kMaxUnseenStretchBdf2);
+      if (stretched || (impact_redo_ && NeedsEndConstraints(h, step_dq_))) {
+        ++(stretched ? stretch_redos_ : impact_redos_);
+        --substeps_;
+        AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
+        return;
+      }
+    }
+    impacts_before = impact_substeps_;
+    correct_depth = multistep ? false : ResolveImpacts(h, v, dv);
+    if (tips && SolveTips(h, v, dv.data(), *state)) {
+      ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
+      ++tip_redos_;
+      solving_again_ = coupled;
+      AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
       return;
     }
-  }
-  const int64_t impacts_before = impact_substeps_;
-  const bool correct_depth = multistep ? false : ResolveImpacts(h, v, dv);
-  if (tips && SolveTips(h, v, dv.data(), *state)) {
-    ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
-    solving_again_ = coupled;
-    AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
-    return;
-  }
-  if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
-      interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
-    ++friction_rounds_;  // a contact sticks or slides otherwise than solved: solved again
-    ++friction_redos_;
-    solving_again_ = coupled;
-    AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
-    return;
+    if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
+        interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
+      ++friction_rounds_;  // a contact sticks or slides otherwise than solved: solved again
+      ++friction_redos_;
+      // Only the revised pairs' terms change: with the exact coupling's CG, and no impulse in the
+      // solve (the impulses' columns are the band's, which keeps the evaluation's pairs), the
+      // solve takes them as a change of b and of the exact matrix, from the last answer.
+      if (friction_resolve_ && coupled && !correct_depth && impact_substeps_ == impacts_before &&
+          SolveFrictionChanges(w, h, dv, state, &converged)) {
+        ++friction_resolves_;
+        continue;
+      }
+      solving_again_ = coupled;
+      AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
+      return;
+    }
+    break;
   }
 
   // The step is one linearization: a segment turned far within it stretches by what the linear

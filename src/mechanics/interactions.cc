@@ -107,9 +107,13 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, const ShaftLever& le
 }
 
 ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
-                                      const ContactPenalty& geometry) const {
+                                      const PairGeometry& geometry) const {
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
-  if (geometry.depth <= 0.0 && speculative_h_ == 0.0) return geometry;
+  if (geometry.depth <= 0.0 && speculative_h_ == 0.0) {
+    ContactPenalty p;
+    static_cast<PairGeometry&>(p) = geometry;
+    return p;
+  }
   // Friction: the regularized law here, or the stick-slip law that AddForces adds
   // (StickSlipFriction).
   return law_.Evaluate(c.kind, geometry, sphere_velocity_[c.a] - OtherVelocity(c, geometry.lever),
@@ -259,7 +263,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const ContactPenalty& p = geometry_[i];
+    const PairGeometry& p = geometry_[i];
     if (p.clearance >= margin) continue;  // the list's skin: too far to meet within the step
     // A tip in the solve meets the tube within it (its contacts act speculatively on both): the
     // step's rate, not the tool's approach, sets its sub-steps, so that the hand feels the same
@@ -337,7 +341,7 @@ void Interactions::EndStep(State* state) {
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const ContactPenalty& p = geometry_[i];
+    const PairGeometry& p = geometry_[i];
     if (std::isnan(stats.min_clearance) || p.clearance < stats.min_clearance) {
       stats.min_clearance = p.clearance;
       stats.deepest = c.kind == ContactKind::kSelf   ? "self"

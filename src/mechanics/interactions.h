@@ -130,6 +130,11 @@ class Interactions {
   bool ReviseFriction(const Points& v, const double* dv, const double* tip_dv) {
     return friction_.Revise(v, dv, tip_dv, tool_velocity_);
   }
+  /// After ReviseFriction: StickSlipFriction::ApplyRevisions (the revised pairs as the changes
+  /// of the last evaluation's terms, or false when a tool's pair changed).
+  bool ApplyFrictionRevisions(std::vector<StickSlipFriction::Change>* changes) {
+    return friction_.ApplyRevisions(changes);
+  }
 
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
@@ -156,8 +161,7 @@ class Interactions {
   Vec3 OtherVelocity(const collision::ContactCandidate& c, const ShaftLever& lever) const;
   // The force law on a candidate's geometry, at the velocities last gathered (a pair apart is
   // left as it is without them where nothing acts speculatively).
-  ContactPenalty Evaluate(const collision::ContactCandidate& c,
-                          const ContactPenalty& geometry) const;
+  ContactPenalty Evaluate(const collision::ContactCandidate& c, const PairGeometry& geometry) const;
   ContactWindow Window(int sphere) const { return ContactWindow::Of(chain_.spheres()[sphere]); }
   Vec3 SphereVelocity(int sphere, const Points& qd) const { return Window(sphere).Gather(qd); }
   void GatherVelocities(const Points& qd);

@@ -40,12 +40,19 @@ StickSlipFriction::StickSlipFriction(const ContactParams& cp, const collision::S
   cursor_.assign(bucket_.size(), 0);
   stuck_.reserve(spheres * 8);
   slid_.reserve(spheres * 8);
+  moved_.assign(spheres, Vec3::Zero());
 }
 
 void StickSlipFriction::Use(const std::vector<FrictionAnchor>* anchors, double h) {
   anchors_ = anchors;
   h_ = h;
-  if (anchors == nullptr) return;
+  indexed_ = false;
+  hint_ = 0;
+}
+
+void StickSlipFriction::IndexAnchors() {
+  const std::vector<FrictionAnchor>* anchors = anchors_;
+  indexed_ = true;
   const int spheres = chain_.size();
   std::fill(bucket_.begin(), bucket_.end(), 0);
   for (const FrictionAnchor& a : *anchors) ++bucket_[AnchorBucket(a.key, spheres) + 1];
@@ -56,13 +63,30 @@ void StickSlipFriction::Use(const std::vector<FrictionAnchor>* anchors, double h
     order_[cursor_[AnchorBucket((*anchors)[i].key, spheres)]++] = static_cast<int>(i);
 }
 
-const FrictionAnchor* StickSlipFriction::Find(uint64_t key) const {
+const FrictionAnchor* StickSlipFriction::Find(uint64_t key) {
+  const std::vector<FrictionAnchor>& anchors = *anchors_;
+  if (hint_ < anchors.size() && anchors[hint_].key == key) return &anchors[hint_++];
+  if (!indexed_) IndexAnchors();
   const size_t bucket = AnchorBucket(key, chain_.size());
   for (int j = bucket_[bucket]; j < bucket_[bucket + 1]; ++j) {
-    const FrictionAnchor& a = (*anchors_)[order_[j]];
-    if (a.key == key) return &a;
+    const FrictionAnchor& a = anchors[order_[j]];
+    if (a.key == key) {
+      hint_ = static_cast<size_t>(order_[j]) + 1;
+      return &a;
+    }
   }
   return nullptr;
+}
+
+bool StickSlipFriction::Sticks(uint64_t key, bool held) const {
+  return (held && std::find(slid_.begin(), slid_.end(), key) == slid_.end()) ||
+         std::find(stuck_.begin(), stuck_.end(), key) != stuck_.end();
+}
+
+Vec3 StickSlipFriction::SlideDirection(const Vec3& stretch, const Vec3& slip) const {
+  const Vec3 trial = stretch + h_ * slip;
+  const double size = trial.norm();
+  return size > 0.0 ? Vec3(trial / size) : Vec3(slip.normalized());
 }
 
 void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty* p, Mat3* k,
@@ -89,10 +113,9 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   // within a sub-step chattered between the two, creeping 3.7 mm/s down a 10 degree slope at
   // mu 0.3.)
   const double trial_force = (kt * trial + ct * p->slip).norm();
-  const bool stuck =
-      ((anchored ? !found->sliding && trial_force <= kOverload * limit : trial_force <= limit) &&
-       std::find(slid_.begin(), slid_.end(), key) == slid_.end()) ||
-      std::find(stuck_.begin(), stuck_.end(), key) != stuck_.end();
+  const bool held =
+      anchored ? !found->sliding && trial_force <= kOverload * limit : trial_force <= limit;
+  const bool stuck = Sticks(key, held);
   Vec3 force, direction = Vec3::Zero();
   if (stuck) {
     // -k_t s - c v_t at the start; the solve's K and D make it -k_t (s + h v_t') - c v_t'.
@@ -103,30 +126,38 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
     // mu f_n against the trial stretch (the stretch moved by h v_t), held over the sub-step:
     // linearized, its turning with the motion is no longer dissipative (a slip that turned back
     // within the sub-step got work from it: the shipped fall gained 1e-8 J a step).
-    const double size = trial.norm();
-    direction = size > 0.0 ? Vec3(trial / size) : Vec3(p->slip.normalized());
+    direction = SlideDirection(stretch, p->slip);
     force = -limit * direction;
   }
   p->force += force;
   Pair pair;
   pair.key = key;
   pair.kind = c.kind;
-  pair.a = ContactWindow::Of(chain_.spheres()[c.a]);
-  if (c.kind == ContactKind::kSelf) pair.b = ContactWindow::Of(chain_.spheres()[c.b]);
+  pair.a = c.a;
+  pair.b = c.kind == ContactKind::kSelf ? c.b : -1;
   pair.tool = c.kind == ContactKind::kTool ? c.b : 0;
   pair.lever = p->lever;
   pair.normal = n;
   pair.stretch = stretch;
+  pair.slip = p->slip;
   pair.limit = limit;
   pair.stuck = stuck;
+  pair.evaluated_stuck = stuck;
+  pair.held = held;
   pair.direction = direction;
   pairs_.push_back(pair);
 }
 
-Vec3 StickSlipFriction::Motion(const Pair& pair, const Points& x, const double* dx,
-                               const Vec3& tip) {
-  Vec3 relative = pair.a.Gather(x, dx);
-  if (pair.kind == ContactKind::kSelf) relative -= pair.b.Gather(x, dx);
+void StickSlipFriction::GatherSpheres(const Points& x, const double* dx) {
+  const auto& spheres = chain_.spheres();
+  moved_.resize(spheres.size());  // the chain's count: no allocation
+  for (size_t k = 0; k < spheres.size(); ++k)
+    moved_[k] = ContactWindow::Of(spheres[k]).Gather(x, dx);
+}
+
+Vec3 StickSlipFriction::Motion(const Pair& pair, const Vec3& tip) const {
+  Vec3 relative = moved_[pair.a];
+  if (pair.kind == ContactKind::kSelf) relative -= moved_[pair.b];
   if (pair.kind == ContactKind::kTool) relative -= pair.lever.Apply(tip);
   return relative - pair.normal.dot(relative) * pair.normal;
 }
@@ -136,13 +167,14 @@ bool StickSlipFriction::Revise(const Points& v, const double* dv, const double* 
   const double kt = tangential_stiffness_;
   const double ct = cp_.damping;
   bool revised = false;
+  if (!pairs_.empty()) GatherSpheres(v, dv);
   for (const Pair& pair : pairs_) {
     Vec3 tip = Vec3::Zero();
     if (pair.kind == ContactKind::kTool) {
       tip = tool_velocity[pair.tool];
       if (tip_dv != nullptr) tip += Eigen::Map<const Vec3>(tip_dv + 3 * pair.tool);
     }
-    const Vec3 slip = Motion(pair, v, dv, tip);
+    const Vec3 slip = Motion(pair, tip);
     if (pair.stuck) {
       // Held stuck, the contact pushed well beyond the cone over the sub-step (a launched loop's
       // stuck springs stopped it dead): it slides.
@@ -165,14 +197,47 @@ bool StickSlipFriction::Revise(const Points& v, const double* dv, const double* 
   return revised;
 }
 
+bool StickSlipFriction::ApplyRevisions(std::vector<Change>* changes) {
+  for (const Pair& pair : pairs_) {
+    if (pair.kind == ContactKind::kTool && Sticks(pair.key, pair.held) != pair.stuck) return false;
+  }
+  const double kt = tangential_stiffness_;
+  const double ct = cp_.damping;
+  changes->clear();
+  for (Pair& pair : pairs_) {
+    const bool stuck = Sticks(pair.key, pair.held);
+    if (stuck != pair.stuck) {
+      // As Add makes it: stuck, -k_t s - c v_t with its spring and damper; sliding, the cone's
+      // force against the trial stretch.
+      pair.stuck = stuck;
+      pair.direction = stuck ? Vec3::Zero() : SlideDirection(pair.stretch, pair.slip);
+    }
+    if (pair.stuck == pair.evaluated_stuck) continue;
+    const Vec3 held_force = -kt * pair.stretch - ct * pair.slip;
+    const Vec3 sliding_force = -pair.limit * SlideDirection(pair.stretch, pair.slip);
+    const Mat3 tangent = Mat3::Identity() - pair.normal * pair.normal.transpose();
+    const double sign = pair.stuck ? 1.0 : -1.0;
+    Change change;
+    change.kind = pair.kind;
+    change.a = ContactWindow::Of(chain_.spheres()[pair.a]);
+    if (pair.b >= 0) change.b = ContactWindow::Of(chain_.spheres()[pair.b]);
+    change.k = (sign * kt) * tangent;
+    change.d = (sign * ct) * tangent;
+    change.force = pair.stuck ? Vec3(held_force - sliding_force) : Vec3(sliding_force - held_force);
+    changes->push_back(change);
+  }
+  return true;
+}
+
 void StickSlipFriction::Advance(const Points& dq, double h, State* state) {
   const double kt = tangential_stiffness_;
   next_anchors_.clear();
+  if (!pairs_.empty()) GatherSpheres(dq, nullptr);
   for (const Pair& pair : pairs_) {
     const Vec3 tip = pair.kind == ContactKind::kTool
                          ? Vec3(h * state->tools[pair.tool].tip_velocity)
                          : Vec3::Zero();
-    const Vec3 moved = Motion(pair, dq, nullptr, tip);
+    const Vec3 moved = Motion(pair, tip);
     Vec3 stretch = pair.stretch + moved;
     const double size = kt * stretch.norm();
     // The next sub-step starts as this one ended: a stuck spring pulled beyond the cone slides,

@@ -58,7 +58,10 @@ class StickSlipFriction {
   void Use(const std::vector<FrictionAnchor>* anchors, double h);
   bool active() const { return anchors_ != nullptr; }
   /// A force evaluation starts: no pair held yet.
-  void ClearPairs() { pairs_.clear(); }
+  void ClearPairs() {
+    pairs_.clear();
+    hint_ = 0;
+  }
   /// A sub-step starts: every contact sticks or slides as its anchor has it.
   void ClearRevisions() {
     stuck_.clear();
@@ -75,6 +78,22 @@ class StickSlipFriction {
   /// one held far beyond the cone (kOverload, kOverloadSpeed) slides. Says whether any changed.
   bool Revise(const Points& v, const double* dv, const double* tip_dv,
               const std::vector<Vec3>& tool_velocity);
+  /// A pair whose stick or slip a revision changed since the last force evaluation, as the change
+  /// of what it adds: on its relative motion (side a's window less side b's for a self pair, side
+  /// a's alone for an environment pair), stiffness `k` and damping `d` (its tangent plane's k_t
+  /// and c, either sign), and on side a the force `force` (side b takes its opposite).
+  struct Change {
+    collision::ContactKind kind = collision::ContactKind::kSelf;
+    ContactWindow a, b;
+    Mat3 k = Mat3::Zero(), d = Mat3::Zero();
+    Vec3 force = Vec3::Zero();
+  };
+  /// After Revise: every pair held in the last evaluation sticks or slides as the next evaluation
+  /// of the same sub-step would make it (its force, stiffness and damping being the only parts of
+  /// that evaluation to change), and *changes gets those that differ from the evaluation. Returns
+  /// false, changing nothing, when a tool's pair would change (its tip's rows change too: the
+  /// sub-step is evaluated again).
+  bool ApplyRevisions(std::vector<Change>* changes);
   /// Once a sub-step is accepted: each pair held in the last evaluation moves its anchor by the
   /// contact's tangential motion over the sub-step (dq, #N by 3; a tool's tip moved by h times
   /// its new velocity), capped by the cone, and is marked sliding or stuck as the sub-step ended
@@ -88,18 +107,33 @@ class StickSlipFriction {
     uint64_t key = 0;
     collision::ContactKind kind = collision::ContactKind::kSelf;
     int tool = 0;
-    ContactWindow a, b;  // b: a self pair's other side
-    ShaftLever lever;    // a tool pair's
+    int a = 0, b = -1;  // spheres; b: a self pair's other side
+    ShaftLever lever;   // a tool pair's
     Vec3 normal = Vec3::Zero();
     Vec3 stretch = Vec3::Zero();  // at the sub-step's start, in its tangent plane
+    Vec3 slip = Vec3::Zero();     // the tangential relative velocity at the start
     double limit = 0.0;           // N: mu f_n, f_n at the sub-step's start (lagged)
     bool stuck = false;
+    bool evaluated_stuck = false;   // as the evaluation added it
+    bool held = false;              // it sticks unless a revision made it slide (Add's trial)
     Vec3 direction = Vec3::Zero();  // sliding: the way the contact moves (friction opposes it)
   };
-  const FrictionAnchor* Find(uint64_t key) const;
-  // A pair's tangential relative motion: its windows' of x (#N by 3) plus dx (3N values, or
-  // nullptr), less the lever rule's share of the tool's `tip` for a tool pair.
-  static Vec3 Motion(const Pair& pair, const Points& x, const double* dx, const Vec3& tip);
+  // The anchor of `key`, or nullptr. The anchors are in the order of the last evaluation's
+  // pairs, which the next evaluation meets in the same order but for the pairs that came or
+  // went: the one after the last found is tried first, the bucket index (made on the first miss
+  // after Use) only when it is not the one.
+  const FrictionAnchor* Find(uint64_t key);
+  void IndexAnchors();
+  // Whether a pair sticks: as its trial has it (held), unless Revise made it slide or stick.
+  bool Sticks(uint64_t key, bool held) const;
+  // A sliding pair's direction: its trial stretch's (the stretch moved by h v_t), or its slip's.
+  Vec3 SlideDirection(const Vec3& stretch, const Vec3& slip) const;
+  // moved_[k] <- sphere k's motion: its window's of x (#N by 3) plus dx (3N values, or nullptr).
+  // Once per sphere rather than once per pair and side: the same sums, in the same order.
+  void GatherSpheres(const Points& x, const double* dx);
+  // A pair's tangential relative motion from moved_, less the lever rule's share of the tool's
+  // `tip` for a tool pair.
+  Vec3 Motion(const Pair& pair, const Vec3& tip) const;
 
   const ContactParams& cp_;
   const collision::SphereChain& chain_;
@@ -108,15 +142,18 @@ class StickSlipFriction {
   // The anchors the sub-step starts from and its length (Use).
   const std::vector<FrictionAnchor>* anchors_ = nullptr;
   double h_ = 0.0;
-  // The anchors by the pair's kind and first sphere (a counting sort, made by Use): bucket
-  // kind * spheres + a holds order_[bucket_[i] .. bucket_[i + 1]), a few pairs each, so that a
-  // contact finds its anchor in O(1) rather than by a search.
+  // The anchors by the pair's kind and first sphere (a counting sort, made at the first miss of the
+  // hint): bucket kind * spheres + a holds order_[bucket_[i] .. bucket_[i + 1]), a few pairs each,
+  // so that a contact finds its anchor in O(1) rather than by a search.
   std::vector<int> bucket_, cursor_, order_;
+  bool indexed_ = false;
+  size_t hint_ = 0;  // the anchor Find tries first
   double energy_ = 0.0;
   std::vector<Pair> pairs_;      // held in the last force evaluation
   std::vector<uint64_t> stuck_;  // pairs Revise made stick in this sub-step
   std::vector<uint64_t> slid_;   // ... and slide
   std::vector<FrictionAnchor> next_anchors_;
+  std::vector<Vec3> moved_;  // per sphere (GatherSpheres)
 };
 
 }  // namespace viscera::mechanics

@@ -67,14 +67,14 @@ void TipCoupling::AddContactCoupling(int candidate, int tool, int sphere, const 
 
 bool TipCoupling::Revise(double h, const Points& v, const double* dv, const VecX& tip_v,
                          const std::vector<ContactCandidate>& list,
-                         const std::vector<ContactPenalty>& geometry) {
+                         const std::vector<PairGeometry>& geometry) {
   const double damping = model_.params().contacts.damping;
   auto end_velocity = [&](int sphere) { return Window(sphere).Gather(v, dv); };
   bool revised = false;
   // Pairs that did not act and end in contact act in the next solve.
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
-    const ContactPenalty& g = geometry[i];
+    const PairGeometry& g = geometry[i];
     if (c.kind != ContactKind::kTool || g.lever.fraction <= 0.0 ||
         g.clearance > 2.0 * model_.params().radius)
       continue;

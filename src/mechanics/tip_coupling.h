@@ -104,7 +104,7 @@ class TipCoupling {
   /// end in contact. Says whether any changed, so that the solve is done again.
   bool Revise(double h, const Points& v, const double* dv, const VecX& tip_v,
               const std::vector<collision::ContactCandidate>& list,
-              const std::vector<ContactPenalty>& geometry);
+              const std::vector<PairGeometry>& geometry);
   /// A sub-step starts with every contact as its start's law has it.
   void ClearRevisions() {
     released_.clear();
