@@ -27,7 +27,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
       stick_slip_(interactions != nullptr &&
                   model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
                   model.params().contacts.impact_constraints),
-      band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod) {
+      band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod),
+      end_(model, interactions, [this](double* x) { ApplyBandInverse(x); }) {
   gravity_floor_share_ = stick_slip_ ? kStickSlipGravityFloor : 1.0;
   scratch_.Resize(n_);
   jac_.Resize(n_);
@@ -35,7 +36,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   kv_.setZero(n_, 3);
   step_dq_.setZero(n_, 3);
   history_.setZero(n_, 3);
-  impact_check_.setZero(n_, 3);  // NeedsEndConstraints may be its first use, in any sub-step
   rhs_.setZero(3 * n_, 2 + 3 * num_pins_);
   schur_.setZero(3 * num_pins_, 3 * num_pins_);
   pin_rhs_.setZero(3 * num_pins_);
@@ -341,7 +341,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
   bool correct_depth = false;
-  int64_t impacts_before = impact_substeps_;
+  int64_t impacts_before = end_.substeps();
   for (;;) {
     if (!converged) {
       // A solve that did not converge: the sub-step again as two halves (each nearer the
@@ -365,15 +365,15 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       const bool stretched =
           stretch_redo_ && !LinearizationGuard::UnseenStretchWithin(
                                q, step_dq_, LinearizationGuard::kMaxUnseenStretchBdf2);
-      if (stretched || (impact_redo_ && NeedsEndConstraints(h, step_dq_))) {
+      if (stretched || (impact_redo_ && end_.Needed(h, step_dq_))) {
         ++(stretched ? stretch_redos_ : impact_redos_);
         --substeps_;
         AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
         return;
       }
     }
-    impacts_before = impact_substeps_;
-    correct_depth = multistep ? false : ResolveImpacts(h, v, dv);
+    impacts_before = end_.substeps();
+    correct_depth = multistep ? false : end_.Resolve(h, v, dv);
     if (tips && SolveTips(h, v, dv.data(), *state)) {
       ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
       ++tip_redos_;
@@ -388,7 +388,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       // Only the revised pairs' terms change: with the exact coupling's CG, and no impulse in the
       // solve (the impulses' columns are the band's, which keeps the evaluation's pairs), the
       // solve takes them as a change of b and of the exact matrix, from the last answer.
-      if (friction_resolve_ && coupled && !correct_depth && impact_substeps_ == impacts_before &&
+      if (friction_resolve_ && coupled && !correct_depth && end_.substeps() == impacts_before &&
           SolveFrictionChanges(w, h, dv, state, &converged)) {
         ++friction_resolves_;
         continue;
@@ -405,7 +405,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   // and that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
   if (guard_ && halvings < kMaxHalvings) {
     if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
-    if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
+    if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
     // Halving shrinks what the velocities and the forces move (4 to 16 times).
     const double unseen = LinearizationGuard::Excess(q, step_dq_);
     if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
@@ -423,7 +423,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   state->last_dqd = dv_points;
   // An impulse or a position correction is not a motion to build on.
-  state->last_h = impact_substeps_ == impacts_before ? h : 0.0;
+  state->last_h = end_.substeps() == impacts_before ? h : 0.0;
   if (multistep) {
     if (tips) AdvanceTips(h, nullptr, state);  // touching nothing: their own backward Euler
     Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
@@ -432,10 +432,10 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
   // guard existed (and as it does with the guard off).
-  if (tips) AdvanceTips(h, correct_depth ? &depth_dq_ : nullptr, state);
+  if (tips) AdvanceTips(h, correct_depth ? &end_.depth_dq() : nullptr, state);
   Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
   q += h * v;
-  if (correct_depth) q += h * Eigen::Map<const Points>(depth_dq_.data(), n_, 3);
+  if (correct_depth) q += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
   state->last_dq = q - state->last_dq;
   if (stick_slip_) interactions_->AdvanceFriction(state->last_dq, h, state);
 }

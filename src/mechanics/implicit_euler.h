@@ -19,7 +19,7 @@
 
 #include "mechanics/band_system_solver.h"
 #include "mechanics/conjugate_gradient.h"
-#include "mechanics/impact_limiter.h"
+#include "mechanics/end_constraints.h"
 #include "mechanics/integrator.h"
 #include "mechanics/interactions.h"
 
@@ -66,9 +66,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   void set_impact_redo(bool on) { impact_redo_ = on; }
   /// Whether impulses and depth corrections between parts of the tube, held inside the solve,
   /// are kept from the momentum that the band system they act through gives them (it ties each
-  /// side of a self pair to the world; KeepPairsMomentum). On by default; off only to show it is
-  /// needed, in tests.
-  void set_impact_momentum_kept(bool on) { impact_momentum_kept_ = on; }
+  /// side of a self pair to the world; EndConstraints::KeepPairsMomentum). On by default; off only
+  /// to show it is needed, in tests.
+  void set_impact_momentum_kept(bool on) { end_.set_momentum_kept(on); }
 
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
   /// damped explicit update). Should stay 0.
@@ -114,8 +114,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   int64_t halved_substeps() const { return halved_substeps_; }
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/impacts.md).
-  int64_t impact_substeps() const { return impact_substeps_; }
-  int64_t impact_contacts() const { return impact_contacts_total_; }
+  int64_t impact_substeps() const { return end_.substeps(); }
+  int64_t impact_contacts() const { return end_.contacts(); }
 
  private:
   friend class ImplicitSystemView;  // the last sub-step's system, read-only (bench, tests)
@@ -156,23 +156,6 @@ class ImplicitEulerIntegrator final : public Integrator {
   // The state's correction <- CG's start (added to the band's answer): twice the last correction
   // minus the one before, which becomes the last; left as it was when `again`.
   void WarmStart(bool again, State* state) const;
-  // After the solve (implicit_impacts.cc): impulses J^T Λ inside the implicit system, for the
-  // impacts that v + dv would still leave too deep: dv += A^-1 J^T Λ. Returns whether q needs
-  // depth_dq_ (a position correction, h times it) on top of h (v + dv).
-  bool ResolveImpacts(double h, const Points& v, Eigen::Ref<VecX> dv);
-  // Whether a sub-step that moves q by `dq` would need impact or depth constraints.
-  bool NeedsEndConstraints(double h, const Points& dq);
-  // One kind of end constraint on the velocity `base`: *delta = A^-1 J^T Λ (3N), or returns false
-  // when no pair needs one.
-  bool SolveEndConstraints(Interactions::EndConstraint kind, double h, const Points& base,
-                           VecX* delta);
-  // delta (3N, from SolveEndConstraints on self pairs) less the momentum the band's excess on the
-  // pairs' common motion gave it (set_impact_momentum_kept).
-  void KeepPairsMomentum(double h, VecX* delta);
-  // impact_columns_ from `first` to before `end` <- ApplyBandInverse of each.
-  void ApplyBandInverseToColumns(Eigen::Index first, Eigen::Index end);
-  // x (3N) <- J_i x, the normal speed of contact i.
-  double ContactSpeed(const ImpactLimiter::Contact& c, const double* x) const;
   // The tools' tips in the solve (implicit_tips.cc): whether there are any; K v's tip rows and
   // the links' part of kv_; the tips' rows and their elimination from b_; Woodbury's columns for
   // the band solve; that correction on a band solution; y -= B C^-1 B' x; the tips' update.
@@ -215,17 +198,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   VecX pin_rhs_, pin_lambda_;
   VecX b_;  // the right-hand side
   PreconditionedCg cg_;
-  // Impacts inside the solve: the contacts, A^-1 J_i^T per contact (3N by contacts, through the
-  // band system), their Delassus matrix and impulses.
-  std::vector<ImpactLimiter::Contact> impact_set_;
-  MatX impact_columns_;
-  IncrementalDelassus<ImpactLimiter::Contact> impact_delassus_;
-  VecX impact_lambda_, impact_speed_, impact_target_, impact_dv_, depth_dq_;
-  Points impact_v_, impact_check_;
-  int64_t impact_substeps_ = 0, impact_contacts_total_ = 0;
+  EndConstraints end_;  // impacts and depth held inside the solve, through the band system
   double gravity_floor_share_;
   bool impact_redo_ = true;
-  bool impact_momentum_kept_ = true;
   double weight_scale_ = 0.0;  // m |g|^2, m the whole tube's mass
   double rank1_w_ = 0.0;       // h^2 times the rank-one coefficient, this sub-step
   double rank1_denom_ = 1.0;   // 1 + w u.z of Sherman-Morrison
