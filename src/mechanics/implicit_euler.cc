@@ -28,7 +28,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
                   model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
                   model.params().contacts.impact_constraints),
       band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod),
-      end_(model, interactions, [this](double* x) { ApplyBandInverse(x); }) {
+      end_(model, interactions, [this](double* x) { ApplyBandInverse(x); }),
+      tips_(model.num_points(), static_cast<int>(model.params().tools.size()), interactions) {
   gravity_floor_share_ = stick_slip_ ? kStickSlipGravityFloor : 1.0;
   scratch_.Resize(n_);
   jac_.Resize(n_);
@@ -49,13 +50,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   if (stick_slip_)
     friction_changes_.reserve(static_cast<size_t>(interactions_->chain().size()) * 8);
   cg_.Resize(3 * n_);
-  num_tools_ = static_cast<int>(model.params().tools.size());
-  tip_B_.setZero(3 * n_, 3 * num_tools_);
-  tip_Y_.setZero(3 * n_, 3 * num_tools_);
-  tip_first_.assign(num_tools_, n_);
-  for (MatX* m : {&tip_c_, &tip_c_inv_, &tip_S_}) m->setZero(3 * num_tools_, 3 * num_tools_);
-  for (VecX* v : {&tip_b_, &tip_kv_, &tip_dv_, &tip_v_, &tip_tmp_, &tip_tmp2_})
-    v->setZero(3 * num_tools_);
 }
 
 void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& state) {
@@ -108,7 +102,7 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
   }
   // Pins: dv = x - Y S^-1 G x.
   if (num_pins_ == 0) {
-    if (tip_woodbury_) ApplyTipCorrection(x);
+    if (tips_.woodbury()) tips_.ApplyCorrection(x);
     return;
   }
   for (int r = 0; r < 3 * num_pins_; ++r) {
@@ -119,7 +113,7 @@ void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
   }
   pin_lambda_ = schur_ldlt_.solve(pin_rhs_);
   dv.noalias() -= rhs_.rightCols(3 * num_pins_).lazyProduct(pin_lambda_);
-  if (tip_woodbury_) ApplyTipCorrection(x);
+  if (tips_.woodbury()) tips_.ApplyCorrection(x);
 }
 
 void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const {
@@ -129,7 +123,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   band_.system().Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
   if (friction_changed_) AddFrictionChanges(x.data(), y->data());
-  if (tip_woodbury_) SubtractTipSchur(x.data(), y->data());
+  if (tips_.woodbury()) tips_.SubtractSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
     *y += (rank1_w_ * u.dot(x)) * u;
@@ -233,6 +227,12 @@ void ImplicitEulerIntegrator::WarmStart(bool again, State* state) const {
   }
 }
 
+void ImplicitEulerIntegrator::ClearTipReleases() {
+  tips_.ClearRounds();
+  friction_rounds_ = 0;
+  if (interactions_ != nullptr) interactions_->ClearTipReleases();
+}
+
 void ImplicitEulerIntegrator::Advance(std::span<const PointLoad> loads, double h, State* state) {
   ClearTipReleases();
   AdvanceHalving(loads, h, 0, std::numeric_limits<double>::infinity(), bdf2_, state);
@@ -260,7 +260,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   const bool again = solving_again_;
   solving_again_ = false;
   ++substeps_;
-  const bool tips = HasTips(*state);
+  const bool tips = tips_.Present(*state);
   friction_changed_ = false;
   friction_changes_.clear();
   if (tips) interactions_->PlaceTips(*state, tip_end_);
@@ -285,14 +285,13 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     interactions_->WeighCommonModes(-1.0, 0.0);
     interactions_->AddCommonModeTerms(v, &kv_);
   }
-  if (tips) AddTipStiffness(*state);
+  if (tips) tips_.AddStiffness(*state, &kv_);
   Eigen::Map<const VecX> force_flat(force_.data(), 3 * n_);
   Eigen::Map<const VecX> kv_flat(kv_.data(), 3 * n_);
   b_ = w.h_eff * (force_flat - w.h_eff * kv_flat);
   if (multistep) AddHistory(w, *state);
-  tip_woodbury_ = false;
-  tips_linked_ = false;
-  if (tips) ReduceTips(h);
+  tips_.Reset();
+  if (tips) tips_.Reduce(h, &b_);
   rhs_.col(0) = b_;
   rhs_.col(1) = Eigen::Map<const VecX>(jac_.rank1_u.data(), 3 * n_);
   for (int p = 0; p < num_pins_; ++p) {
@@ -314,10 +313,10 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     v += h * force_;
     q += h * v;
     if (tips) {
-      tips_linked_ = false;
+      tips_.Reset();  // the tips unlinked: their own rows only
       b_.setZero();
-      SolveTips(h, v, b_.data(), *state);  // the tips alone, against their own rows
-      AdvanceTips(h, nullptr, state);
+      tips_.Solve(h, v, b_.data(), *state);  // the tips alone, against their own rows
+      tips_.Advance(h, nullptr, state);
     }
     state->last_h = 0.0;
     return;
@@ -328,7 +327,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   band_.SolveColumns(&rhs_, rank1_w_ > 0.0 ? 1 : 2);
   auto dv = rhs_.col(0);
   PrepareConstraints();
-  if (tips) PrepareTipCorrection();
+  if (tips) tips_.PrepareCorrection(band_, [this](double* x) { ApplyCorrections(x); });
   ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
   bool converged = true;
@@ -374,15 +373,15 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     }
     impacts_before = end_.substeps();
     correct_depth = multistep ? false : end_.Resolve(h, v, dv);
-    if (tips && SolveTips(h, v, dv.data(), *state)) {
-      ++tip_rounds_;  // a tip contact would pull, or is stiffer where it ends: solved again
+    if (tips && tips_.Solve(h, v, dv.data(), *state)) {
+      tips_.CountRound();  // a tip contact would pull, or is stiffer where it ends: solved again
       ++tip_redos_;
       solving_again_ = coupled;
       AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
       return;
     }
     if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
-        interactions_->ReviseFriction(v, dv.data(), tips ? tip_dv_.data() : nullptr)) {
+        interactions_->ReviseFriction(v, dv.data(), tips ? tips_.dv().data() : nullptr)) {
       ++friction_rounds_;  // a contact sticks or slides otherwise than solved: solved again
       ++friction_redos_;
       // Only the revised pairs' terms change: with the exact coupling's CG, and no impulse in the
@@ -425,14 +424,14 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   // An impulse or a position correction is not a motion to build on.
   state->last_h = end_.substeps() == impacts_before ? h : 0.0;
   if (multistep) {
-    if (tips) AdvanceTips(h, nullptr, state);  // touching nothing: their own backward Euler
+    if (tips) tips_.Advance(h, nullptr, state);  // touching nothing: their own backward Euler
     Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
     if (stick_slip_) interactions_->AdvanceFriction(step_dq_, h, state);
     return;
   }
   // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
   // guard existed (and as it does with the guard off).
-  if (tips) AdvanceTips(h, correct_depth ? &end_.depth_dq() : nullptr, state);
+  if (tips) tips_.Advance(h, correct_depth ? &end_.depth_dq() : nullptr, state);
   Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
   q += h * v;
   if (correct_depth) q += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);

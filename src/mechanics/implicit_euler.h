@@ -22,6 +22,7 @@
 #include "mechanics/end_constraints.h"
 #include "mechanics/integrator.h"
 #include "mechanics/interactions.h"
+#include "mechanics/tip_schur.h"
 
 namespace viscera::mechanics {
 
@@ -156,24 +157,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   // The state's correction <- CG's start (added to the band's answer): twice the last correction
   // minus the one before, which becomes the last; left as it was when `again`.
   void WarmStart(bool again, State* state) const;
-  // The tools' tips in the solve (implicit_tips.cc): whether there are any; K v's tip rows and
-  // the links' part of kv_; the tips' rows and their elimination from b_; Woodbury's columns for
-  // the band solve; that correction on a band solution; y -= B C^-1 B' x; the tips' update.
-  bool HasTips(const State& state) const;
-  void ClearTipReleases();  // a new sub-step (or half): every tip contact acts again
-  void AddTipStiffness(const State& state);
-  void ReduceTips(double h);
-  void PrepareTipCorrection();
-  void ApplyTipCorrection(double* x) const;
-  void SubtractTipSchur(const double* x, double* y) const;
-  // *out = B' x and y -= B z, on the rows of B that are not +0 (tip_row_begin_, tip_row_end_).
-  void TipTransposedProduct(const double* x, VecX* out) const;
-  void SubtractTipProduct(const VecX& z, double* y) const;
-  // dv_t for the tube's dv into tip_dv_; true when a tip contact would pull at the end and was
-  // released, or was stiffened (the sub-step is then solved again, at most kMaxTipRounds times).
-  bool SolveTips(double h, const Points& v, const double* dv, const State& state);
-  void AdvanceTips(double h, const VecX* depth_dq, State* state);
-  static constexpr int kMaxTipRounds = 4;
+  void ClearTipReleases();  // a new sub-step (or half): every tip and friction contact acts again
   // Solves of one sub-step redone while its contacts' stick or slip is revised
   // (Interactions::ReviseFriction).
   static constexpr int kMaxFrictionRounds = 3;
@@ -209,16 +193,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   double last_cg_stop_ = 0.0;
   int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
   int64_t cg_extended_ = 0, cg_halved_ = 0;
-  // Tips (three unknowns per tool): B (3N by 3T), Y = P^-1 B, C and C^-1 (block diagonal),
-  // S = C - B' Y, the tips' right-hand side and K v rows, scratch of 3T. The target's path is
+  // The tools' tips, three unknowns per tool, eliminated from the solve. Their targets' path is
   // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).
-  int num_tools_ = 0;
-  bool tips_linked_ = false, tip_woodbury_ = false;
-  MatX tip_B_, tip_Y_, tip_c_, tip_c_inv_, tip_S_;
-  std::vector<int> tip_first_;               // per tool: its first linked point (n_: none)
-  int tip_row_begin_ = 0, tip_row_end_ = 0;  // B's rows that may not be +0 (ReduceTips)
-  Eigen::LDLT<MatX> tip_S_ldlt_;
-  VecX tip_b_, tip_kv_, tip_dv_, tip_v_;
+  TipSchur tips_;
   int friction_rounds_ = 0;
   // The revised friction pairs of this evaluation (SolveFrictionChanges), b_ as the evaluation
   // made it, the last solve's dv, and the weights the pairs' terms take in the exact matrix.
@@ -227,8 +204,6 @@ class ImplicitEulerIntegrator final : public Integrator {
   bool friction_changed_ = false;
   bool friction_resolve_ = true;
   double change_stiffness_ = 0.0, change_damping_ = 0.0;
-  int tip_rounds_ = 0;  // solves of this sub-step redone without pulling tip contacts
-  mutable VecX tip_tmp_, tip_tmp2_;
   double tip_end_ = 1.0, tip_span_ = 1.0;
   int64_t impact_redos_ = 0, bdf2_substeps_ = 0, friction_redos_ = 0, stretch_redos_ = 0;
   int64_t tip_redos_ = 0, friction_resolves_ = 0;
