@@ -32,7 +32,7 @@ mkdir -p "$out"
 # on a 2-vCPU machine shared with other work (docs/capacity.md); widen them on a quiet one.
 sweep() {
   case "$1" in
-    fall-100 | cavity-100 | *-100-skeleton) echo 2,4,6,8,10,12,14 ;;
+    fall-100 | cavity-100 | *-100-skeleton) echo 4,8,10,12,14,16 ;;
     fall-1000) echo 1,2,3 ;;
     *-100-frames) echo 1,2,3,4 ;;
     *-1000*) echo 1,2 ;;
@@ -52,9 +52,10 @@ for config in "${configs[@]}"; do
   dir="$out/$config"
   mkdir -p "$dir"
   # --frame-lease 0: the load tester takes frames without renewing a frame lease; every
-  # session streams as if watched
+  # session streams as if watched. --max-creates-per-minute 0: a sweep creates more sessions a
+  # minute than the default limit lets a client
   taskset -c "$server_cpu" "$build/server/viscerad" --server-id "capacity-$config" --max-sessions 64 \
-    --max-rate 1000 --frame-lease 0 --lcm-url "$url" --scene-dir "$root/scenes" 2>"$dir/viscerad.err" &
+    --max-rate 1000 --frame-lease 0 --max-creates-per-minute 0 --lcm-url "$url" --scene-dir "$root/scenes" 2>"$dir/viscerad.err" &
   server_pid=$!
   echo "== $config: sessions $(sweep "$config"), $seconds s each (viscerad on CPU $server_cpu, load tester on CPU $client_cpu)"
   status=0
