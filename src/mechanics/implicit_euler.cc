@@ -163,24 +163,10 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   return result.converged;
 }
 
-namespace {
-// J x for a friction change's relative motion (x: 3N values).
-Vec3 ChangeMotion(const StickSlipFriction::Change& c, const double* x) {
-  Vec3 r = c.a.Gather(x);
-  if (c.kind == collision::ContactKind::kSelf) r -= c.b.Gather(x);
-  return r;
-}
-// y += J^T f.
-void ScatterChange(const StickSlipFriction::Change& c, const Vec3& f, double* y) {
-  c.a.Scatter(f, y);
-  if (c.kind == collision::ContactKind::kSelf) c.b.Scatter(-f, y);
-}
-}  // namespace
-
 void ImplicitEulerIntegrator::AddFrictionChanges(const double* x, double* y) const {
   for (const StickSlipFriction::Change& c : friction_changes_) {
-    const Vec3 r = ChangeMotion(c, x);
-    ScatterChange(c, change_stiffness_ * (c.k * r) + change_damping_ * (c.d * r), y);
+    const Vec3 r = c.Motion(x);
+    c.Scatter(change_stiffness_ * (c.k * r) + change_damping_ * (c.d * r), y);
   }
 }
 
@@ -196,9 +182,9 @@ bool ImplicitEulerIntegrator::SolveFrictionChanges(const StepWeights& w, double 
   const bool multistep = w.history > 0.0;
   b_ = b_evaluated_;
   for (const StickSlipFriction::Change& c : friction_changes_) {
-    Vec3 moved = w.h_eff * ChangeMotion(c, state->qd.data());
-    if (multistep) moved += w.history * ChangeMotion(c, state->last_dq.data());
-    ScatterChange(c, w.h_eff * (c.force - c.k * moved), b_.data());
+    Vec3 moved = w.h_eff * c.Motion(state->qd.data());
+    if (multistep) moved += w.history * c.Motion(state->last_dq.data());
+    c.Scatter(w.h_eff * (c.force - c.k * moved), b_.data());
   }
   // CG from the last solve's answer: its correction is that less the band's answer to the new b.
   dv_solved_ = dv;

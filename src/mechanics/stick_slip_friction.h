@@ -87,6 +87,17 @@ class StickSlipFriction {
     ContactWindow a, b;
     Mat3 k = Mat3::Zero(), d = Mat3::Zero();
     Vec3 force = Vec3::Zero();
+    /// J x, the pair's relative motion in x (3N values: a velocity, a motion).
+    Vec3 Motion(const double* x) const {
+      Vec3 r = a.Gather(x);
+      if (kind == collision::ContactKind::kSelf) r -= b.Gather(x);
+      return r;
+    }
+    /// y += J' f: the pair's force f on each side.
+    void Scatter(const Vec3& f, double* y) const {
+      a.Scatter(f, y);
+      if (kind == collision::ContactKind::kSelf) b.Scatter(-f, y);
+    }
   };
   /// After Revise: every pair held in the last evaluation sticks or slides as the next evaluation
   /// of the same sub-step would make it (its force, stiffness and damping being the only parts of

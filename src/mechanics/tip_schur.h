@@ -32,7 +32,10 @@ class TipSchur {
   /// The tips' rows for a sub-step of h, and their elimination from the tube's b: b -= B C^-1 b_t.
   void Reduce(double h, VecX* b);
   /// No Woodbury correction until PrepareCorrection (a sub-step without linked tips).
-  void Reset() { woodbury_ = false, linked_ = false; }
+  void Reset() {
+    woodbury_ = false;
+    linked_ = false;
+  }
   /// Y = P^-1 B through the band solve `band` and `corrections` (the preconditioner's rank-one
   /// and pins' terms, called while this correction is still off), and S = C - B' Y.
   void PrepareCorrection(BandSystemSolver& band, const std::function<void(double*)>& corrections);
