@@ -37,12 +37,15 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
   std::map<int, int64_t> last_answered;  // tool -> last pose seq answered
   std::map<int64_t, Vec3> targets;       // pose seq -> target, for the peak report
   double force_sum = 0.0;
+  std::map<int, Vec3> tips;  // tool -> its simulated tip, from the latest force message
   const std::string force_channel = bus::SessionChannel(bus::kForcePrefix, options.session_id);
   const bus::SubscriptionId sub = client.bus().Subscribe<viscera_proto::force_feedback_t>(
       force_channel, [&](const viscera_proto::force_feedback_t& f, int64_t recv_utime) {
         if (f.header.session_id != options.session_id || !bus::HeaderProblem(f.header).empty())
           return;
         ++r.forces_received;
+        if (f.tool >= 0 && static_cast<size_t>(f.tool) < options.tool_names.size())
+          tips[f.tool] = Vec3(f.tip[0], f.tip[1], f.tip[2]);
         const Vec3 force(f.force[0], f.force[1], f.force[2]);
         force_sum += force.norm();
         if (force.norm() > r.max_force_n) {
@@ -85,17 +88,19 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
   const std::string pose_channel = bus::SessionChannel(bus::kPosePrefix, options.session_id);
   viscera_proto::tool_pose_t pose{};
   const int64_t period_ns = static_cast<int64_t>(1e9 / options.pose_rate_hz);
-  const int64_t n =
-      std::max<int64_t>(1, static_cast<int64_t>(script.duration() * options.pose_rate_hz) + 1);
   const int64_t start = MonotonicNanos();
   int64_t seq = 0;
   const int64_t sender = bus::NewSenderId();  // this drive's own sequence (replay protection)
   script::ScriptPlayer player(script);
-  for (int64_t k = 0; k < n; ++k) {
+  // to the script's end, and on while a tool reaches again for a grasp (ScriptPlayer)
+  for (int64_t k = 0; k == 0 || !player.Done(static_cast<double>(k - 1) / options.pose_rate_hz);
+       ++k) {
     SleepUntil(start + k * period_ns);
     const double t = static_cast<double>(k) / options.pose_rate_hz;
     for (const auto& [name, index] : tools) {
-      const script::ToolKeyframe key = player.At(name, t, tube);
+      const auto tip = tips.find(index);
+      const script::ToolKeyframe key =
+          player.At(name, t, tube, tip == tips.end() ? nullptr : &tip->second);
       bus::FillToolPose(options.session_id, seq, options.token, index, key.tip, key.orientation,
                         key.jaw, &pose);
       pose.header.sender = sender;
@@ -111,6 +116,8 @@ DriveResult Drive(SessionClient& client, const script::ToolScript& script,
   if (script.aims_at_tube()) client.bus().Unsubscribe(skeleton_sub);
 
   r.duration_s = static_cast<double>(MonotonicNanos() - start) * 1e-9;
+  r.reaches = player.reaches();
+  r.script_delay_s = player.delay();
   r.mean_force_n = r.forces_received > 0 ? force_sum / static_cast<double>(r.forces_received) : 0.0;
   r.round_trip_p50_us = Quantile(round_trips, 0.5);
   r.round_trip_p99_us = Quantile(round_trips, 0.99);
@@ -135,7 +142,9 @@ nlohmann::ordered_json DriveToJson(const DriveResult& r) {
           {"round_trip_p99_us", r.round_trip_p99_us},
           {"round_trip_max_us", r.round_trip_max_us},
           {"last_step", r.last_step},
-          {"duration_s", r.duration_s}};
+          {"duration_s", r.duration_s},
+          {"reaches", r.reaches},
+          {"script_delay_s", r.script_delay_s}};
 }
 
 }  // namespace viscera::client

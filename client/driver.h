@@ -40,7 +40,9 @@ struct DriveResult {
   double round_trip_max_us = 0.0;
   int64_t clamped = 0;  ///< force messages with the clamp flag
   int64_t last_step = 0;
-  double duration_s = 0.0;  ///< wall time driving (s)
+  double duration_s = 0.0;      ///< wall time driving (s)
+  int reaches = 0;              ///< grasp rows reached again (ScriptPlayer)
+  double script_delay_s = 0.0;  ///< how far those reaches set the script behind (s)
 };
 
 /// Drives `script` over its duration.

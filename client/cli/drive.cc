@@ -100,6 +100,9 @@ int RunDrive(const std::string& url, const Common& c) {
         "round trip pose -> force p50 %.0f us, p99 %.0f us, max %.0f us (%lld poses answered)\n",
         r.round_trip_p50_us, r.round_trip_p99_us, r.round_trip_max_us,
         static_cast<long long>(r.poses_answered));
+    if (r.reaches > 0)
+      std::printf("script     %d grasps reached again, %.2f s behind its clock\n", r.reaches,
+                  r.script_delay_s);
     std::printf(
         "mechanics  %.0f of %.0f Hz, %lld deadline %s, step p50 %.0f us p99 %.0f us, "
         "jitter p99 %.0f us, %lld rejected\n",

@@ -17,7 +17,7 @@ ScriptedTools::ScriptedTools(const mechanics::Model& model, ToolScript script,
 }
 
 std::span<const mechanics::ToolTarget> ScriptedTools::At(
-    double t, const mechanics::Interactions* interactions) {
+    double t, const mechanics::Interactions* interactions, const mechanics::State* state) {
   tube_.centre_line.clear();
   if (player_.script().aims_at_tube() && interactions) {
     for (const collision::Sphere& s : interactions->chain().spheres())
@@ -29,7 +29,8 @@ std::span<const mechanics::ToolTarget> ScriptedTools::At(
     mechanics::ToolTarget& target = targets_[i];
     target.active = player_.script().Has(name);
     if (!target.active) continue;
-    const ToolKeyframe k = player_.At(name, t, tube_);
+    const bool seen = state != nullptr && i < state->tools.size() && state->tools[i].initialized;
+    const ToolKeyframe k = player_.At(name, t, tube_, seen ? &state->tools[i].tip : nullptr);
     target.tip = k.tip;
     target.orientation = k.orientation;
     target.jaw = k.jaw;

@@ -8,6 +8,7 @@
 
 #include "mechanics/interactions.h"
 #include "mechanics/model.h"
+#include "mechanics/state.h"
 #include "script/script_player.h"
 
 namespace viscera::script {
@@ -20,9 +21,14 @@ class ScriptedTools {
 
   /// Targets of the model's tools at time t, in scene order (tools the script does not name are
   /// idle). Rows aimed at the tube aim at the sphere chain's centres as `interactions` holds
-  /// them (null: their written positions).
-  std::span<const mechanics::ToolTarget> At(double t, const mechanics::Interactions* interactions);
+  /// them (null: their written positions); grasp rows are checked against the tools' tips in
+  /// `state` (null: unchecked).
+  std::span<const mechanics::ToolTarget> At(double t, const mechanics::Interactions* interactions,
+                                            const mechanics::State* state = nullptr);
   double duration() const { return player_.script().duration(); }
+  /// How far the script runs behind the clock after reaches played again (ScriptPlayer).
+  double delay() const { return player_.delay(); }
+  const ScriptPlayer& player() const { return player_; }
 
  private:
   const mechanics::Model& model_;

@@ -66,13 +66,15 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
                 ": expected 0..1");
     if (columns == 11) {
       const std::string& aim = cells[10];
-      k.at_tube = aim.rfind("tube", 0) == 0;
-      if (aim.rfind("tube@", 0) == 0) {
+      k.grasp = aim.rfind("grasp@", 0) == 0;
+      k.at_tube = aim.rfind("tube", 0) == 0 || k.grasp;
+      if (aim.rfind("tube@", 0) == 0 || k.grasp) {
+        const size_t at = aim.find('@') + 1;
         char* end = nullptr;
-        k.along = std::strtod(aim.c_str() + 5, &end);
-        ThrowUnless(aim.size() > 5 && end && *end == '\0' && k.along >= 0.0 && k.along <= 1.0,
-                    source, ":", line_no, ": aim = \"", aim,
-                    "\": expected tube@S with 0 <= S <= 1");
+        k.along = std::strtod(aim.c_str() + at, &end);
+        ThrowUnless(aim.size() > at && end && *end == '\0' && k.along >= 0.0 && k.along <= 1.0,
+                    source, ":", line_no, ": aim = \"", aim, "\": expected ", aim.substr(0, at),
+                    "S with 0 <= S <= 1");
       } else if (aim == "offset") {
         k.offset = true;
         bool aimed = false;
@@ -82,7 +84,7 @@ ToolScript ToolScript::Parse(const std::string& text, const std::string& source)
       } else {
         ThrowUnless(aim.empty() || aim == "point" || aim == "tube", source, ":", line_no,
                     ": aim = \"", aim,
-                    "\": expected \"point\", \"tube\", \"tube@S\" or \"offset\"");
+                    "\": expected \"point\", \"tube\", \"tube@S\", \"grasp@S\" or \"offset\"");
       }
       script.aims_at_tube_ = script.aims_at_tube_ || k.at_tube;
     }
@@ -131,6 +133,21 @@ Vec3 AlongTube(const Tube& tube, double s, const Vec3& p) {
     left -= len;
   }
   return OntoSurface(tube, line.back(), p);
+}
+
+double AlongTubeFrom(const Tube& tube, double s, const Vec3& p) {
+  const std::vector<Vec3>& line = tube.centre_line;
+  if (line.size() < 2) return 0.0;
+  double total = 0.0, nearest = 0.0, best_d2 = (line.front() - p).squaredNorm();
+  for (size_t i = 0; i + 1 < line.size(); ++i) {
+    const Vec3 d = line[i + 1] - line[i];
+    const double len2 = d.squaredNorm();
+    const double u = len2 > 0.0 ? std::clamp((p - line[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const double d2 = (line[i] + u * d - p).squaredNorm();
+    if (d2 < best_d2) best_d2 = d2, nearest = total + u * std::sqrt(len2);
+    total += std::sqrt(len2);
+  }
+  return std::abs(nearest - std::clamp(s, 0.0, 1.0) * total);
 }
 
 Vec3 AimOnTube(const Tube& tube, const ToolKeyframe& frame) {

@@ -5,7 +5,10 @@
 /// `tube`, which aims the row at the tube itself: its target is the point of the tube's surface
 /// nearest to the row's position, or `tube@S` (0 <= S <= 1), which aims it at one part of the
 /// bowel: the tube's surface at arc-length fraction S of its centre line, on the side facing
-/// the row's position, or `offset`: the row's x, y, z are an offset from where the tool's last
+/// the row's position, `grasp@S`: aimed as `tube@S`, and the tool arrives there before it goes
+/// on: when the row is due and the part of the tube nearest the jaws is not that part (more than
+/// a tube's diameter away along the centre line), the tool backs off and reaches again
+/// (ScriptPlayer), or `offset`: the row's x, y, z are an offset from where the tool's last
 /// row aimed at the tube landed (lift what was grasped, whatever the pile). `tube` still depends on
 /// where the pile settled (the nearest loop to a fixed point); `tube@S` takes the same piece of
 /// bowel whatever the pile (ScriptPlayer resolves both). Between rows of a tool the target is
@@ -31,6 +34,8 @@ struct ToolKeyframe {
   double along = std::numeric_limits<double>::quiet_NaN();  ///< aim: the arc-length fraction S
   /// aim = offset: `tip` is an offset from where the tool's last row aimed at the tube landed
   bool offset = false;
+  /// aim = grasp@S: the jaws must be at that part of the tube before the tool goes on
+  bool grasp = false;
 };
 
 /// The tube as a script aims at it: its centre line (e.g. the sphere centres, in order) and
@@ -47,6 +52,10 @@ Vec3 NearestOnTube(const Tube& tube, const Vec3& p);
 /// The point of the tube's surface at arc-length fraction s (clamped to 0..1) of its centre
 /// line, on the side facing p (p itself when the centre line is empty).
 Vec3 AlongTube(const Tube& tube, double s, const Vec3& p);
+
+/// How far along the centre line (m) the part of the tube nearest to p is from the part at
+/// arc-length fraction s (0 when the centre line has fewer than two points).
+double AlongTubeFrom(const Tube& tube, double s, const Vec3& p);
 
 /// Where a row aimed at the tube lands (`frame.at_tube`): AlongTube or NearestOnTube.
 Vec3 AimOnTube(const Tube& tube, const ToolKeyframe& frame);

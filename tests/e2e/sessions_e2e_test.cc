@@ -26,6 +26,7 @@
 #include "bus/lcm_bus.h"
 #include "client/token_store.h"
 #include "common/clock.h"
+#include "script/script_player.h"
 #include "session/replay.h"
 #include "tests/common/eventually.h"
 #include "tests/e2e/e2e_harness.h"
@@ -307,6 +308,29 @@ TEST(SessionsE2E, ToolPushGivesAnOpposingForce) {
   ASSERT_GT(offline, 0.5) << "the offline push felt nothing";
   std::printf("steady push: server %.4f N, offline runner %.4f N\n", server, offline);
   EXPECT_NEAR(server, offline, 0.15 * offline) << d.dump();
+}
+
+// `viscera drive` looks before the jaws close, at the tip of the tool's force messages: a grasp
+// row whose part the jaws reached goes on, one whose part they cannot reach in time (the far end
+// of the tube, 20 cm in 20 ms) is reached for again three times, and the drive says so.
+TEST(SessionsE2E, ADriveReachesAgainForAGraspItsJawsMissed) {
+  const std::string dir = ScratchDir();
+  Daemon daemon("e2e-reach", {}, dir);
+  const int64_t id = Create(dir, "--scene-file " + PushScene())["session"].get<int64_t>();
+  const std::string script = dir + "/reach.csv";
+  std::ofstream(script) << "t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n"
+                           "0,grasper,0,0,0.1,1,0,0,0,1,point\n"
+                           "1,grasper,0,0,0.1,1,0,0,0,1,tube@0.5\n"
+                           "1.5,grasper,0,0,0.1,1,0,0,0,1,grasp@0.5\n"
+                           "2,grasper,0,0,0.1,1,0,0,0,1,point\n"
+                           "2.02,grasper,0,0,0.1,1,0,0,0,1,grasp@1\n";
+  const CliResult r =
+      Viscera(dir, "drive " + std::to_string(id) + " --script " + script + " --json");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  const json d = r.json()["drive"];
+  EXPECT_EQ(d["reaches"], script::ScriptPlayer::kMaxReaches) << d.dump();
+  // each reach backs off in 20 ms and comes again in 20 ms (poses at 100 Hz)
+  EXPECT_NEAR(d["script_delay_s"].get<double>(), 3 * 0.04, 0.035) << d.dump();
 }
 
 TEST(SessionsE2E, AClientThatStopsSendingLetsTheToolGoIdleAndTheForceFade) {

@@ -38,12 +38,16 @@ class ScriptedRun {
   }
 
   const mechanics::State& state() const { return state_; }
+  /// The script's grasp rows reached again, and how far they set it behind the clock (s).
+  int script_reaches() const { return scripted_ ? scripted_->player().reaches() : 0; }
+  double script_delay() const { return scripted_ ? scripted_->delay() : 0.0; }
   mechanics::Interactions* interactions() { return workspace_.interactions(); }
   const mechanics::Integrator& integrator() { return workspace_.integrator(); }
 
  private:
   std::span<const mechanics::ToolTarget> TargetsAt(double t) {
-    return scripted_ ? scripted_->At(t, interactions()) : std::span<const mechanics::ToolTarget>{};
+    return scripted_ ? scripted_->At(t, interactions(), &state_)
+                     : std::span<const mechanics::ToolTarget>{};
   }
 
   const mechanics::Model& model_;
