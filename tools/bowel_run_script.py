@@ -6,7 +6,8 @@ lifts the part it holds to a presentation point over the mesentery's root (its o
 as high as the part's mesentery allows), so the next 5 cm hang free below it, off the pile.
 The free grasper reaches for the bowel just past the part held (aim = tube@S, resolved when
 the reach begins), slides 3 cm along it to the next part (resolved when the slide begins, against
-the bowel as it hangs then: the way along the tube is free of other loops), closes on it,
+the bowel as it hangs then: the way along the tube is free of other loops), looks (aim = grasp@S:
+jaws beside another strand back off and reach again), closes on it,
 lifts it to its own presentation point while the other lets go and backs off above its point.
 The bowel runs through the two points and falls back on the pile behind them. The kinds:
   expert    one grasp every 5 cm, on the middle of each segment, jaws closed to 0.2 (a third
@@ -177,6 +178,9 @@ def rows(scene, kind, grasps, back):
         # aimed again as the jaws arrive (resolved 0.85 s into the cycle, against the bowel as it hangs
         # then), so that they close where the part is, not where it was 0.4 s before
         row(at(1.0), me, port, 1.0, aim)
+        # and looked at as they close (a grasp row, 10 ms before they take the part): jaws beside
+        # another strand (the part swung away) back off and reach again
+        row(at(1.04), me, port, 1.0, "grasp@%.6f" % min(1.0, s / scene.length))
         row(at(1.05), me, (0.0, 0.0, 0.0), jaw, "offset")  # closes on it
         if other in held:  # the other hand lets go and backs off above its point
             p, j = held.pop(other)

@@ -28,7 +28,8 @@ if [ "$scene" = bowel_run ]; then
   rm -rf "$out" && mkdir -p "$out"
   for run in expert rough careless; do
     script="$root/scenes/bowel_run_$run.csv"
-    duration=$(tail -1 "$script" | cut -d, -f1)
+    # the script's last row, and 2 s for the grasps its graspers may reach for again
+    duration=$(tail -1 "$script" | cut -d, -f1 | awk '{ print $1 + 2 }')
     echo "== running the bowel: the $run run ($duration s simulated, 100 Hz)"
     # the laparoscope follows the work; the rough run's frames look down on the whole fan
     view=(--camera-script "$root/scenes/bowel_run_${run}_camera.csv")
