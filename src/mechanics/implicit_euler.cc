@@ -290,8 +290,9 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     state->cg_previous_correction.setZero();
   }
   const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
-  bool correct_depth = false;
-  int64_t impacts_before = end_.substeps();
+  // Each round ends the sub-step: done otherwise (as halves, as backward Euler, or evaluated
+  // again), accepted, or, for contacts whose friction was revised, solved again from their change
+  // alone (the next round).
   for (;;) {
     if (!converged) {
       // A solve that did not converge: the sub-step again as two halves (each nearer the
@@ -322,8 +323,11 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
         return;
       }
     }
-    impacts_before = end_.substeps();
-    correct_depth = multistep ? false : end_.Resolve(h, v, dv);
+    // Impacts and depth held inside the solve: backward Euler's (a BDF2 sub-step that needs them
+    // was done again above).
+    const int64_t impacts_before = end_.substeps();
+    const bool correct_depth = multistep ? false : end_.Resolve(h, v, dv);
+    const bool end_held = end_.substeps() != impacts_before;  // impulses or a depth correction
     if (tips && tips_.Solve(h, v, dv.data(), *state)) {
       tips_.CountRound();  // a tip contact would pull, or is stiffer where it ends: solved again
       ++tip_redos_;
@@ -338,7 +342,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       // Only the revised pairs' terms change: with the exact coupling's CG, and no impulse in the
       // solve (the impulses' columns are the band's, which keeps the evaluation's pairs), the
       // solve takes them as a change of b and of the exact matrix, from the last answer.
-      if (friction_.enabled() && coupled && !correct_depth && end_.substeps() == impacts_before &&
+      if (friction_.enabled() && coupled && !end_held &&
           friction_.TakeRevisions(w.h_eff, w.stiffness, w.history, &b_, dv, state)) {
         converged = RefineExactly(b_, h, dv, state, true);
         continue;
@@ -347,47 +351,46 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
       return;
     }
-    break;
-  }
-
-  // The step is one linearization: a segment turned far within it stretches by what the linear
-  // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order),
-  // and that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
-  if (guard_ && halvings < kMaxHalvings) {
-    if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
-    if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
-    // Halving shrinks what the velocities and the forces move (4 to 16 times).
-    const double unseen = LinearizationGuard::Excess(q, step_dq_);
-    if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
-      ++halved_substeps_;
-      AdvanceHalves(loads, h, halvings, unseen, state);
+    // The step is one linearization: a segment turned far within it stretches by what the linear
+    // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order), and
+    // that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
+    if (guard_ && halvings < kMaxHalvings) {
+      if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
+      if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
+      // Halving shrinks what the velocities and the forces move (4 to 16 times).
+      const double unseen = LinearizationGuard::Excess(q, step_dq_);
+      if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
+        ++halved_substeps_;
+        AdvanceHalves(loads, h, halvings, unseen, state);
+        return;
+      }
+    }
+    if (multistep) {
+      ++bdf2_substeps_;
+      q += step_dq_;
+      state->last_dq = step_dq_;
+    } else {
+      state->last_dq = q;  // then its motion, below
+    }
+    state->last_dqd = dv_points;
+    // An impulse or a position correction is not a motion to build on.
+    state->last_h = end_held ? 0.0 : h;
+    if (multistep) {
+      if (tips) tips_.Advance(h, nullptr, state);  // touching nothing: their own backward Euler
+      Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
+      if (stick_slip_) interactions_->AdvanceFriction(step_dq_, h, state);
       return;
     }
-  }
-  if (multistep) {
-    ++bdf2_substeps_;
-    q += step_dq_;
-    state->last_dq = step_dq_;
-  } else {
-    state->last_dq = q;  // then its motion, below
-  }
-  state->last_dqd = dv_points;
-  // An impulse or a position correction is not a motion to build on.
-  state->last_h = end_.substeps() == impacts_before ? h : 0.0;
-  if (multistep) {
-    if (tips) tips_.Advance(h, nullptr, state);  // touching nothing: their own backward Euler
+    // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
+    // guard existed (and as it does with the guard off).
+    if (tips) tips_.Advance(h, correct_depth ? &end_.depth_dq() : nullptr, state);
     Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
-    if (stick_slip_) interactions_->AdvanceFriction(step_dq_, h, state);
+    q += h * v;
+    if (correct_depth) q += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
+    state->last_dq = q - state->last_dq;
+    if (stick_slip_) interactions_->AdvanceFriction(state->last_dq, h, state);
     return;
   }
-  // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
-  // guard existed (and as it does with the guard off).
-  if (tips) tips_.Advance(h, correct_depth ? &end_.depth_dq() : nullptr, state);
-  Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
-  q += h * v;
-  if (correct_depth) q += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
-  state->last_dq = q - state->last_dq;
-  if (stick_slip_) interactions_->AdvanceFriction(state->last_dq, h, state);
 }
 
 }  // namespace viscera::mechanics
