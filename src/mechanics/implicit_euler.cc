@@ -29,7 +29,9 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
                   model.params().contacts.impact_constraints),
       band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod),
       end_(model, interactions, [this](double* x) { ApplyBandInverse(x); }),
-      tips_(model.num_points(), static_cast<int>(model.params().tools.size()), interactions) {
+      tips_(model.num_points(), static_cast<int>(model.params().tools.size()), interactions),
+      friction_(model.num_points(), interactions, stick_slip_,
+                [this](double* x) { ApplyBandInverse(x); }) {
   gravity_floor_share_ = stick_slip_ ? kStickSlipGravityFloor : 1.0;
   scratch_.Resize(n_);
   jac_.Resize(n_);
@@ -45,10 +47,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
   b_.setZero(3 * n_);
-  b_evaluated_.setZero(3 * n_);
-  dv_solved_.setZero(3 * n_);
-  if (stick_slip_)
-    friction_changes_.reserve(static_cast<size_t>(interactions_->chain().size()) * 8);
   cg_.Resize(3 * n_);
 }
 
@@ -122,7 +120,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   y->resize(3 * n_);
   band_.system().Multiply(x.data(), y->data());
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
-  if (friction_changed_) AddFrictionChanges(x.data(), y->data());
+  friction_.AddTerms(x.data(), y->data());
   if (tips_.woodbury()) tips_.SubtractSchur(x.data(), y->data());
   if (rank1_w_ > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
@@ -161,38 +159,6 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   last_cg_iterations_ = result.iterations;
   cg_iterations_ += result.iterations;
   return result.converged;
-}
-
-void ImplicitEulerIntegrator::AddFrictionChanges(const double* x, double* y) const {
-  for (const StickSlipFriction::Change& c : friction_changes_) {
-    const Vec3 r = c.Motion(x);
-    c.Scatter(change_stiffness_ * (c.k * r) + change_damping_ * (c.d * r), y);
-  }
-}
-
-bool ImplicitEulerIntegrator::SolveFrictionChanges(const StepWeights& w, double h,
-                                                   Eigen::Ref<VecX> dv, State* state,
-                                                   bool* converged) {
-  if (!friction_changed_) b_evaluated_ = b_;
-  if (!interactions_->ApplyFrictionRevisions(&friction_changes_)) return false;
-  friction_changed_ = true;
-  change_stiffness_ = w.stiffness;
-  change_damping_ = w.h_eff;
-  // b = ĥ (F - ĥ K v) + μ (M Δv - ĥ K Δq): each pair's change of F and K.
-  const bool multistep = w.history > 0.0;
-  b_ = b_evaluated_;
-  for (const StickSlipFriction::Change& c : friction_changes_) {
-    Vec3 moved = w.h_eff * c.Motion(state->qd.data());
-    if (multistep) moved += w.history * c.Motion(state->last_dq.data());
-    c.Scatter(w.h_eff * (c.force - c.k * moved), b_.data());
-  }
-  // CG from the last solve's answer: its correction is that less the band's answer to the new b.
-  dv_solved_ = dv;
-  dv = b_;
-  ApplyBandInverse(dv.data());
-  state->cg_correction = dv_solved_ - dv;
-  *converged = RefineExactly(b_, h, dv, state, true);
-  return true;
 }
 
 void ImplicitEulerIntegrator::WarmStart(bool again, State* state) const {
@@ -247,8 +213,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   solving_again_ = false;
   ++substeps_;
   const bool tips = tips_.Present(*state);
-  friction_changed_ = false;
-  friction_changes_.clear();
+  friction_.Clear();
   if (tips) interactions_->PlaceTips(*state, tip_end_);
   if (stick_slip_) interactions_->UseFriction(&state->friction, h);
   ComputeForces(model_, q, v, loads, &scratch_, &force_, nullptr, &jac_, interactions_);
@@ -325,8 +290,9 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     state->cg_previous_correction.setZero();
   }
   const auto dv_points = Eigen::Map<const Points>(dv.data(), n_, 3);
-  bool correct_depth = false;
-  int64_t impacts_before = end_.substeps();
+  // Each round ends the sub-step: done otherwise (as halves, as backward Euler, or evaluated
+  // again), accepted, or, for contacts whose friction was revised, solved again from their change
+  // alone (the next round).
   for (;;) {
     if (!converged) {
       // A solve that did not converge: the sub-step again as two halves (each nearer the
@@ -357,8 +323,11 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
         return;
       }
     }
-    impacts_before = end_.substeps();
-    correct_depth = multistep ? false : end_.Resolve(h, v, dv);
+    // Impacts and depth held inside the solve: backward Euler's (a BDF2 sub-step that needs them
+    // was done again above).
+    const int64_t impacts_before = end_.substeps();
+    const bool correct_depth = multistep ? false : end_.Resolve(h, v, dv);
+    const bool end_held = end_.substeps() != impacts_before;  // impulses or a depth correction
     if (tips && tips_.Solve(h, v, dv.data(), *state)) {
       tips_.CountRound();  // a tip contact would pull, or is stiffer where it ends: solved again
       ++tip_redos_;
@@ -373,56 +342,55 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       // Only the revised pairs' terms change: with the exact coupling's CG, and no impulse in the
       // solve (the impulses' columns are the band's, which keeps the evaluation's pairs), the
       // solve takes them as a change of b and of the exact matrix, from the last answer.
-      if (friction_resolve_ && coupled && !correct_depth && end_.substeps() == impacts_before &&
-          SolveFrictionChanges(w, h, dv, state, &converged)) {
-        ++friction_resolves_;
+      if (friction_.enabled() && coupled && !end_held &&
+          friction_.TakeRevisions(w.h_eff, w.stiffness, w.history, &b_, dv, state)) {
+        converged = RefineExactly(b_, h, dv, state, true);
         continue;
       }
       solving_again_ = coupled;
       AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
       return;
     }
-    break;
-  }
-
-  // The step is one linearization: a segment turned far within it stretches by what the linear
-  // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order),
-  // and that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
-  if (guard_ && halvings < kMaxHalvings) {
-    if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
-    if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
-    // Halving shrinks what the velocities and the forces move (4 to 16 times).
-    const double unseen = LinearizationGuard::Excess(q, step_dq_);
-    if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
-      ++halved_substeps_;
-      AdvanceHalves(loads, h, halvings, unseen, state);
+    // The step is one linearization: a segment turned far within it stretches by what the linear
+    // model cannot see (a slack tube pulled sideways has no sideways stiffness to first order), and
+    // that stretch returns as energy nobody put in. Such a sub-step is done again as two halves.
+    if (guard_ && halvings < kMaxHalvings) {
+      if (!multistep) step_dq_ = h * (v + dv_points);  // BDF2's is already there
+      if (correct_depth) step_dq_ += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
+      // Halving shrinks what the velocities and the forces move (4 to 16 times).
+      const double unseen = LinearizationGuard::Excess(q, step_dq_);
+      if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
+        ++halved_substeps_;
+        AdvanceHalves(loads, h, halvings, unseen, state);
+        return;
+      }
+    }
+    if (multistep) {
+      ++bdf2_substeps_;
+      q += step_dq_;
+      state->last_dq = step_dq_;
+    } else {
+      state->last_dq = q;  // then its motion, below
+    }
+    state->last_dqd = dv_points;
+    // An impulse or a position correction is not a motion to build on.
+    state->last_h = end_held ? 0.0 : h;
+    if (multistep) {
+      if (tips) tips_.Advance(h, nullptr, state);  // touching nothing: their own backward Euler
+      Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
+      if (stick_slip_) interactions_->AdvanceFriction(step_dq_, h, state);
       return;
     }
-  }
-  if (multistep) {
-    ++bdf2_substeps_;
-    q += step_dq_;
-    state->last_dq = step_dq_;
-  } else {
-    state->last_dq = q;  // then its motion, below
-  }
-  state->last_dqd = dv_points;
-  // An impulse or a position correction is not a motion to build on.
-  state->last_h = end_.substeps() == impacts_before ? h : 0.0;
-  if (multistep) {
-    if (tips) tips_.Advance(h, nullptr, state);  // touching nothing: their own backward Euler
+    // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
+    // guard existed (and as it does with the guard off).
+    if (tips) tips_.Advance(h, correct_depth ? &end_.depth_dq() : nullptr, state);
     Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
-    if (stick_slip_) interactions_->AdvanceFriction(step_dq_, h, state);
+    q += h * v;
+    if (correct_depth) q += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
+    state->last_dq = q - state->last_dq;
+    if (stick_slip_) interactions_->AdvanceFriction(state->last_dq, h, state);
     return;
   }
-  // Not q += step_dq_: q + h v' + h depth_dq, in that order, rounds as the step did before the
-  // guard existed (and as it does with the guard off).
-  if (tips) tips_.Advance(h, correct_depth ? &end_.depth_dq() : nullptr, state);
-  Eigen::Map<VecX>(v.data(), 3 * n_) += dv;
-  q += h * v;
-  if (correct_depth) q += h * Eigen::Map<const Points>(end_.depth_dq().data(), n_, 3);
-  state->last_dq = q - state->last_dq;
-  if (stick_slip_) interactions_->AdvanceFriction(state->last_dq, h, state);
 }
 
 }  // namespace viscera::mechanics

@@ -20,6 +20,7 @@
 #include "mechanics/band_system_solver.h"
 #include "mechanics/conjugate_gradient.h"
 #include "mechanics/end_constraints.h"
+#include "mechanics/friction_resolve.h"
 #include "mechanics/integrator.h"
 #include "mechanics/interactions.h"
 #include "mechanics/tip_schur.h"
@@ -55,10 +56,10 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// Solves done again because a contact's stick or slip was revised
   /// (Interactions::ReviseFriction), and those of them done without evaluating the sub-step again.
   int64_t friction_redos() const { return friction_redos_; }
-  int64_t friction_resolves() const { return friction_resolves_; }
+  int64_t friction_resolves() const { return friction_.resolves(); }
   /// Whether a revised contact is solved again from the change of its terms alone (on by
   /// default; off, the sub-step is evaluated again: to compare the two, in tests).
-  void set_friction_resolve(bool on) { friction_resolve_ = on; }
+  void set_friction_resolve(bool on) { friction_.set_enabled(on); }
   /// Solves done again because a tip contact would pull or is stiffer where it ends.
   int64_t tip_redos() const { return tip_redos_; }
   /// Sub-steps taken as BDF2.
@@ -139,15 +140,6 @@ class ImplicitEulerIntegrator final : public Integrator {
   // y = A x for the last sub-step's exact matrix: the band's system, its rank-one term, minus
   // the common modes (as Interactions last weighed them), minus the tips' B C^-1 B'.
   void MultiplyExact(const Eigen::Ref<const VecX>& x, VecX* y) const;
-  // y += the revised friction pairs' terms of the exact matrix (friction_changes_), with the
-  // sub-step's weights of K and D.
-  void AddFrictionChanges(const double* x, double* y) const;
-  // A sub-step's solve done again for revised friction pairs without evaluating it again: b_ and
-  // the exact matrix take the pairs' changes (StickSlipFriction::ApplyRevisions), and CG starts
-  // from the last solve's dv with the preconditioner as it was. False, doing nothing, when a
-  // tool's pair changed (the sub-step is then evaluated again).
-  bool SolveFrictionChanges(const StepWeights& w, double h, Eigen::Ref<VecX> dv, State* state,
-                            bool* converged);
   // Refines dv (the band system's answer to b) toward the exact matrix's by preconditioned CG.
   // Returns whether it reached kCgTolerance (within kMaxCgIterationsExtended). Starts from, and
   // updates, the state's warm start.
@@ -197,16 +189,10 @@ class ImplicitEulerIntegrator final : public Integrator {
   // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).
   TipSchur tips_;
   int friction_rounds_ = 0;
-  // The revised friction pairs of this evaluation (SolveFrictionChanges), b_ as the evaluation
-  // made it, the last solve's dv, and the weights the pairs' terms take in the exact matrix.
-  std::vector<StickSlipFriction::Change> friction_changes_;
-  VecX b_evaluated_, dv_solved_;
-  bool friction_changed_ = false;
-  bool friction_resolve_ = true;
-  double change_stiffness_ = 0.0, change_damping_ = 0.0;
+  FrictionResolve friction_;  // a revised contact's solve done again from its change of terms
   double tip_end_ = 1.0, tip_span_ = 1.0;
   int64_t impact_redos_ = 0, bdf2_substeps_ = 0, friction_redos_ = 0, stretch_redos_ = 0;
-  int64_t tip_redos_ = 0, friction_resolves_ = 0;
+  int64_t tip_redos_ = 0;
   bool stretch_redo_ = true;
 };
 

@@ -40,49 +40,35 @@ Interactions::Interactions(const Model& model)
       law_(model.params().contacts, model.params().radius),
       radius_(model.params().radius),
       margin_(Margin(model)),
-      chain_(model.curve(), model.params().length, model.params().radius),
+      kinematics_(model),
       candidates_(collision::ContactDetector(radius_, margin_, model.params().contacts.self,
-                                             SelfSkip(chain_)),
+                                             SelfSkip(chain())),
                   kVerletSkin * radius_),
-      grasps_(model, chain_, SelfSkip(chain_)),
-      geometry_(model, chain_, candidates_, grasps_),
-      self_pairs_(static_cast<size_t>(chain_.size()) * 8),
-      impacts_(model, chain_, candidates_, &geometry_, SphereMass()),
-      friction_(model.params().contacts, chain_, SphereMass()),
-      tips_(model, chain_, law_),
+      grasps_(model, chain(), SelfSkip(chain())),
+      geometry_(model, chain(), candidates_, grasps_),
+      self_pairs_(static_cast<size_t>(chain().size()) * 8),
+      impacts_(model, chain(), candidates_, &geometry_, SphereMass()),
+      friction_(model.params().contacts, chain(), SphereMass()),
+      tips_(model, chain(), law_),
       haptic_(model, TipsInSolve(model)) {
   const size_t tools = model.params().tools.size();
   tool_velocity_.assign(tools, Vec3::Zero());
   tips_in_solve_ = TipsInSolve(model);
-  sphere_velocity_.assign(chain_.size(), Vec3::Zero());
-  sphere_k_.assign(chain_.size(), Mat3::Zero());
-  sphere_d_.assign(chain_.size(), Mat3::Zero());
-  sphere_touched_.assign(chain_.size(), 0);
-  tip_contacts_.reserve(chain_.size());
+  sphere_k_.assign(chain().size(), Mat3::Zero());
+  sphere_d_.assign(chain().size(), Mat3::Zero());
+  sphere_touched_.assign(chain().size(), 0);
+  tip_contacts_.reserve(chain().size());
   Configure(model.params().initial_q, true);
 }
 
 void Interactions::Configure(const Points& q, bool place) {
-  // Spheres that follow the material are placed once, along the first configuration's arc length.
-  if (model_.params().contacts.spheres_follow_material && configured_) place = false;
-  const bool same = configured_ && (placed_ || !place) && q.rows() == configured_q_.rows() &&
-                    (q.array() == configured_q_.array()).all();
-  if (same) return;
-  if (place) {
-    chain_.Place(q);
-  } else {
-    chain_.UpdateCentres(q);
-  }
-  configured_q_ = q;  // same size after the first: no allocation
-  configured_ = true;
-  placed_ = place;
+  if (!kinematics_.Configure(q, place)) return;
   geometry_.Invalidate();
-  gathered_ = false;  // the spheres' weights may have changed
   impacts_.ChainMoved();
 }
 
 void Interactions::UpdateCandidates(double margin, State* state) {
-  if (candidates_.Update(chain_.spheres(), model_.params().obstacles, geometry_.capsules(),
+  if (candidates_.Update(chain().spheres(), model_.params().obstacles, geometry_.capsules(),
                          margin)) {
     geometry_.Invalidate();
     // The state's list keeps the workspace's capacity: it grows only when the search's did.
@@ -99,7 +85,7 @@ void Interactions::FollowState(const State& state) {
 
 Vec3 Interactions::OtherVelocity(const ContactCandidate& c, const ShaftLever& lever) const {
   switch (c.kind) {
-    case ContactKind::kSelf: return sphere_velocity_[c.b];
+    case ContactKind::kSelf: return kinematics_.velocity(c.b);
     case ContactKind::kTool: return lever.Apply(tool_velocity_[c.b]);
     case ContactKind::kEnvironment: break;
   }
@@ -116,29 +102,16 @@ ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
   }
   // Friction: the regularized law here, or the stick-slip law that AddForces adds
   // (StickSlipFriction).
-  return law_.Evaluate(c.kind, geometry, sphere_velocity_[c.a] - OtherVelocity(c, geometry.lever),
-                       speculative_h_, friction_.active());
-}
-
-void Interactions::GatherVelocities(const Points& qd) {
-  const bool same =
-      gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
-  if (same) return;
-  double fastest = 0.0;
-  for (int k = 0; k < chain_.size(); ++k) {
-    sphere_velocity_[k] = SphereVelocity(k, qd);
-    fastest = std::max(fastest, sphere_velocity_[k].squaredNorm());
-  }
-  fastest_sphere_ = std::sqrt(fastest);
-  gathered_qd_ = qd;
-  gathered_ = true;
+  return law_.Evaluate(c.kind, geometry,
+                       kinematics_.velocity(c.a) - OtherVelocity(c, geometry.lever), speculative_h_,
+                       friction_.active());
 }
 
 double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K,
                                BlockBand* D) {
   const ContactParams& cp = model_.params().contacts;
   Configure(q, false);
-  GatherVelocities(qd);
+  kinematics_.Gather(qd);
   geometry_.Ensure();
   double energy = friction_.energy();
   self_pairs_.Clear();
@@ -149,7 +122,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
   // covers the rounding of Evaluate's closing speed.
   double tool_speed = 0.0;
   for (const Vec3& v : tool_velocity_) tool_speed = std::max(tool_speed, v.norm());
-  const double reach = speculative_h_ * (2.0 * fastest_sphere_ + tool_speed) * (1.0 + 1e-6);
+  const double reach = speculative_h_ * (2.0 * kinematics_.fastest() + tool_speed) * (1.0 + 1e-6);
   const auto& list = candidates();
   for (size_t i = 0; i < list.size(); ++i) {
     const ContactCandidate& c = list[i];
@@ -159,7 +132,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     ContactPenalty p = Evaluate(c, geometry_[i]);
     if (activated && !p.active) {
       // Its law (linear while apart) from the start, as a speculative pair's.
-      const double vn = (sphere_velocity_[c.a] - OtherVelocity(c, p.lever)).dot(p.normal);
+      const double vn = (kinematics_.velocity(c.a) - OtherVelocity(c, p.lever)).dot(p.normal);
       p.force = (law_.At(p.depth).force - cp.damping * vn) * p.normal;
       p.active = true;
     }
@@ -213,7 +186,7 @@ double Interactions::AddForces(const Points& q, const Points& qd, Points* F, Blo
     if (self && cp.exact_pairs) self_pairs_.Add(Window(c.a), Window(c.b), kn, dn);
   }
   if (K) {
-    for (int k = 0; k < chain_.size(); ++k) {
+    for (int k = 0; k < chain().size(); ++k) {
       if (!sphere_touched_[k]) continue;
       sphere_touched_[k] = 0;
       Window(k).AddOuter(sphere_k_[k], D ? &sphere_d_[k] : nullptr, K, D);
@@ -240,7 +213,7 @@ double Interactions::CandidateMargin(const State& state, double h) const {
   // Twice the fastest travel in h: two spheres may close in on each other.
   double tool_speed = 0.0;
   for (const ToolState& t : state.tools) tool_speed = std::max(tool_speed, t.tip_velocity.norm());
-  return margin_ + 2.0 * h * (fastest_sphere_ + tool_speed);
+  return margin_ + 2.0 * h * (kinematics_.fastest() + tool_speed);
 }
 
 int Interactions::RequiredSubsteps(State* state_in) {
@@ -251,13 +224,13 @@ int Interactions::RequiredSubsteps(State* state_in) {
   Configure(state.q, true);  // nor to redo
   // The step's impulse on each hand starts from nothing (a blown-up step's NaN stays in it).
   haptic_.StartStep();
-  GatherVelocities(state.qd);
+  kinematics_.Gather(state.qd);
   SyncTools(state);
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin, state_in);
   geometry_.Ensure();
   impacts_.Limit(h, &state_in->qd, nullptr);
-  GatherVelocities(state.qd);
+  kinematics_.Gather(state.qd);
   substep_ = 0;
   double closing = 0.0;
   const auto& list = candidates();
@@ -269,7 +242,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
     // step's rate, not the tool's approach, sets its sub-steps, so that the hand feels the same
     // coupling near the tube as in free space.
     if (tips_in_solve_ && c.kind == ContactKind::kTool) continue;
-    const Vec3 relative = sphere_velocity_[c.a] - OtherVelocity(c, p.lever);
+    const Vec3 relative = kinematics_.velocity(c.a) - OtherVelocity(c, p.lever);
     closing = std::max(closing, -relative.dot(p.normal));
   }
   const int needed = static_cast<int>(std::ceil(closing * h / (0.2 * radius_)));
@@ -292,7 +265,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
   // whole step do, for its first sub-step, whose velocities RequiredSubsteps gathered).
   if (!candidates_fresh_) {
     Configure(state->q, true);
-    GatherVelocities(state->qd);
+    kinematics_.Gather(state->qd);
   }
   const double margin = CandidateMargin(*state, h);
   if (!candidates_fresh_) UpdateCandidates(margin, state);

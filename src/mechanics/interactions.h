@@ -4,9 +4,9 @@
 /// regularized Coulomb friction, France et al. 2005 section 3.5), the laparoscopic tools with
 /// their virtual coupling and grasps, and the haptic output. With the implicit integrator,
 /// friction may have a static phase (contacts.friction_law; docs/friction.md). Coordinates one
-/// class per job (ContactGeometry, ContactLaw, StickSlipFriction, SelfPairCoupling, ImpactSets,
-/// Grasps, TipCoupling, HapticOutput). Owned by the stepping thread's Workspace; allocates nothing
-/// in steady state.
+/// class per job (ChainKinematics, ContactGeometry, ContactLaw, StickSlipFriction,
+/// SelfPairCoupling, ImpactSets, Grasps, TipCoupling, HapticOutput). Owned by the stepping thread's
+/// Workspace; allocates nothing in steady state.
 #include <algorithm>
 #include <span>
 #include <vector>
@@ -16,6 +16,7 @@
 #include "collision/verlet_list.h"
 #include "common/check.h"
 #include "mechanics/block_band.h"
+#include "mechanics/chain_kinematics.h"
 #include "mechanics/contact_geometry.h"
 #include "mechanics/contact_law.h"
 #include "mechanics/contact_window.h"
@@ -139,7 +140,7 @@ class Interactions {
   /// After the step: contact counts and clearance, tool force feedback (clamped), stiffness.
   void EndStep(State* state);
 
-  const collision::SphereChain& chain() const { return chain_; }
+  const collision::SphereChain& chain() const { return kinematics_.chain(); }
   /// Every pair that may touch within the sub-step, and some farther (a Verlet list).
   const std::vector<collision::ContactCandidate>& candidates() const {
     return candidates_.candidates();
@@ -162,12 +163,8 @@ class Interactions {
   // The force law on a candidate's geometry, at the velocities last gathered (a pair apart is
   // left as it is without them where nothing acts speculatively).
   ContactPenalty Evaluate(const collision::ContactCandidate& c, const PairGeometry& geometry) const;
-  ContactWindow Window(int sphere) const { return ContactWindow::Of(chain_.spheres()[sphere]); }
-  Vec3 SphereVelocity(int sphere, const Points& qd) const { return Window(sphere).Gather(qd); }
-  void GatherVelocities(const Points& qd);
-  // The chain at q: re-placed along its arc length if `place`, else its spheres moved with the
-  // curve. Nothing is redone for the configuration the chain already has; the geometry is
-  // invalidated otherwise.
+  ContactWindow Window(int sphere) const { return kinematics_.Window(sphere); }
+  // ChainKinematics::Configure, and the geometry and impact sets invalidated if the chain moved.
   void Configure(const Points& q, bool place);
   // Finds the candidates for `margin`, keeping the geometry unless the list changed; a new list
   // goes to state->broad_phase.
@@ -175,7 +172,7 @@ class Interactions {
   // One collision sphere's share of the tube's mass (kg): what an impact or a friction
   // overload moves.
   double SphereMass() const {
-    return model_.params().mass * chain_.spacing() / model_.params().length;
+    return model_.params().mass * chain().spacing() / model_.params().length;
   }
   // Contact margin plus twice the fastest travel in h, from the gathered sphere velocities.
   double CandidateMargin(const State& state, double h) const;
@@ -202,19 +199,15 @@ class Interactions {
   // are along their way across the step.
   int substep_ = 0, substeps_ = 1;
 
-  collision::SphereChain chain_;
+  ChainKinematics kinematics_;  // the spheres where q puts them, and their velocities
   collision::VerletList candidates_;
-  Points configured_q_, gathered_qd_;
-  bool configured_ = false, placed_ = false, gathered_ = false;
   std::vector<Vec3> tool_velocity_;
   Grasps grasps_;  // taken from the state by FollowState, given back to it as they change
   // The candidates' narrow phase, computed once per configuration: RequiredSubsteps, the tools'
   // advance, the force evaluations and EndStep all read it (and EndStep's serves the next step).
   ContactGeometry geometry_;
-  // Per force evaluation: sphere velocities, and each sphere's summed contact stiffness and
-  // damping (spread onto its window once, not once per contact).
-  std::vector<Vec3> sphere_velocity_;
-  double fastest_sphere_ = 0.0;  // m/s, the largest of sphere_velocity_
+  // Per force evaluation: each sphere's summed contact stiffness and damping (spread onto its
+  // window once, not once per contact).
   std::vector<Mat3> sphere_k_, sphere_d_;
   std::vector<char> sphere_touched_;
   SelfPairCoupling self_pairs_;  // the last AddForces' self pairs (with K)

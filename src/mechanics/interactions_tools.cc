@@ -51,7 +51,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
   // Reactions of the tissue on the tool at the current pose, moved to the tip by the lever rule
   // (the shaft pivots at the port): each contact's force at the start and its stiffness.
   Configure(q, false);
-  GatherVelocities(qd);
+  kinematics_.Gather(qd);
   geometry_.Ensure();
   tip_contacts_.clear();
   ts->tissue_force.setZero();
@@ -62,7 +62,7 @@ void Interactions::AdvanceTool(int index, double h, const Points& q, const Point
     const ContactPenalty p = Evaluate(c, geometry_[i]);
     if (!p.active) continue;
     tip_contacts_.push_back(
-        {p.normal, p.lever, p.depth, sphere_velocity_[c.a] - OtherVelocity(c, p.lever)});
+        {p.normal, p.lever, p.depth, kinematics_.velocity(c.a) - OtherVelocity(c, p.lever)});
     ts->tissue_force += p.force;  // on the tube where it touches, before the lever rule
   }
   Vec3 grasp_force = Vec3::Zero();
