@@ -15,7 +15,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
     : model_(model),
       interactions_(interactions),
       n_(model.num_points()),
-      num_pins_(static_cast<int>(model.pins().size())),
       guard_(model.params().linearization_guard),
       // BDF2 steps where the impact and depth constraints would not act, and backward Euler
       // where they would: without them (the limiter alone) nothing tells, and a landed pile
@@ -28,6 +27,7 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
                   model.params().contacts.friction_law == FrictionLaw::kStickSlip &&
                   model.params().contacts.impact_constraints),
       band_(model.num_points(), model.params().linear_solver == LinearSolverKind::kCholmod),
+      corrections_(model),
       end_(model, interactions, [this](double* x) { ApplyBandInverse(x); }),
       tips_(model.num_points(), static_cast<int>(model.params().tools.size()), interactions),
       friction_(model.num_points(), interactions, stick_slip_,
@@ -39,10 +39,6 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   kv_.setZero(n_, 3);
   step_dq_.setZero(n_, 3);
   history_.setZero(n_, 3);
-  rhs_.setZero(3 * n_, 2 + 3 * num_pins_);
-  schur_.setZero(3 * num_pins_, 3 * num_pins_);
-  pin_rhs_.setZero(3 * num_pins_);
-  pin_lambda_.setZero(3 * num_pins_);
   // m |g|^2 = |total weight| |g|: the generalized weight W satisfies M^-1 W = g at every point.
   const Eigen::Vector3d weight = model.gravity_force().colwise().sum().transpose();
   weight_scale_ = weight.norm() * model.params().gravity.norm();
@@ -63,54 +59,13 @@ void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& stat
   b_ += w.history * Eigen::Map<const VecX>(history_.data(), 3 * n_);
 }
 
-void ImplicitEulerIntegrator::PrepareConstraints() {
-  // Sherman-Morrison for w u u^T: z = A^-1 u is column 1.
-  if (rank1_w_ > 0.0) {
-    Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
-    rank1_denom_ = 1.0 + rank1_w_ * u.dot(rhs_.col(1));
-    for (Eigen::Index k = 2; k < rhs_.cols(); ++k)
-      rhs_.col(k) -= (rank1_w_ * u.dot(rhs_.col(k)) / rank1_denom_) * rhs_.col(1);
-  }
-  // Pins: S = G Y with Y = A^-1 G^T (columns 2..), factored once per sub-step.
-  if (num_pins_ == 0) return;
-  const auto y = rhs_.rightCols(3 * num_pins_);
-  for (int r = 0; r < 3 * num_pins_; ++r) {
-    const CurvePoint& at = model_.pins()[r / 3].at;
-    const int axis = r % 3;
-    for (int col = 0; col < 3 * num_pins_; ++col) {
-      double gy = 0.0;
-      for (int a = 0; a < 4; ++a) gy += at.w(a) * y(3 * (at.first + a) + axis, col);
-      schur_(r, col) = gy;
-    }
-  }
-  schur_ldlt_.compute(schur_);
-}
-
 void ImplicitEulerIntegrator::ApplyBandInverse(double* x) {
   band_.SolveInPlace(x);
   ApplyCorrections(x);
 }
 
 void ImplicitEulerIntegrator::ApplyCorrections(double* x) {
-  Eigen::Map<VecX> dv(x, 3 * n_);
-  // (A + w u u^T)^-1 x = A^-1 x - z (w u.A^-1 x) / (1 + w u.z), z = A^-1 u.
-  if (rank1_w_ > 0.0) {
-    Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
-    dv -= (rank1_w_ * u.dot(dv) / rank1_denom_) * rhs_.col(1);
-  }
-  // Pins: dv = x - Y S^-1 G x.
-  if (num_pins_ == 0) {
-    if (tips_.woodbury()) tips_.ApplyCorrection(x);
-    return;
-  }
-  for (int r = 0; r < 3 * num_pins_; ++r) {
-    const CurvePoint& at = model_.pins()[r / 3].at;
-    double gx = 0.0;
-    for (int a = 0; a < 4; ++a) gx += at.w(a) * dv(3 * (at.first + a) + r % 3);
-    pin_rhs_(r) = gx;
-  }
-  pin_lambda_ = schur_ldlt_.solve(pin_rhs_);
-  dv.noalias() -= rhs_.rightCols(3 * num_pins_).lazyProduct(pin_lambda_);
+  corrections_.Apply(x, jac_.rank1_u);
   if (tips_.woodbury()) tips_.ApplyCorrection(x);
 }
 
@@ -122,9 +77,9 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
   if (interactions_) interactions_->AddCommonModeTerms(x.data(), y->data());
   friction_.AddTerms(x.data(), y->data());
   if (tips_.woodbury()) tips_.SubtractSchur(x.data(), y->data());
-  if (rank1_w_ > 0.0) {
+  if (const double w = corrections_.weight(); w > 0.0) {
     Eigen::Map<const VecX> u(jac_.rank1_u.data(), 3 * n_);
-    *y += (rank1_w_ * u.dot(x)) * u;
+    *y += (w * u.dot(x)) * u;
   }
 }
 
@@ -155,9 +110,9 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   const PreconditionedCg::Result result =
       cg_.Solve([this](const Eigen::Ref<const VecX>& x, VecX* y) { MultiplyExact(x, y); },
                 [this](VecX* x) { ApplyBandInverse(x->data()); }, b, stop, cap, dv, &correction);
-  if (result.iterations > kMaxCgIterations) ++cg_extended_;
+  if (result.iterations > kMaxCgIterations) ++counts_.cg_extended;
   last_cg_iterations_ = result.iterations;
-  cg_iterations_ += result.iterations;
+  counts_.cg_iterations += result.iterations;
   return result.converged;
 }
 
@@ -211,7 +166,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   Points& v = state->qd;
   const bool again = solving_again_;
   solving_again_ = false;
-  ++substeps_;
+  ++counts_.substeps;
   const bool tips = tips_.Present(*state);
   friction_.Clear();
   if (tips) interactions_->PlaceTips(*state, tip_end_);
@@ -243,22 +198,13 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   if (multistep) AddHistory(w, *state);
   tips_.Reset();
   if (tips) tips_.Reduce(h, &b_);
-  rhs_.col(0) = b_;
-  rhs_.col(1) = Eigen::Map<const VecX>(jac_.rank1_u.data(), 3 * n_);
-  for (int p = 0; p < num_pins_; ++p) {
-    const CurvePoint& at = model_.pins()[p].at;
-    for (int axis = 0; axis < 3; ++axis) {
-      auto col = rhs_.col(2 + 3 * p + axis);
-      col.setZero();
-      for (int a = 0; a < 4; ++a) col(3 * (at.first + a) + axis) = at.w(a);
-    }
-  }
+  corrections_.Load(b_, jac_.rank1_u);
 
   band_.Assemble(model_.mass_band(), jac_, w.h_eff, w.stiffness);
   if (!band_.Factor()) {
     // Cannot happen for M + ĥ D + ĥ^2 K with K, D clamped PSD; count it and take an explicit
     // step rather than produce garbage.
-    ++factorization_failures_;
+    ++counts_.factorization_failures;
     MassSolver fallback(model_);
     fallback.SolveConstrainedInPlace(&force_);  // allocates, but this path is an error
     v += h * force_;
@@ -274,10 +220,10 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once, column 1 only with a rank-one term; column 0
   // then gets their corrections.
-  rank1_w_ = w.stiffness * c;
-  band_.SolveColumns(&rhs_, rank1_w_ > 0.0 ? 1 : 2);
-  auto dv = rhs_.col(0);
-  PrepareConstraints();
+  corrections_.SetWeight(w.stiffness * c);
+  band_.SolveColumns(&corrections_.columns(), corrections_.first_solved());
+  auto dv = corrections_.columns().col(0);
+  corrections_.Prepare(jac_.rank1_u);
   if (tips) tips_.PrepareCorrection(band_, [this](double* x) { ApplyCorrections(x); });
   ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
@@ -298,11 +244,11 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       // A solve that did not converge: the sub-step again as two halves (each nearer the
       // last, better conditioned), or, at the deepest halving, accepted and counted.
       if (halvings < kMaxHalvings) {
-        ++cg_halved_;
+        ++counts_.cg_halved;
         AdvanceHalves(loads, h, halvings, std::numeric_limits<double>::infinity(), state);
         return;
       }
-      ++cg_unconverged_;
+      ++counts_.cg_unconverged;
       ++state->unconverged_solves;
     }
     if (multistep) {
@@ -317,8 +263,8 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
           stretch_redo_ && !LinearizationGuard::UnseenStretchWithin(
                                q, step_dq_, LinearizationGuard::kMaxUnseenStretchBdf2);
       if (stretched || (impact_redo_ && end_.Needed(h, step_dq_))) {
-        ++(stretched ? stretch_redos_ : impact_redos_);
-        --substeps_;
+        ++(stretched ? counts_.stretch_redos : counts_.impact_redos);
+        --counts_.substeps;
         AdvanceHalving(loads, h, halvings, parent_unseen, false, state);
         return;
       }
@@ -330,7 +276,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     const bool end_held = end_.substeps() != impacts_before;  // impulses or a depth correction
     if (tips && tips_.Solve(h, v, dv.data(), *state)) {
       tips_.CountRound();  // a tip contact would pull, or is stiffer where it ends: solved again
-      ++tip_redos_;
+      ++counts_.tip_redos;
       solving_again_ = coupled;
       AdvanceHalving(loads, h, halvings, parent_unseen, bdf2, state);
       return;
@@ -338,7 +284,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
     if (stick_slip_ && friction_rounds_ < kMaxFrictionRounds &&
         interactions_->ReviseFriction(v, dv.data(), tips ? tips_.dv().data() : nullptr)) {
       ++friction_rounds_;  // a contact sticks or slides otherwise than solved: solved again
-      ++friction_redos_;
+      ++counts_.friction_redos;
       // Only the revised pairs' terms change: with the exact coupling's CG, and no impulse in the
       // solve (the impulses' columns are the band's, which keeps the evaluation's pairs), the
       // solve takes them as a change of b and of the exact matrix, from the last answer.
@@ -360,13 +306,13 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       // Halving shrinks what the velocities and the forces move (4 to 16 times).
       const double unseen = LinearizationGuard::Excess(q, step_dq_);
       if (LinearizationGuard::Halve(unseen, halvings, parent_unseen)) {
-        ++halved_substeps_;
+        ++counts_.halved_substeps;
         AdvanceHalves(loads, h, halvings, unseen, state);
         return;
       }
     }
     if (multistep) {
-      ++bdf2_substeps_;
+      ++counts_.bdf2_substeps;
       q += step_dq_;
       state->last_dq = step_dq_;
     } else {

@@ -17,6 +17,7 @@
 /// Euler also damps a slow mode of frequency ω by h ω² / 2 (1/s), BDF2 by O(h³ ω⁴).
 #include <vector>
 
+#include "mechanics/band_corrections.h"
 #include "mechanics/band_system_solver.h"
 #include "mechanics/conjugate_gradient.h"
 #include "mechanics/end_constraints.h"
@@ -47,23 +48,23 @@ class ImplicitEulerIntegrator final : public Integrator {
   static StepWeights Bdf2(double h) { return {2.0 * h / 3.0, 4.0 * h * h / 9.0, 1.0 / 3.0}; }
   /// Sub-steps whose BDF2 step would have needed impact or depth constraints, done again as
   /// backward Euler, whose end velocity moves q as those constraints assume.
-  int64_t impact_redos() const { return impact_redos_; }
+  int64_t impact_redos() const { return counts_.impact_redos; }
   /// BDF2 sub-steps whose motion its linearization saw too little of
   /// (LinearizationGuard::kMaxUnseenStretchBdf2), done again as backward Euler.
-  int64_t stretch_redos() const { return stretch_redos_; }
+  int64_t stretch_redos() const { return counts_.stretch_redos; }
   /// Whether that is done (on by default; off only to show it is needed, in tests).
   void set_stretch_redo(bool on) { stretch_redo_ = on; }
   /// Solves done again because a contact's stick or slip was revised
   /// (Interactions::ReviseFriction), and those of them done without evaluating the sub-step again.
-  int64_t friction_redos() const { return friction_redos_; }
+  int64_t friction_redos() const { return counts_.friction_redos; }
   int64_t friction_resolves() const { return friction_.resolves(); }
   /// Whether a revised contact is solved again from the change of its terms alone (on by
   /// default; off, the sub-step is evaluated again: to compare the two, in tests).
   void set_friction_resolve(bool on) { friction_.set_enabled(on); }
   /// Solves done again because a tip contact would pull or is stiffer where it ends.
-  int64_t tip_redos() const { return tip_redos_; }
+  int64_t tip_redos() const { return counts_.tip_redos; }
   /// Sub-steps taken as BDF2.
-  int64_t bdf2_substeps() const { return bdf2_substeps_; }
+  int64_t bdf2_substeps() const { return counts_.bdf2_substeps; }
   /// Whether that is done (on by default; off only to show it is needed, in tests).
   void set_impact_redo(bool on) { impact_redo_ = on; }
   /// Whether impulses and depth corrections between parts of the tube, held inside the solve,
@@ -74,15 +75,15 @@ class ImplicitEulerIntegrator final : public Integrator {
 
   /// Steps whose matrix CHOLMOD found not positive definite (the step then falls back to a
   /// damped explicit update). Should stay 0.
-  int64_t factorization_failures() const { return factorization_failures_; }
+  int64_t factorization_failures() const { return counts_.factorization_failures; }
   /// Conjugate-gradient iterations of the last sub-step (0 without self pairs), and in all.
   int last_cg_iterations() const { return last_cg_iterations_; }
-  int64_t cg_iterations() const { return cg_iterations_; }
+  int64_t cg_iterations() const { return counts_.cg_iterations; }
   /// Sub-steps advanced so far.
-  int64_t substeps() const { return substeps_; }
+  int64_t substeps() const { return counts_.substeps; }
   /// Sub-steps accepted with a CG that stopped at kMaxCgIterationsExtended before reaching
   /// kCgTolerance, even at the deepest halving (also counted in State::unconverged_solves).
-  int64_t cg_unconverged() const { return cg_unconverged_; }
+  int64_t cg_unconverged() const { return counts_.cg_unconverged; }
   /// CG stops when the preconditioned residual norm falls below this fraction of b's, or of the
   /// sub-step's gravity impulse h W (in M^-1's norm, m (h g)^2: an RMS over the tube's mass) when
   /// that is larger (docs/self-coupling.md: 1e-3 keeps a moving block's mass within 0.1 %, in ~1-3
@@ -103,8 +104,8 @@ class ImplicitEulerIntegrator final : public Integrator {
   static constexpr int kMaxCgIterationsExtended = 4 * kMaxCgIterations;
   /// Solves that needed more than kMaxCgIterations, and sub-steps halved because a solve did not
   /// converge within kMaxCgIterationsExtended, in all.
-  int64_t cg_extended() const { return cg_extended_; }
-  int64_t cg_halved() const { return cg_halved_; }
+  int64_t cg_extended() const { return counts_.cg_extended; }
+  int64_t cg_halved() const { return counts_.cg_halved; }
   /// The share of the gravity impulse below whose kCgTolerance CG's stop also accepts a residual
   /// (kStickSlipGravityFloor or 1 by default; 0 turns the floor off, to compare against the
   /// stricter stop in tests and benchmarks).
@@ -113,7 +114,7 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// converge) nest at most this deep.
   static constexpr int kMaxHalvings = 5;
   /// Sub-steps the linearization guard did again as two halves, in all.
-  int64_t halved_substeps() const { return halved_substeps_; }
+  int64_t halved_substeps() const { return counts_.halved_substeps; }
   /// Sub-steps whose solve needed impulses (impacts held inside it), and those impulses'
   /// contacts in all (docs/impacts.md).
   int64_t impact_substeps() const { return end_.substeps(); }
@@ -132,7 +133,6 @@ class ImplicitEulerIntegrator final : public Integrator {
                      State* state);
   // b_ += μ (M Δv - ĥ K Δq) (BDF2); kv_'s common modes still weighed as for K v.
   void AddHistory(const StepWeights& w, const State& state);
-  void PrepareConstraints();  // after the band solve of rhs_: the rank-one and pins' terms
   // x <- the solution of the band system with the rank-one term and the pins (the preconditioner).
   void ApplyBandInverse(double* x);
   // x <- from the band system's solution to that of the preconditioner (rank one, pins).
@@ -157,43 +157,38 @@ class ImplicitEulerIntegrator final : public Integrator {
 
   const Model& model_;
   Interactions* interactions_;
-  int n_;  // control points
-  int num_pins_;
-  bool guard_;             // params().linearization_guard
-  bool bdf2_;              // params().implicit_scheme is BDF2, with impact constraints
-  bool stick_slip_;        // contacts with stick-slip friction (State::friction's anchors)
-  BandSystemSolver band_;  // M + ĥ D + ĥ^2 K
+  int n_;                        // control points
+  bool guard_;                   // params().linearization_guard
+  bool bdf2_;                    // params().implicit_scheme is BDF2, with impact constraints
+  bool stick_slip_;              // contacts with stick-slip friction (State::friction's anchors)
+  BandSystemSolver band_;        // M + ĥ D + ĥ^2 K
+  BandCorrections corrections_;  // its rank-one term and the pins, through its solves
   StretchScratch scratch_;
   ForceJacobians jac_;
   Points force_, kv_;
   Points history_;  // K Δq, then M Δv (AddHistory)
   Points step_dq_;  // the sub-step's motion, checked before it is accepted
-  MatX rhs_;        // 3N by (2 + 3 #pins): [r, u, G^T columns], solved in place
-  MatX schur_;      // 3 #pins square
-  Eigen::LDLT<MatX> schur_ldlt_;
-  VecX pin_rhs_, pin_lambda_;
-  VecX b_;  // the right-hand side
+  VecX b_;          // the right-hand side
   PreconditionedCg cg_;
   EndConstraints end_;  // impacts and depth held inside the solve, through the band system
   double gravity_floor_share_;
   bool impact_redo_ = true;
   double weight_scale_ = 0.0;  // m |g|^2, m the whole tube's mass
-  double rank1_w_ = 0.0;       // h^2 times the rank-one coefficient, this sub-step
-  double rank1_denom_ = 1.0;   // 1 + w u.z of Sherman-Morrison
-  int64_t factorization_failures_ = 0;
   int last_cg_iterations_ = 0;
   double last_cg_stop_ = 0.0;
-  int64_t cg_iterations_ = 0, cg_unconverged_ = 0, substeps_ = 0, halved_substeps_ = 0;
-  int64_t cg_extended_ = 0, cg_halved_ = 0;
   // The tools' tips, three unknowns per tool, eliminated from the solve. Their targets' path is
   // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).
   TipSchur tips_;
   int friction_rounds_ = 0;
   FrictionResolve friction_;  // a revised contact's solve done again from its change of terms
   double tip_end_ = 1.0, tip_span_ = 1.0;
-  int64_t impact_redos_ = 0, bdf2_substeps_ = 0, friction_redos_ = 0, stretch_redos_ = 0;
-  int64_t tip_redos_ = 0;
   bool stretch_redo_ = true;
+  // What the solves did since the start (the counters above read them).
+  struct Counts {
+    int64_t factorization_failures = 0, cg_iterations = 0, cg_unconverged = 0, substeps = 0;
+    int64_t halved_substeps = 0, cg_extended = 0, cg_halved = 0, impact_redos = 0;
+    int64_t bdf2_substeps = 0, friction_redos = 0, stretch_redos = 0, tip_redos = 0;
+  } counts_;
 };
 
 }  // namespace viscera::mechanics

@@ -17,7 +17,7 @@ class ImplicitSystemView {
   /// stretching energy's rank-one term w u u^T (w = 0: none); the right-hand side b. The exact
   /// matrix is P + w u u^T minus the pairs' common modes (MultiplyExact).
   const BlockBand& band_system() const { return integrator_.band_.system(); }
-  double rank_one_weight() const { return integrator_.rank1_w_; }
+  double rank_one_weight() const { return integrator_.corrections_.weight(); }
   const Points& rank_one_u() const { return integrator_.jac_.rank1_u; }
   const VecX& last_rhs() const { return integrator_.b_; }
   /// y = A x for the exact matrix (the pairs' common modes as Interactions last weighed them:
