@@ -8,7 +8,8 @@
 # Usage: tools/capacity.sh [OUT_DIR] [SECONDS_PER_RUN] [CONFIG...]
 #   CONFIG: fall-100, fall-100-frames, fall-1000, ..., cavity-1000-frames (default: those 8),
 #           cavity-100-skeleton, ...
-# Environment: VISCERA_SERVER_CPU (1), VISCERA_CLIENT_CPU (0), VISCERA_BUILD_DIR (build).
+# Environment: VISCERA_SERVER_CPU (1), VISCERA_CLIENT_CPU (0), VISCERA_BUILD_DIR (build),
+#   VISCERA_SESSIONS (the session counts of every configuration, e.g. 1,2,3; default: sweep below).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [[ "${VISCERA_IN_NETNS:-}" != 1 ]]; then
@@ -31,6 +32,7 @@ mkdir -p "$out"
 # Session counts per configuration: from one to a little past where the limits were crossed
 # on a 2-vCPU machine shared with other work (docs/capacity.md); widen them on a quiet one.
 sweep() {
+  if [[ -n "${VISCERA_SESSIONS:-}" ]]; then echo "$VISCERA_SESSIONS"; return; fi
   case "$1" in
     fall-100 | cavity-100 | *-100-skeleton) echo 4,8,10,12,14,16 ;;
     fall-1000) echo 1,2,3 ;;
