@@ -42,6 +42,9 @@ double MeasureFrame(const mechanics::Model& model, const mechanics::State& state
   options.skin = config.skin;
   options.skin_options.parametric.sides = config.skin_sides;
   options.skin_options.convolution.sides = config.skin_sides;
+  // every frame draws the intestine, as while a trainee handles it: the same state drawn again
+  // would otherwise start from its kept picture and cost a fraction of that
+  options.scene.keep_intestine = false;
   render::FrameRenderer renderer(model.params(), options);
   const render::Laparoscope camera =
       render::SceneLaparoscope(model.params(), state.q, renderer.width(), renderer.height());

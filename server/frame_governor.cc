@@ -2,16 +2,18 @@
 
 namespace viscera::server {
 
-bool FrameGovernor::Update(double frame_ms, double period_ms, double step_slack) {
-  const bool overloaded =
-      frame_ms > config_.busy_high * period_ms || step_slack < config_.slack_low;
+bool FrameGovernor::Update(const FrameCost& cost, double period_ms, double step_slack) {
+  // overloaded: the frame alone takes most of a period, or it made the stream late
+  const bool overloaded = cost.cpu_ms > config_.busy_high * period_ms || cost.wall_ms > period_ms ||
+                          step_slack < config_.slack_low;
   // calm: this frame would have fitted comfortably in the period of the level above
   const int above = level_ > 0 ? level_ - 1 : 0;
   const double above_period_ms = period_ms * kFrameLevels[level_].rate / kFrameLevels[above].rate;
   const double scale_ratio = kFrameLevels[above].scale / kFrameLevels[level_].scale;
-  const double above_frame_ms = frame_ms * scale_ratio * scale_ratio;  // cost ~ pixels
-  const bool calm =
-      above_frame_ms < config_.busy_low * above_period_ms && step_slack > config_.slack_high;
+  const double pixels_ratio = scale_ratio * scale_ratio;  // cost ~ pixels
+  const bool calm = cost.cpu_ms * pixels_ratio < config_.busy_low * above_period_ms &&
+                    cost.wall_ms * pixels_ratio < config_.busy_high * above_period_ms &&
+                    step_slack > config_.slack_high;
   overloaded_ = overloaded ? overloaded_ + 1 : 0;
   calm_ = calm ? calm_ + 1 : 0;
   const int last = static_cast<int>(kFrameLevels.size()) - 1;

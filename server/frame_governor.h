@@ -10,13 +10,17 @@
 namespace viscera::server {
 
 struct FrameGovernorConfig {
-  /// A frame is overloaded when it took more than this share of its period, or when the
-  /// mechanics' slack (session::StepSlack: 1 - the 90th percentile step wall time / step period
-  /// over the last status period) is below `slack_low`.
+  /// A frame is overloaded when its own CPU time took more than this share of its period, when
+  /// its wall time overran the period (the stream cannot keep its rate), or when the mechanics'
+  /// slack (session::StepSlack: 1 - the 90th percentile step wall time / step period over the
+  /// last status period) is below `slack_low`. Wall time alone would count the frames of other
+  /// streams drawn on the same core meanwhile: two streams whose ticks coincide each see about
+  /// twice their own cost, and both were lowered while the core had room for them.
   double busy_high = 0.8;
   double slack_low = 0.1;
-  /// A frame is calm when it took less than this share of the period the level above would
-  /// have, and the slack is above `slack_high`.
+  /// A frame is calm when, at the level above, its own CPU time would have taken less than this
+  /// share of that level's period and its wall time less than `busy_high` of it, and the slack
+  /// is above `slack_high`.
   double busy_low = 0.5;
   double slack_high = 0.4;
   int overloaded_to_lower = 5;  ///< consecutive overloaded frames before going down a level
@@ -29,6 +33,13 @@ struct FrameLevel {
   double scale = 1.0;
 };
 
+/// One frame's cost, ms: its wall time (skin, draw and JPEG, with any wait for the core) and
+/// the render thread's own CPU time for it (render::FrameTimings::cpu_ms).
+struct FrameCost {
+  double wall_ms = 0.0;
+  double cpu_ms = 0.0;
+};
+
 /// Level 0 is the configured stream; each next one costs less: the rate first, then the size.
 inline constexpr std::array<FrameLevel, 6> kFrameLevels = {
     {{1.0, 1.0}, {0.6, 1.0}, {0.4, 1.0}, {0.4, 0.75}, {0.4, 0.5}, {0.2, 0.5}}};
@@ -37,10 +48,14 @@ class FrameGovernor {
  public:
   explicit FrameGovernor(FrameGovernorConfig config = {}) : config_(config) {}
 
-  /// Takes one frame's cost (ms of wall time: skin, draw and JPEG) at the current level's period
-  /// `period_ms`, and the mechanics' step slack (1 - step wall time / step period; >= 1 when
-  /// unknown). @return true when the level changed.
-  bool Update(double frame_ms, double period_ms, double step_slack);
+  /// Takes one frame's cost at the current level's period `period_ms`, and the mechanics' step
+  /// slack (1 - step wall time / step period; >= 1 when unknown). @return true when the level
+  /// changed.
+  bool Update(const FrameCost& cost, double period_ms, double step_slack);
+  /// A frame whose wall time was all its own (nothing else ran on its core meanwhile).
+  bool Update(double frame_ms, double period_ms, double step_slack) {
+    return Update(FrameCost{frame_ms, frame_ms}, period_ms, step_slack);
+  }
 
   int level() const { return level_; }
   const FrameLevel& current() const { return kFrameLevels[level_]; }

@@ -174,7 +174,7 @@ void FrameStreamer::Loop(render::FrameRenderer& renderer, session::FrameStreamRe
           shown_pose = pose;
           report->frame_bytes = frame.size;
           if (config_.adaptive &&
-              governor.Update(t.skin_ms + t.render_ms + t.encode_ms,
+              governor.Update(FrameCost{t.skin_ms + t.render_ms + t.encode_ms, t.cpu_ms},
                               static_cast<double>(period) * 1e-6, session_->step_slack())) {
             const FrameLevel& level = governor.current();
             period = std::llround(1e9 / (config_.rate_hz * level.rate));

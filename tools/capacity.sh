@@ -8,7 +8,10 @@
 # Usage: tools/capacity.sh [OUT_DIR] [SECONDS_PER_RUN] [CONFIG...]
 #   CONFIG: fall-100, fall-100-frames, fall-1000, ..., cavity-1000-frames (default: those 8),
 #           cavity-100-skeleton, ...
-# Environment: VISCERA_SERVER_CPU (1), VISCERA_CLIENT_CPU (0), VISCERA_BUILD_DIR (build).
+# Environment: VISCERA_SERVER_CPU (1), VISCERA_CLIENT_CPU (0), VISCERA_BUILD_DIR (build),
+#   VISCERA_SESSIONS (the session counts of every configuration, e.g. 1,2,3; default: sweep below),
+#   VISCERA_TOOL_CENTER ("X Y Z", m: the centre of the tool's 1 cm circle; default 0 0 0.15, above
+#   the pile; "0 0 0.07" presses into the cavity's pile and moves its bowel).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [[ "${VISCERA_IN_NETNS:-}" != 1 ]]; then
@@ -31,6 +34,7 @@ mkdir -p "$out"
 # Session counts per configuration: from one to a little past where the limits were crossed
 # on a 2-vCPU machine shared with other work (docs/capacity.md); widen them on a quiet one.
 sweep() {
+  if [[ -n "${VISCERA_SESSIONS:-}" ]]; then echo "$VISCERA_SESSIONS"; return; fi
   case "$1" in
     fall-100 | cavity-100 | *-100-skeleton) echo 4,8,10,12,14,16 ;;
     fall-1000) echo 1,2,3 ;;
@@ -46,6 +50,8 @@ for config in "${configs[@]}"; do
   scene_args=(--scene "$scene")
   [[ $scene == fall ]] && scene_args=(--scene-file "$root/scenes/fall.toml"
                                       --scene-file "$root/bench/scenes/probe_tool.toml")
+  center_args=()
+  [[ -n "${VISCERA_TOOL_CENTER:-}" ]] && read -r -a center_args <<<"--center $VISCERA_TOOL_CENTER"
   frame_args=()
   [[ $frames == frames ]] && frame_args=(--frames --frame-rate 25)
   [[ $frames == skeleton ]] && frame_args=(--skeleton-rate 30)
@@ -61,7 +67,7 @@ for config in "${configs[@]}"; do
   status=0
   taskset -c "$client_cpu" "$python" "$root/tools/loadtest.py" --sessions "$(sweep "$config")" \
     --seconds "$seconds" --pose-rate "$rate" --session-rate "$rate" "${scene_args[@]}" \
-    "${frame_args[@]}" --lcm-url "$url" --listen 3 --progress none --json "$dir/report.json" \
+    "${frame_args[@]}" "${center_args[@]}" --lcm-url "$url" --listen 3 --progress none --json "$dir/report.json" \
     --plots "$dir" >"$dir/summary.txt" 2>"$dir/loadtest.err" || status=$?
   # 1 (over capacity) is what a sweep is for; anything else is a failure worth seeing
   if (( status != 0 && status != 1 && status != 3 )); then

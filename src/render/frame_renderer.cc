@@ -98,6 +98,7 @@ cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolSt
   const CameraMatrices matrices = camera.Matrices(width_, height_);
 
   // skin: the hybrid's convolution surface follows the scope's look-at point
+  const int64_t cpu_begin = ThreadCpuNanos();
   int64_t begin = MonotonicNanos();
   if (auto* hybrid = dynamic_cast<skin::HybridSkin*>(skin_.get())) {
     hybrid->SetFocus(camera.target.cast<double>(), focus_radius_);
@@ -116,15 +117,18 @@ cv::Mat FrameRenderer::Render(const Points& q, std::span<const mechanics::ToolSt
   ReadFrame();  // waits for llvmpipe to finish the frame
   timings_.finish_ms = MillisSince(drawn);
   timings_.render_ms = MillisSince(begin);
+  timings_.cpu_ms = static_cast<double>(ThreadCpuNanos() - cpu_begin) * 1e-6;
   return frame_;
 }
 
 const std::vector<uint8_t>& FrameRenderer::Encode() {
+  const int64_t cpu_begin = ThreadCpuNanos();
   const int64_t begin = MonotonicNanos();
   // BGRA, top row first: what OpenCV's JPEG writer takes without a flip or a copy
   ThrowUnless(!frame_.empty(), "FrameRenderer::Encode before any Render");
   const std::vector<uint8_t>& bytes = encoder_.Encode(frame_);
   timings_.encode_ms = MillisSince(begin);
+  timings_.cpu_ms += static_cast<double>(ThreadCpuNanos() - cpu_begin) * 1e-6;
   return bytes;
 }
 

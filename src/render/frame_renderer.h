@@ -40,6 +40,11 @@ struct FrameTimings {
   double draw_ms = 0.0;    ///< the intestine's culling, the uploads and the draw calls
   double finish_ms = 0.0;  ///< glFinish: what llvmpipe still rasterizes and shades
   double encode_ms = 0.0;  ///< JPEG
+  /// The calling thread's CPU time for the frame (skin, draw, read-back, and the JPEG once
+  /// Encode ran): what the frame took of a core, without the time the thread waited for one
+  /// while other threads ran (another stream's frames sharing the core). With LP_NUM_THREADS
+  /// >= 1 it leaves out llvmpipe's rasterizer threads.
+  double cpu_ms = 0.0;
 };
 
 /// Parses a frame size "WIDTHxHEIGHT" (e.g. "640x480").

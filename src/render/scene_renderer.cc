@@ -1,6 +1,7 @@
 #include "render/scene_renderer.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/check.h"
 #include "render/gl.h"
@@ -19,6 +20,8 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
       radius_(params.radius) {
   if (!options_.textures) DropTextures(&palette_);
   if (options_.static_layer) static_layer_ = std::make_unique<StaticLayer>();
+  if (options_.static_layer && options_.keep_intestine)
+    intestine_layer_ = std::make_unique<StaticLayer>();
   renderer_.set_serosa_per_vertex(options_.serosa_per_vertex);
   renderer_.set_integer_exponents(options_.integer_exponents);
   // every material's program compiled now: a first tool or damaged part holds up no frame
@@ -81,29 +84,33 @@ SceneRenderer::SceneRenderer(const mechanics::ModelParams& params, Palette palet
 
 SceneRenderer::~SceneRenderer() = default;
 
+bool SceneRenderer::IntestineStill(const skin::Mesh& intestine, const CameraMatrices& camera,
+                                   int width, int height) const {
+  if (intestine.positions.size() != kept_positions_.size()) return false;
+  const Eigen::Matrix4d clip = (camera.projection * camera.view).cast<double>();
+  const double half_width = 0.5 * width, half_height = 0.5 * height;
+  const double tolerance = options_.keep_tolerance_px;
+  for (size_t i = 0; i < kept_positions_.size(); ++i) {
+    const Vec3& was = kept_positions_[i];
+    const Vec3& is = intestine.positions[i];
+    if (was == is) continue;
+    const Eigen::Vector4d a = clip * was.homogeneous();
+    const Eigen::Vector4d b = clip * is.homogeneous();
+    // a moving vertex at or behind the eye's plane: its pixels are not known here
+    if (a.w() <= 1e-6 || b.w() <= 1e-6) return false;
+    const double dx = (b.x() / b.w() - a.x() / a.w()) * half_width;
+    const double dy = (b.y() / b.w() - a.y() / a.w()) * half_height;
+    if (std::abs(dx) > tolerance || std::abs(dy) > tolerance) return false;
+  }
+  return true;
+}
+
 void SceneRenderer::DrawStatic(const CameraMatrices& camera) {
   for (const StaticMesh& s : obstacles_) renderer_.Draw(*s.mesh, camera, s.material, s.faces);
 }
 
-void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
-                         const CameraMatrices& camera, const Points* skeleton) {
-  ThrowUnless(tools.empty() || tools.size() == tool_params_.size(),
-              "SceneRenderer::Draw: ", tools.size(), " tool states for ", tool_params_.size(),
-              " tools");
-  const bool layered = static_layer_ != nullptr;
-  GLint viewport[4] = {0, 0, 0, 0};
-  glGetIntegerv(GL_VIEWPORT, viewport);
-  if (layered) {
-    if (!static_layer_->Holds(camera, viewport[2], viewport[3])) {
-      static_layer_->BeginDrawing(camera, viewport[2], viewport[3]);
-      renderer_.Clear(palette_.background);
-      DrawStatic(camera);
-      static_layer_->EndDrawing();
-    }
-    static_layer_->CopyToBound();
-  } else {
-    renderer_.Clear(palette_.background);
-  }
+void SceneRenderer::DrawIntestine(const skin::Mesh& intestine, const CameraMatrices& camera,
+                                  int viewport_height) {
   // near to far, roughly: the bowel and the tools before the wall and organs behind them, so the
   // depth test rejects the wall's hidden fragments before they are shaded
   intestine_cpu_.Clear();
@@ -140,7 +147,7 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
     renderer_.Draw(damaged_gpu_, camera, palette_.damage, faces);
   } else {
     if (options_.cull_intestine && options_.level_of_detail && intestine.tube.rings >= 2) {
-      intestine_counts_ = detail_.Append(intestine, length_, radius_, camera, viewport[3],
+      intestine_counts_ = detail_.Append(intestine, length_, radius_, camera, viewport_height,
                                          options_.detail_tolerance_px, &intestine_cpu_);
       intestine_blocks_ = detail_.blocks();
     } else if (options_.cull_intestine) {
@@ -152,6 +159,48 @@ void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics:
     }
     intestine_gpu_.Upload(intestine_cpu_);
     renderer_.Draw(intestine_gpu_, camera, palette_.intestine, faces);
+  }
+}
+
+void SceneRenderer::Draw(const skin::Mesh& intestine, std::span<const mechanics::ToolState> tools,
+                         const CameraMatrices& camera, const Points* skeleton) {
+  ThrowUnless(tools.empty() || tools.size() == tool_params_.size(),
+              "SceneRenderer::Draw: ", tools.size(), " tool states for ", tool_params_.size(),
+              " tools");
+  const bool layered = static_layer_ != nullptr;
+  GLint viewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  intestine_kept_ = false;
+  if (layered) {
+    bool static_drawn = false;
+    if (!static_layer_->Holds(camera, viewport[2], viewport[3])) {
+      static_layer_->BeginDrawing(camera, viewport[2], viewport[3]);
+      renderer_.Clear(palette_.background);
+      DrawStatic(camera);
+      static_layer_->EndDrawing();
+      static_drawn = true;
+    }
+    if (intestine_layer_ != nullptr) {
+      // the static scene and the intestine as last drawn, while the bowel rests
+      intestine_kept_ =
+          !static_drawn && intestine_layer_->Holds(camera, viewport[2], viewport[3]) &&
+          damage_ == kept_damage_ && IntestineStill(intestine, camera, viewport[2], viewport[3]);
+      if (!intestine_kept_) {
+        intestine_layer_->BeginDrawing(camera, viewport[2], viewport[3]);
+        static_layer_->CopyToBound();
+        DrawIntestine(intestine, camera, viewport[3]);
+        intestine_layer_->EndDrawing();
+        kept_positions_ = intestine.positions;
+        kept_damage_ = damage_;
+      }
+      intestine_layer_->CopyToBound();
+    } else {
+      static_layer_->CopyToBound();
+      DrawIntestine(intestine, camera, viewport[3]);
+    }
+  } else {
+    renderer_.Clear(palette_.background);
+    DrawIntestine(intestine, camera, viewport[3]);
   }
 
   tools_cpu_.Clear();

@@ -40,6 +40,13 @@ struct SceneOptions {
   /// Keep the picture of the static scene (StaticLayer) while the camera stays, and draw only
   /// what moves over a copy of it. Off: everything drawn every frame (the reference).
   bool static_layer = true;
+  /// With static_layer, keep the picture of the static scene and the intestine too while the
+  /// camera stays and every vertex of the skin stays within `keep_tolerance_px` pixels of where
+  /// it was when that picture was drawn (a bowel at rest, a tool moving): a frame then draws
+  /// only the tools and the mesentery over a copy of it. Off: the intestine drawn every frame
+  /// (the reference).
+  bool keep_intestine = true;
+  double keep_tolerance_px = 0.25;
   /// The serosa's noises per vertex (MeshRenderer::set_serosa_per_vertex). Off: all of its
   /// pattern per fragment (the reference).
   bool serosa_per_vertex = true;
@@ -78,6 +85,9 @@ class SceneRenderer {
   long triangles() const { return triangles_; }
   /// The intestine's chunks and triangles in the last frame, and how many were drawn.
   const CullCounts& intestine_counts() const { return intestine_counts_; }
+  /// Whether the last frame started from the kept picture of the intestine
+  /// (SceneOptions::keep_intestine) instead of drawing it.
+  bool intestine_kept() const { return intestine_kept_; }
   /// The skin's blocks and their levels of detail in the last frame (empty when it was drawn
   /// without SceneOptions::level_of_detail).
   const std::vector<SkinDetail::Block>& intestine_blocks() const { return intestine_blocks_; }
@@ -90,6 +100,12 @@ class SceneRenderer {
   };
 
   void DrawStatic(const CameraMatrices& camera);  // the obstacles and targets
+  // the intestine (culled, at its levels of detail, or in two colours when damaged)
+  void DrawIntestine(const skin::Mesh& intestine, const CameraMatrices& camera,
+                     int viewport_height);
+  // every vertex of `intestine` within keep_tolerance_px of the kept picture's
+  bool IntestineStill(const skin::Mesh& intestine, const CameraMatrices& camera, int width,
+                      int height) const;
 
   std::vector<mechanics::ToolParams> tool_params_;
   Palette palette_;
@@ -97,6 +113,12 @@ class SceneRenderer {
   MeshRenderer renderer_;
   std::vector<StaticMesh> obstacles_;
   std::unique_ptr<StaticLayer> static_layer_;  // null when SceneOptions::static_layer is off
+  // the static scene and the intestine (null without SceneOptions::keep_intestine): the skin's
+  // vertices and the damage it was drawn with
+  std::unique_ptr<StaticLayer> intestine_layer_;
+  std::vector<Vec3> kept_positions_;
+  std::vector<std::pair<double, double>> kept_damage_;
+  bool intestine_kept_ = false;
   SkinCuller culler_;
   SkinDetail detail_;
   CullCounts intestine_counts_;

@@ -117,6 +117,23 @@ TEST(FrameRenderer, IntestineWhereTheSkeletonProjectsBackgroundElsewhere) {
 
 // A stream made smaller (the frame governor's SetFrameSize) draws the picture a renderer of that
 // size draws, and back at full size the picture it drew before.
+TEST(FrameRenderer, TimesTheFramesCpuApartFromItsWallTime) {
+  // LP_NUM_THREADS=0: the whole frame is drawn on this thread, so its CPU time is positive and
+  // within its wall time (the frame governor tells a busy core from a costly frame by the two)
+  const mechanics::ModelParams scene = Scene();
+  FrameOptions options;
+  options.width = kWidth;
+  options.height = kHeight;
+  FrameRenderer renderer(scene, options);
+  renderer.Render(scene.initial_q, {}, Scope());
+  const double drawn_cpu_ms = renderer.timings().cpu_ms;
+  renderer.Encode();
+  const FrameTimings& t = renderer.timings();
+  EXPECT_GT(drawn_cpu_ms, 0.0);
+  EXPECT_GT(t.cpu_ms, drawn_cpu_ms);  // the JPEG's CPU added
+  EXPECT_LE(t.cpu_ms, t.skin_ms + t.render_ms + t.encode_ms + 0.1);
+}
+
 TEST(FrameRenderer, ASmallerFrameSizeDrawsThePictureOfThatSize) {
   const mechanics::ModelParams scene = Scene();
   FrameOptions options;

@@ -106,5 +106,51 @@ TEST(FrameGovernor, FramesBetweenTheThresholdsHoldTheLevel) {
   EXPECT_EQ(changes, 0);
 }
 
+// Two streams on one core whose ticks coincide: each frame costs its thread 14 ms of CPU and
+// takes 33-36 ms of wall time, the other stream's frame and both sessions' steps run in between.
+FrameGovernor FedSharingACore(bool own_cpu_known) {
+  FrameGovernor g;
+  for (int i = 0; i < 500; ++i) {
+    const double wall_ms = 33.0 + (i % 4);
+    if (own_cpu_known) {
+      g.Update(FrameCost{wall_ms, 14.0}, Period(g), 1.0);
+    } else {
+      g.Update(wall_ms, Period(g), 1.0);  // the wall time read as the frame's own cost
+    }
+  }
+  return g;
+}
+
+TEST(FrameGovernor, AStreamSharingItsCoreKeepsItsRate) {
+  // 2 x 14 ms in every 40 ms period: the core has room for both streams at 25 Hz
+  EXPECT_EQ(FedSharingACore(/*own_cpu_known=*/true).level(), 0);
+  // the same frames judged by their wall time alone: lowered for the other stream's frames
+  EXPECT_GT(FedSharingACore(/*own_cpu_known=*/false).level(), 0);
+}
+
+TEST(FrameGovernor, FramesThatMakeTheStreamLateLowerItWhateverTheirCpu) {
+  // three streams' worth of frames on one core: 13 ms each of CPU, 45 ms of wall time at a
+  // 40 ms period; the stream cannot keep its rate
+  FrameGovernor g;
+  for (int i = 0; i < 10; ++i) g.Update(FrameCost{45.0, 13.0}, Period(g), 1.0);
+  EXPECT_LT(g.current().rate, 1.0);
+  EXPECT_EQ(g.current().scale, 1.0);
+}
+
+TEST(FrameGovernor, ALoweredStreamClimbsBackWhileSharingACoreWithRoom) {
+  FrameGovernor g;
+  for (int i = 0; i < 10; ++i) g.Update(FrameCost{45.0, 13.0}, Period(g), 1.0);
+  ASSERT_GT(g.level(), 0);
+  // the other stream's frames still in between (26 ms of wall time), the core no longer full
+  for (int i = 0; i < 200; ++i) g.Update(FrameCost{26.0, 13.0}, Period(g), 1.0);
+  EXPECT_EQ(g.level(), 0);
+  // with 40 ms of wall time at 15 Hz it would have been late at 25 Hz: it stays lowered
+  FrameGovernor late;
+  for (int i = 0; i < 10; ++i) late.Update(FrameCost{45.0, 13.0}, Period(late), 1.0);
+  const int lowered = late.level();
+  for (int i = 0; i < 200; ++i) late.Update(FrameCost{40.0, 13.0}, Period(late), 1.0);
+  EXPECT_EQ(late.level(), lowered);
+}
+
 }  // namespace
 }  // namespace viscera::server
