@@ -84,7 +84,7 @@ void ImplicitEulerIntegrator::MultiplyExact(const Eigen::Ref<const VecX>& x, Vec
 }
 
 bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<VecX> dv,
-                                            State* state, bool again) {
+                                            State* state, bool again, bool linked) {
   // Preconditioned CG on A dv = b, restricted to the pins' null space by the preconditioner
   // (every direction is a preconditioned residual). It starts from the band's answer plus the
   // correction extrapolated from the last two sub-steps': between 1 kHz steps the contacts
@@ -95,9 +95,10 @@ bool ImplicitEulerIntegrator::RefineExactly(const VecX& b, double h, Eigen::Ref<
   // pile the forces nearly cancel (the cavity's median b is 0.2 % of gravity's impulse, in this
   // norm), and a fraction of b asked for velocities exact to a tenth of a micrometre per second
   // (settled fall: 10.7 iterations per sub-step, 3.4 with the floor; docs/self-coupling.md).
-  // (h W)^T M^-1 (h W) is m (h g)^2.
-  const double gravity_reference =
-      gravity_floor_share_ * gravity_floor_share_ * h * h * weight_scale_;
+  // (h W)^T M^-1 (h W) is m (h g)^2. Under stick-slip friction the floor is lowered to a share of
+  // that (a resting pile's stuck springs), but not while a tool's tip is linked to the tube.
+  const double share = linked ? linked_floor_share_ : gravity_floor_share_;
+  const double gravity_reference = share * share * h * h * weight_scale_;
   const double reference =
       std::max(b.dot(dv), gravity_reference);  // b^T P^-1 b: dv is the band's answer
   const double stop = kCgTolerance * kCgTolerance * reference;
@@ -230,7 +231,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   bool converged = true;
   if (coupled) {
     interactions_->WeighCommonModes(-w.stiffness, -w.h_eff);
-    converged = RefineExactly(b_, h, dv, state, again);
+    converged = RefineExactly(b_, h, dv, state, again, tips_linked);
   } else {
     state->cg_correction.setZero();
     state->cg_previous_correction.setZero();
@@ -290,7 +291,7 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
       // solve takes them as a change of b and of the exact matrix, from the last answer.
       if (friction_.enabled() && coupled && !end_held &&
           friction_.TakeRevisions(w.h_eff, w.stiffness, w.history, &b_, dv, state)) {
-        converged = RefineExactly(b_, h, dv, state, true);
+        converged = RefineExactly(b_, h, dv, state, true, tips_linked);
         continue;
       }
       solving_again_ = coupled;
