@@ -43,8 +43,9 @@ ScriptPlayer::Reach ScriptPlayer::BeginReach(const std::string& tool, size_t row
   const Rows& r = rows_.at(tool);
   size_t a = row;  // the tool's last row before the grasp not aimed at the tube: it backs off there
   while (a > 0 && (r.written[a].at_tube || r.written[a].offset)) --a;
-  // it takes as long to back off as the script gave it to leave that point
-  const double back = r.written[a + 1].t - r.written[a].t;
+  // it takes as long to back off as the script gave it to leave that point (no time when the
+  // grasp row is the tool's first: it reaches again where it is)
+  const double back = a < row ? r.written[a + 1].t - r.written[a].t : 0.0;
   Reach reach;
   reach.tool = tool;
   reach.row = row;

@@ -116,6 +116,17 @@ TEST(GraspRow, WithoutTheTipOrTheTubeItIsNotChecked) {
   EXPECT_EQ(player.reaches() + blind.reaches(), 0);
 }
 
+// A script of one grasp row has nowhere to back off to: it looks again where it is, three
+// times, and goes on.
+TEST(GraspRow, AGraspRowAloneReachesAgainWhereItIs) {
+  ScriptPlayer player(
+      ToolScript::Parse("t,tool,x,y,z,qw,qx,qy,qz,jaw,aim\n0,left,0,0,0.2,1,0,0,0,1,grasp@0.1\n"));
+  const Vec3 beside(-0.05, 0.02, 0.05);
+  for (int k = 0; k < 10; ++k) player.At("left", 0.01 * k, Hairpin(), &beside);
+  EXPECT_EQ(player.reaches(), ScriptPlayer::kMaxReaches);
+  EXPECT_TRUE(player.Done(0.1));
+}
+
 TEST(GraspRow, MalformedGraspRowsNameLineAndColumn) {
   for (const char* bad : {"grasp@", "grasp@1.5", "grasp@x", "grasp"}) {
     try {
