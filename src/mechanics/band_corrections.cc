@@ -3,9 +3,7 @@
 namespace viscera::mechanics {
 
 BandCorrections::BandCorrections(const Model& model)
-    : model_(model),
-      n_(model.num_points()),
-      pins_(static_cast<int>(model.pins().size())) {
+    : model_(model), n_(model.num_points()), pins_(static_cast<int>(model.pins().size())) {
   columns_.setZero(3 * n_, 2 + 3 * pins_);
   schur_.setZero(3 * pins_, 3 * pins_);
   pin_rhs_.setZero(3 * pins_);
