@@ -18,6 +18,28 @@ Vec3 OntoSurface(const Tube& tube, const Vec3& c, const Vec3& p) {
   return c + (tube.radius / distance) * (p - c);
 }
 
+// The point of a polyline (not empty) nearest to p, how far along the line it lies, and the
+// line's length (m).
+struct LinePoint {
+  Vec3 point;
+  double along = 0.0, length = 0.0;
+};
+LinePoint NearestOnLine(const std::vector<Vec3>& line, const Vec3& p) {
+  LinePoint best{line.front(), 0.0, 0.0};
+  double best_d2 = (line.front() - p).squaredNorm();
+  for (size_t i = 0; i + 1 < line.size(); ++i) {
+    const Vec3 d = line[i + 1] - line[i];
+    const double len2 = d.squaredNorm();
+    const double u = len2 > 0.0 ? std::clamp((p - line[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const Vec3 q = line[i] + u * d;
+    const double d2 = (q - p).squaredNorm();
+    const double len = std::sqrt(len2);
+    if (d2 < best_d2) best_d2 = d2, best.point = q, best.along = best.length + u * len;
+    best.length += len;
+  }
+  return best;
+}
+
 }  // namespace
 
 ToolScript ToolScript::Load(const std::string& path) {
@@ -105,19 +127,8 @@ std::vector<std::string> ToolScript::tools() const {
 }
 
 Vec3 NearestOnTube(const Tube& tube, const Vec3& p) {
-  const std::vector<Vec3>& line = tube.centre_line;
-  if (line.empty()) return p;
-  Vec3 best = line.front();
-  double best_d2 = (best - p).squaredNorm();
-  for (size_t i = 0; i + 1 < line.size(); ++i) {
-    const Vec3 d = line[i + 1] - line[i];
-    const double len2 = d.squaredNorm();
-    const double u = len2 > 0.0 ? std::clamp((p - line[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
-    const Vec3 q = line[i] + u * d;
-    const double d2 = (q - p).squaredNorm();
-    if (d2 < best_d2) best_d2 = d2, best = q;
-  }
-  return OntoSurface(tube, best, p);
+  if (tube.centre_line.empty()) return p;
+  return OntoSurface(tube, NearestOnLine(tube.centre_line, p).point, p);
 }
 
 Vec3 AlongTube(const Tube& tube, double s, const Vec3& p) {
@@ -136,18 +147,9 @@ Vec3 AlongTube(const Tube& tube, double s, const Vec3& p) {
 }
 
 double AlongTubeFrom(const Tube& tube, double s, const Vec3& p) {
-  const std::vector<Vec3>& line = tube.centre_line;
-  if (line.size() < 2) return 0.0;
-  double total = 0.0, nearest = 0.0, best_d2 = (line.front() - p).squaredNorm();
-  for (size_t i = 0; i + 1 < line.size(); ++i) {
-    const Vec3 d = line[i + 1] - line[i];
-    const double len2 = d.squaredNorm();
-    const double u = len2 > 0.0 ? std::clamp((p - line[i]).dot(d) / len2, 0.0, 1.0) : 0.0;
-    const double d2 = (line[i] + u * d - p).squaredNorm();
-    if (d2 < best_d2) best_d2 = d2, nearest = total + u * std::sqrt(len2);
-    total += std::sqrt(len2);
-  }
-  return std::abs(nearest - std::clamp(s, 0.0, 1.0) * total);
+  if (tube.centre_line.size() < 2) return 0.0;
+  const LinePoint nearest = NearestOnLine(tube.centre_line, p);
+  return std::abs(nearest.along - std::clamp(s, 0.0, 1.0) * nearest.length);
 }
 
 Vec3 AimOnTube(const Tube& tube, const ToolKeyframe& frame) {
