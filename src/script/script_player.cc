@@ -10,7 +10,6 @@ ScriptPlayer::ScriptPlayer(ToolScript script) : script_(std::move(script)) {
     r.written = script_.frames(tool);
     r.played = r.written;
     for (const ToolKeyframe& k : r.written) r.pending.push_back(k.at_tube || k.offset);
-    next_grasp_[tool] = 0;
   }
 }
 
@@ -91,11 +90,11 @@ ToolKeyframe ScriptPlayer::At(const std::string& tool, double t, const Tube& tub
     // arrived: the script goes on from the grasp row, aimed where the last reach landed
     r.played[reach_->row].tip = again.played.back().tip;
     delay_ = t - r.written[reach_->row].t;
-    next_grasp_[tool] = reach_->row + 1;
+    r.next_grasp = reach_->row + 1;
     reach_.reset();
   }
   const double s = t - delay_;  // the script's time
-  size_t& g = next_grasp_[tool];
+  size_t& g = r.next_grasp;
   while (g < r.written.size() && !r.written[g].grasp) ++g;
   if (g < r.written.size() && s >= r.written[g].t) {
     r.Resolve(r.written[g].t, tube, g);  // up to the grasp row, as they came

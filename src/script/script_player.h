@@ -48,6 +48,7 @@ class ScriptPlayer {
   struct Rows {
     std::vector<ToolKeyframe> written, played;
     std::vector<bool> pending;  // rows still to aim
+    size_t next_grasp = 0;      // the first grasp row not yet checked
     void Resolve(double t, const Tube& tube, size_t last);
   };
   // A grasp row's reach played again: the tool's rows from its back-off point to the grasp row,
@@ -65,7 +66,6 @@ class ScriptPlayer {
 
   ToolScript script_;
   std::map<std::string, Rows> rows_;
-  std::map<std::string, size_t> next_grasp_;  // the first grasp row not yet checked
   std::optional<Reach> reach_;
   double delay_ = 0.0;
   int reaches_ = 0;
