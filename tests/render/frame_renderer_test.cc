@@ -50,6 +50,14 @@ Laparoscope Scope() {
   return scope;
 }
 
+// The tests' frame size, every other option at its default.
+FrameOptions FullSize() {
+  FrameOptions options;
+  options.width = kWidth;
+  options.height = kHeight;
+  return options;
+}
+
 cv::Mat Decode(const std::vector<uint8_t>& jpeg) { return cv::imdecode(jpeg, cv::IMREAD_COLOR); }
 
 // Mean BGR over the 3x3 block around a continuous pixel position.
@@ -75,9 +83,7 @@ TEST(FrameRenderer, IntestineWhereTheSkeletonProjectsBackgroundElsewhere) {
   const mechanics::ModelParams scene = Scene();
   for (const char* skin : {"parametric", "convolution", "implicit", "hybrid"}) {
     SCOPED_TRACE(skin);
-    FrameOptions options;
-    options.width = kWidth;
-    options.height = kHeight;
+    FrameOptions options = FullSize();
     options.skin = skin;
     FrameRenderer renderer(scene, options);
     const Laparoscope scope = Scope();
@@ -115,15 +121,11 @@ TEST(FrameRenderer, IntestineWhereTheSkeletonProjectsBackgroundElsewhere) {
   }
 }
 
-// A stream made smaller (the frame governor's SetFrameSize) draws the picture a renderer of that
-// size draws, and back at full size the picture it drew before.
 TEST(FrameRenderer, TimesTheFramesCpuApartFromItsWallTime) {
   // LP_NUM_THREADS=0: the whole frame is drawn on this thread, so its CPU time is positive and
   // within its wall time (the frame governor tells a busy core from a costly frame by the two)
   const mechanics::ModelParams scene = Scene();
-  FrameOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
+  FrameOptions options = FullSize();
   FrameRenderer renderer(scene, options);
   renderer.Render(scene.initial_q, {}, Scope());
   const double drawn_cpu_ms = renderer.timings().cpu_ms;
@@ -134,11 +136,11 @@ TEST(FrameRenderer, TimesTheFramesCpuApartFromItsWallTime) {
   EXPECT_LE(t.cpu_ms, t.skin_ms + t.render_ms + t.encode_ms + 0.1);
 }
 
+// A stream made smaller (the frame governor's SetFrameSize) draws the picture a renderer of that
+// size draws, and back at full size the picture it drew before.
 TEST(FrameRenderer, ASmallerFrameSizeDrawsThePictureOfThatSize) {
   const mechanics::ModelParams scene = Scene();
-  FrameOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
+  FrameOptions options = FullSize();
   FrameRenderer renderer(scene, options);
   renderer.Render(scene.initial_q, {}, Scope());
   const cv::Mat full = Decode(renderer.Encode());
@@ -160,9 +162,7 @@ TEST(FrameRenderer, ASmallerFrameSizeDrawsThePictureOfThatSize) {
 
 TEST(FrameRenderer, MovingTheCameraChangesTheImage) {
   const mechanics::ModelParams scene = Scene();
-  FrameOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
+  FrameOptions options = FullSize();
   FrameRenderer renderer(scene, options);
   Laparoscope scope = Scope();
   renderer.Render(scene.initial_q, {}, scope);
@@ -205,9 +205,7 @@ TEST(FrameRenderer, CavityWallOrganAndToolShowInTheirColours) {
   tools[0].tip = {-0.03, -0.12, 0.05};
   tools[0].jaw = 0.5;
 
-  FrameOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
+  FrameOptions options = FullSize();
   for (const bool outside : {false, true}) {
     SCOPED_TRACE(outside ? "scope outside the cavity" : "scope inside the cavity");
     FrameRenderer renderer(scene, options);
