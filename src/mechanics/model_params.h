@@ -62,9 +62,9 @@ struct ContactParams {
   double damping = 1.0;      ///< N s/m along the normal
   /// Coulomb coefficients (docs/mechanics.md, "Tissue card"): the tube against the environment
   /// (wet serosa on peritoneum), against itself (serosa on serosa) and against a tool's steel.
-  double friction = 0.3;
-  double self_friction = 0.3;
-  double tool_friction = 0.3;
+  double friction = 0.05;
+  double self_friction = 0.05;
+  double tool_friction = 0.1;
   /// Implicit integrator with impact constraints: Coulomb's law with a static phase (kStickSlip,
   /// the default: a tangential spring to where the contact stuck, capped by the cone;
   /// docs/friction.md), or the regularized law, viscous below kFrictionSlip (kRegularized; RK4
