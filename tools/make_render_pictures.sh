@@ -23,7 +23,7 @@ python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).save(sys.
   "$out/clearing/frame_000001.jpg" "$repo/docs/render_clearing.png"
 # close-up of the open jaws coming down on the loop they grasp at t = 1.5 s
 "$sim" "$repo/scenes/cavity.toml" --duration 1 --tool-script "$repo/scenes/clearing.csv" --skin convolution \
-  --render "$out/grasp" --render-every 90 --camera 0.15 -0.01 0.15 0.10 0.055 0.07 --jpeg-quality 95 >/dev/null
+  --render "$out/grasp" --render-every 90 --camera 0.16 -0.07 0.15 0.12 -0.025 0.07 --jpeg-quality 95 >/dev/null
 python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).save(sys.argv[2])" \
   "$out/grasp/frame_000001.jpg" "$repo/docs/render_grasp.png"
 # the laparoscope's view (docs/rendering.md): the cavity through its [camera] scope before and
@@ -34,7 +34,9 @@ mkdir -p "$repo/docs/images"
 cp "$out/view/frame_000000.jpg" "$repo/docs/images/view_before.jpg"
 cp "$out/view/frame_000001.jpg" "$repo/docs/images/view_after.jpg"
 cp "$repo/scenes/liver.obj" "$out/"
-sed 's/^optics = 0 /optics = 30/' "$repo/scenes/cavity.toml" >"$out/oblique.toml"
+# 30 degree optics need the shaft more than 31 degrees from the image's up: the cavity's scope
+# is 25 degrees from the vertical, so the oblique view shows the patient's right (+y) up
+sed 's/^optics = 0 .*/optics = 30\nup = [0.0, 1.0, 0.0]/' "$repo/scenes/cavity.toml" >"$out/oblique.toml"
 grep -q '^optics = 30' "$out/oblique.toml"
 "$sim" "$out/oblique.toml" --duration 0.01 --skin convolution --render "$out/oblique" --jpeg-quality 80 >/dev/null
 cp "$out/oblique/frame_000000.jpg" "$repo/docs/images/view_oblique.jpg"
