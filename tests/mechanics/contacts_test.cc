@@ -91,7 +91,7 @@ TEST(Contacts, SameInputsGiveBitIdenticalStates) {
 // fall.toml with the impact limiter and the stiffening law alone: the impulses inside the implicit
 // solve and the material spheres, on by default, switched off by its keys
 // (docs/impacts.md). At μ 0.3: with the tissue card's 0.05 that path gains 0.5 mJ in one step
-// of the impact (docs/impacts.md, "The limiter alone").
+// of the impact (docs/impacts.md).
 std::string LimiterOnlyFall() {
   std::string text = SceneText("fall.toml");
   const size_t table = text.find("[contacts]");
