@@ -1,5 +1,7 @@
 #include "mechanics/interactions.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -92,8 +94,8 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, const ShaftLever& le
   return Vec3::Zero();
 }
 
-ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
-                                      const PairGeometry& geometry) const {
+VISCERA_AVX_CLONE ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
+                                                        const PairGeometry& geometry) const {
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (geometry.depth <= 0.0 && speculative_h_ == 0.0) {
     ContactPenalty p;
@@ -107,8 +109,8 @@ ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
                        friction_.active());
 }
 
-double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K,
-                               BlockBand* D) {
+VISCERA_AVX_CLONE double Interactions::AddForces(const Points& q, const Points& qd, Points* F,
+                                                 BlockBand* K, BlockBand* D) {
   const ContactParams& cp = model_.params().contacts;
   Configure(q, false);
   kinematics_.Gather(qd);
@@ -216,7 +218,7 @@ double Interactions::CandidateMargin(const State& state, double h) const {
   return margin_ + 2.0 * h * (kinematics_.fastest() + tool_speed);
 }
 
-int Interactions::RequiredSubsteps(State* state_in) {
+VISCERA_AVX_CLONE int Interactions::RequiredSubsteps(State* state_in) {
   const State& state = *state_in;
   const int base = model_.params().substeps;
   const double h = model_.step_size();
