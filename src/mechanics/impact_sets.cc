@@ -50,7 +50,7 @@ VISCERA_AVX_CLONE double ImpactSets::GatherSpheres(const Points& v, std::vector<
   return std::sqrt(fastest);
 }
 
-VISCERA_AVX_CLONE bool ImpactSets::Limit(double h, Points* u, Points* v) {
+VISCERA_AVX_CLONE bool ImpactSets::Limit(double h, Points* u, Points* v, double u_fastest) {
   const double allowed = model_.params().contacts.impact_depth * radius_;
   set_.clear();
   if (!(allowed > 0.0)) return false;
@@ -67,10 +67,12 @@ VISCERA_AVX_CLONE bool ImpactSets::Limit(double h, Points* u, Points* v) {
     return c.kind == ContactKind::kSelf ? velocity_[c.b] : Vec3::Zero();
   };
   for (int round = 0; round < kMaxRounds; ++round) {
-    const double fastest = GatherSpheres(*u, &velocity_);
     // No pair closes as fast as an impact: no impulse, as in most steps of a settled pile,
     // without looking at each pair.
-    if (round == 0 && 2.0 * fastest < impact_speed_ * (1.0 - 1e-6)) return false;
+    const double slowest_impact = impact_speed_ * (1.0 - 1e-6);
+    if (round == 0 && u_fastest >= 0.0 && 2.0 * u_fastest < slowest_impact) return false;
+    const double fastest = GatherSpheres(*u, &velocity_);
+    if (round == 0 && 2.0 * fastest < slowest_impact) return false;
     bool grew = false;
     for (size_t i = 0; i < list.size(); ++i) {
       if (in_set_[i] || list[i].kind == ContactKind::kTool) continue;

@@ -231,7 +231,7 @@ VISCERA_AVX_CLONE int Interactions::RequiredSubsteps(State* state_in) {
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin, state_in);
   geometry_.Ensure();
-  impacts_.Limit(h, &state_in->qd, nullptr);
+  impacts_.Limit(h, &state_in->qd, nullptr, kinematics_.FastestAt(state.qd));
   kinematics_.Gather(state.qd);
   substep_ = 0;
   double closing = 0.0;
@@ -285,7 +285,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     UpdateCandidates(margin, state);
     geometry_.RefreshTools();
   }
-  if (impacts_.Limit(h, &state->qd, nullptr))
+  if (impacts_.Limit(h, &state->qd, nullptr, kinematics_.FastestAt(state->qd)))
     state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 
