@@ -3,6 +3,7 @@
 #include "mechanics/avx_clone.h"
 
 #include <algorithm>
+#include <array>
 
 namespace viscera::mechanics {
 
@@ -13,6 +14,7 @@ BandSystemSolver::BandSystemSolver(int num_points, bool use_cholmod)
       solver_(&common_),
       solve_work_(&common_),
       solve_one_work_(&common_) {
+  spare_.setZero(3 * n_);
   if (use_cholmod_) BuildPattern();
 }
 
@@ -83,24 +85,44 @@ void BandSystemSolver::SolveTwoInPlace(double* a, double* b, int first) {
   }
 }
 
-void BandSystemSolver::SolveColumns(MatX* rhs, Eigen::Index from) {
+void BandSystemSolver::SolveColumns(MatX* rhs, Eigen::Index from, std::span<double* const> extra,
+                                    std::span<const int> extra_first) {
+  VISCERA_ASSERT(extra.size() == extra_first.size());
   if (use_cholmod_) {
     solver_.SolveInPlace(rhs->col(0).data(), 1, &solve_one_work_);
     const int cols = static_cast<int>(rhs->cols() - from);
     if (cols > 0) solver_.SolveInPlace(rhs->col(from).data(), cols, &solve_work_);
+    for (double* x : extra) solver_.SolveInPlace(x, 1, &solve_one_work_);
     return;
   }
-  Eigen::Index pending = -1;
-  for (Eigen::Index k = 0; k < rhs->cols(); ++k) {
-    if (k > 0 && k < from) continue;
-    if (pending < 0) {
-      pending = k;
-    } else {
-      band_factor_.SolveTwoInPlace(rhs->col(pending).data(), rhs->col(k).data());
-      pending = -1;
+  // Four at a time: the solve's row-to-row chain, not its arithmetic, sets its time, and each
+  // pass carries four columns in its lanes for about the time of one.
+  std::array<double*, 4> pending{};
+  int first = 0, count = 0;
+  auto flush = [&] {
+    switch (count) {
+      case 1: band_factor_.SolveInPlace(pending[0], first); break;
+      case 2: band_factor_.SolveTwoInPlace(pending[0], pending[1], first); break;
+      case 3:
+        band_factor_.SolveFourInPlace(pending[0], pending[1], pending[2], spare_.data(), first);
+        break;
+      case 4:
+        band_factor_.SolveFourInPlace(pending[0], pending[1], pending[2], pending[3], first);
+        break;
+      default: break;
     }
+    count = 0;
+  };
+  auto add = [&](double* x, int x_first) {
+    first = count == 0 ? x_first : std::min(first, x_first);
+    pending[count++] = x;
+    if (count == 4) flush();
+  };
+  for (Eigen::Index k = 0; k < rhs->cols(); ++k) {
+    if (k == 0 || k >= from) add(rhs->col(k).data(), 0);
   }
-  if (pending >= 0) band_factor_.SolveInPlace(rhs->col(pending).data());
+  for (size_t k = 0; k < extra.size(); ++k) add(extra[k], extra_first[k]);
+  flush();
 }
 
 }  // namespace viscera::mechanics

@@ -7,6 +7,7 @@
 /// term, pins, tips, CG, impacts) reads one small interface whichever factorization is chosen,
 /// and so that the two solvers' workspaces live in one place, preallocated: a solve allocates
 /// nothing once the first one has sized CHOLMOD's workspaces.
+#include <span>
 #include <vector>
 
 #include "mechanics/banded_cholesky.h"
@@ -31,10 +32,13 @@ class BandSystemSolver {
   void SolveInPlace(double* x, int first = 0);
   /// a <- P^-1 a and b <- P^-1 b, each with SolveInPlace's numbers, `first` for both.
   void SolveTwoInPlace(double* a, double* b, int first = 0);
-  /// Columns 0 and `from`.. of rhs (3N rows, `from` >= 1) <- P^-1 of each; the columns between
-  /// are left as they are. The band factor takes them two at a time (each column's numbers
-  /// those of a one-column solve), CHOLMOD column 0 alone and the rest in one call.
-  void SolveColumns(MatX* rhs, Eigen::Index from);
+  /// Columns 0 and `from`.. of rhs (3N rows, `from` >= 1), and the columns `extra` (3N values
+  /// each, +0 in the rows of the points before extra_first's), <- P^-1 of each; the columns of
+  /// rhs between are left as they are. The band factor takes them four at a time (each column's
+  /// numbers those of a one-column solve), CHOLMOD column 0 alone, the rest of rhs in one call
+  /// and each extra column alone.
+  void SolveColumns(MatX* rhs, Eigen::Index from, std::span<double* const> extra = {},
+                    std::span<const int> extra_first = {});
   /// The last assembled P (its products: BlockBand::Multiply).
   const BlockBand& system() const { return system_; }
 
@@ -49,6 +53,7 @@ class BandSystemSolver {
   CholmodSolver solver_;
   CholmodSolveWorkspace solve_work_;      // the multi-column solve of SolveColumns
   CholmodSolveWorkspace solve_one_work_;  // one vector: its own, so neither reallocates
+  VecX spare_;             // the fourth lane's column when SolveColumns has three left
   std::vector<int> slot_;  // (block i, d, alpha, beta) -> index in the CSC values, or -1
 };
 

@@ -81,8 +81,10 @@ template <class T>
 [[gnu::always_inline]] inline T Splat(double v) {
   if constexpr (std::is_same_v<T, double>) {
     return v;
-  } else {
+  } else if constexpr (std::is_same_v<T, Pair>) {
     return T{v, v};
+  } else {
+    return T{v, v, v, v};
   }
 }
 
@@ -137,6 +139,28 @@ struct TwoColumns {
   }
 };
 
+// Row i of four right-hand sides, one per lane.
+struct FourColumns {
+  double* a;
+  double* b;
+  double* c;
+  double* d;
+  Row3<lanes::V4> Load(int i) const {
+    return {lanes::V4{a[3 * i], b[3 * i], c[3 * i], d[3 * i]},
+            lanes::V4{a[3 * i + 1], b[3 * i + 1], c[3 * i + 1], d[3 * i + 1]},
+            lanes::V4{a[3 * i + 2], b[3 * i + 2], c[3 * i + 2], d[3 * i + 2]}};
+  }
+  void Store(int i, const Row3<lanes::V4>& v) const {
+    for (int k = 0; k < 3; ++k) {
+      const lanes::V4 row = k == 0 ? v.x : k == 1 ? v.y : v.z;
+      a[3 * i + k] = row[0];
+      b[3 * i + k] = row[1];
+      c[3 * i + k] = row[2];
+      d[3 * i + k] = row[3];
+    }
+  }
+};
+
 }  // namespace
 
 template <class T, class Rows>
@@ -179,6 +203,11 @@ VISCERA_AVX_CLONE void BlockBandCholesky::SolveInPlace(double* b, int first) con
 
 VISCERA_AVX_CLONE void BlockBandCholesky::SolveTwoInPlace(double* a, double* b, int first) const {
   Solve<Pair>(TwoColumns{a, b}, first);
+}
+
+VISCERA_AVX_CLONE void BlockBandCholesky::SolveFourInPlace(double* a, double* b, double* c,
+                                                           double* d, int first) const {
+  Solve<lanes::V4>(FourColumns{a, b, c, d}, first);
 }
 
 }  // namespace viscera::mechanics

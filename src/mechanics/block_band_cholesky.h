@@ -22,6 +22,10 @@ class BlockBandCholesky {
   /// SolveInPlace's; the factor is read once for both); `first` as SolveInPlace's, for both.
   /// @pre a and b do not overlap.
   void SolveTwoInPlace(double* a, double* b, int first = 0) const;
+  /// The same for four right-hand sides in one pass (the lanes of one AVX register in the AVX
+  /// clone), each column's numbers exactly SolveInPlace's; `first` for all four.
+  /// @pre a, b, c and d do not overlap.
+  void SolveFourInPlace(double* a, double* b, double* c, double* d, int first = 0) const;
 
   /// The factor's blocks (tests): L(i, i - d), d = 0 .. 3, and L(i, i)^-1 (lower triangular).
   int n() const { return n_; }

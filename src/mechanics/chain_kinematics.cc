@@ -1,5 +1,7 @@
 #include "mechanics/chain_kinematics.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -28,7 +30,7 @@ bool ChainKinematics::Configure(const Points& q, bool place) {
   return true;
 }
 
-void ChainKinematics::Gather(const Points& qd) {
+VISCERA_AVX_CLONE void ChainKinematics::Gather(const Points& qd) {
   const bool same =
       gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
   if (same) return;

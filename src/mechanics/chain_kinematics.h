@@ -30,6 +30,13 @@ class ChainKinematics {
   /// Sphere `sphere`'s velocity, and the largest speed (m/s), as last gathered.
   const Vec3& velocity(int sphere) const { return velocity_[sphere]; }
   double fastest() const { return fastest_; }
+  /// fastest() if the velocities were last gathered at qd (and the chain not moved since),
+  /// else -1.
+  double FastestAt(const Points& qd) const {
+    const bool same =
+        gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
+    return same ? fastest_ : -1.0;
+  }
 
  private:
   collision::SphereChain chain_;

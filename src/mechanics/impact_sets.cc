@@ -1,5 +1,7 @@
 #include "mechanics/impact_sets.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -39,7 +41,7 @@ ImpactSets::ImpactSets(const Model& model, const collision::SphereChain& chain,
   contacts_.reserve(static_cast<size_t>(chain.size()) * 8);
 }
 
-double ImpactSets::GatherSpheres(const Points& v, std::vector<Vec3>* out) const {
+VISCERA_AVX_CLONE double ImpactSets::GatherSpheres(const Points& v, std::vector<Vec3>* out) const {
   double fastest = 0.0;
   for (int k = 0; k < chain_.size(); ++k) {
     (*out)[k] = SphereVelocity(k, v);
@@ -48,7 +50,7 @@ double ImpactSets::GatherSpheres(const Points& v, std::vector<Vec3>* out) const 
   return std::sqrt(fastest);
 }
 
-bool ImpactSets::Limit(double h, Points* u, Points* v) {
+VISCERA_AVX_CLONE bool ImpactSets::Limit(double h, Points* u, Points* v, double u_fastest) {
   const double allowed = model_.params().contacts.impact_depth * radius_;
   set_.clear();
   if (!(allowed > 0.0)) return false;
@@ -65,10 +67,12 @@ bool ImpactSets::Limit(double h, Points* u, Points* v) {
     return c.kind == ContactKind::kSelf ? velocity_[c.b] : Vec3::Zero();
   };
   for (int round = 0; round < kMaxRounds; ++round) {
-    const double fastest = GatherSpheres(*u, &velocity_);
     // No pair closes as fast as an impact: no impulse, as in most steps of a settled pile,
     // without looking at each pair.
-    if (round == 0 && 2.0 * fastest < impact_speed_ * (1.0 - 1e-6)) return false;
+    const double slowest_impact = impact_speed_ * (1.0 - 1e-6);
+    if (round == 0 && u_fastest >= 0.0 && 2.0 * u_fastest < slowest_impact) return false;
+    const double fastest = GatherSpheres(*u, &velocity_);
+    if (round == 0 && 2.0 * fastest < slowest_impact) return false;
     bool grew = false;
     for (size_t i = 0; i < list.size(); ++i) {
       if (in_set_[i] || list[i].kind == ContactKind::kTool) continue;
@@ -110,9 +114,9 @@ bool ImpactSets::Limit(double h, Points* u, Points* v) {
   return !set_.empty();
 }
 
-bool ImpactSets::GatherEnd(EndConstraint kind, double h, const Points& v_check,
-                           const Points& v_base, bool first,
-                           std::vector<ImpactLimiter::Contact>* contacts) {
+VISCERA_AVX_CLONE bool ImpactSets::GatherEnd(EndConstraint kind, double h, const Points& v_check,
+                                             const Points& v_base, bool first,
+                                             std::vector<ImpactLimiter::Contact>* contacts) {
   const ContactParams& cp = model_.params().contacts;
   const bool impact = kind == EndConstraint::kImpact;
   if (!(cp.impact_depth > 0.0) || !cp.impact_constraints ||

@@ -40,8 +40,10 @@ class ImpactSets {
 
   /// Inelastic impulses on the pairs that would end the next h deeper than impact_depth moving
   /// at u: u changes, and so does v (if given: the velocity whose kinetic energy counts) by the
-  /// same impulses. Says whether any pair took an impulse.
-  bool Limit(double h, Points* u, Points* v);
+  /// same impulses. Says whether any pair took an impulse. `u_fastest`, when not negative, is
+  /// the fastest sphere's speed at u as ChainKinematics::Gather found it (the same sums): a pile
+  /// slower than any impact is then left without gathering the spheres' velocities again.
+  bool Limit(double h, Points* u, Points* v, double u_fastest = -1.0);
 
   /// Collects the self and environment pairs that the end velocity v_check (#N by 3) leaves
   /// beyond `kind`'s bound. `first` starts a new set; later calls keep the pairs already in it,

@@ -44,6 +44,8 @@ ImplicitEulerIntegrator::ImplicitEulerIntegrator(const Model& model, Interaction
   weight_scale_ = weight.norm() * model.params().gravity.norm();
   b_.setZero(3 * n_);
   cg_.Resize(3 * n_);
+  tip_columns_.reserve(3 * model.params().tools.size());
+  tip_first_.reserve(3 * model.params().tools.size());
 }
 
 void ImplicitEulerIntegrator::AddHistory(const StepWeights& w, const State& state) {
@@ -221,11 +223,16 @@ void ImplicitEulerIntegrator::AdvanceHalving(std::span<const PointLoad> loads, d
   }
   // Columns 1.. (z = A^-1 u, Y = A^-1 G^T) once, column 1 only with a rank-one term; column 0
   // then gets their corrections.
+  // The tips' Woodbury columns (Y = P^-1 B) are solved with them.
   corrections_.SetWeight(w.stiffness * c);
-  band_.SolveColumns(&corrections_.columns(), corrections_.first_solved());
+  tip_columns_.clear();
+  tip_first_.clear();
+  if (tips) tips_.LoadColumns(&tip_columns_, &tip_first_);
+  band_.SolveColumns(&corrections_.columns(), corrections_.first_solved(), tip_columns_,
+                     tip_first_);
   auto dv = corrections_.columns().col(0);
   corrections_.Prepare(jac_.rank1_u);
-  if (tips) tips_.PrepareCorrection(band_, [this](double* x) { ApplyCorrections(x); });
+  if (tips) tips_.PrepareCorrection([this](double* x) { ApplyCorrections(x); });
   ApplyCorrections(dv.data());
   last_cg_iterations_ = 0;
   bool converged = true;

@@ -188,6 +188,9 @@ class ImplicitEulerIntegrator final : public Integrator {
   // The tools' tips, three unknowns per tool, eliminated from the solve. Their targets' path is
   // followed to tip_end_ (fraction of the sub-step) over a span tip_span_ (halvings split it).
   TipSchur tips_;
+  // The tips' Woodbury columns for this sub-step's band solve (TipSchur::LoadColumns).
+  std::vector<double*> tip_columns_;
+  std::vector<int> tip_first_;
   int friction_rounds_ = 0;
   FrictionResolve friction_;  // a revised contact's solve done again from its change of terms
   double tip_end_ = 1.0, tip_span_ = 1.0;

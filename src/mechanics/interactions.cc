@@ -1,5 +1,7 @@
 #include "mechanics/interactions.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -92,8 +94,8 @@ Vec3 Interactions::OtherVelocity(const ContactCandidate& c, const ShaftLever& le
   return Vec3::Zero();
 }
 
-ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
-                                      const PairGeometry& geometry) const {
+VISCERA_AVX_CLONE ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
+                                                        const PairGeometry& geometry) const {
   // Cheap rejection: too far apart to touch within the sub-step at any plausible speed.
   if (geometry.depth <= 0.0 && speculative_h_ == 0.0) {
     ContactPenalty p;
@@ -107,8 +109,8 @@ ContactPenalty Interactions::Evaluate(const ContactCandidate& c,
                        friction_.active());
 }
 
-double Interactions::AddForces(const Points& q, const Points& qd, Points* F, BlockBand* K,
-                               BlockBand* D) {
+VISCERA_AVX_CLONE double Interactions::AddForces(const Points& q, const Points& qd, Points* F,
+                                                 BlockBand* K, BlockBand* D) {
   const ContactParams& cp = model_.params().contacts;
   Configure(q, false);
   kinematics_.Gather(qd);
@@ -216,7 +218,7 @@ double Interactions::CandidateMargin(const State& state, double h) const {
   return margin_ + 2.0 * h * (kinematics_.fastest() + tool_speed);
 }
 
-int Interactions::RequiredSubsteps(State* state_in) {
+VISCERA_AVX_CLONE int Interactions::RequiredSubsteps(State* state_in) {
   const State& state = *state_in;
   const int base = model_.params().substeps;
   const double h = model_.step_size();
@@ -229,7 +231,7 @@ int Interactions::RequiredSubsteps(State* state_in) {
   const double margin = CandidateMargin(state, h);
   UpdateCandidates(margin, state_in);
   geometry_.Ensure();
-  impacts_.Limit(h, &state_in->qd, nullptr);
+  impacts_.Limit(h, &state_in->qd, nullptr, kinematics_.FastestAt(state.qd));
   kinematics_.Gather(state.qd);
   substep_ = 0;
   double closing = 0.0;
@@ -283,7 +285,7 @@ void Interactions::BeginSubstep(std::span<const ToolTarget> targets, double h, S
     UpdateCandidates(margin, state);
     geometry_.RefreshTools();
   }
-  if (impacts_.Limit(h, &state->qd, nullptr))
+  if (impacts_.Limit(h, &state->qd, nullptr, kinematics_.FastestAt(state->qd)))
     state->last_h = 0.0;  // q̇ took impulses: the implicit step's BDF2 restarts
 }
 

@@ -1,12 +1,14 @@
 #include "mechanics/self_pair_coupling.h"
 
+#include "mechanics/avx_clone.h"
+
 namespace viscera::mechanics {
 
 void SelfPairCoupling::Weigh(double ck, double cd) {
   for (Pair& pair : pairs_) pair.weighed = ck * pair.k + cd * pair.d;
 }
 
-void SelfPairCoupling::AddCommonModeTerms(const double* xd, double* yd) const {
+VISCERA_AVX_CLONE void SelfPairCoupling::AddCommonModeTerms(const double* xd, double* yd) const {
   // Called at every CG product: each pair carries its windows, so this reads nothing else. The
   // x and y components go two at a time (one SSE2 register), z alone: the same products and
   // sums in the same order per component.

@@ -10,6 +10,8 @@
 // sub-step is solved again.
 #include "mechanics/stick_slip_friction.h"
 
+#include "mechanics/avx_clone.h"
+
 #include <algorithm>
 
 namespace viscera::mechanics {
@@ -89,8 +91,8 @@ Vec3 StickSlipFriction::SlideDirection(const Vec3& stretch, const Vec3& slip) co
   return size > 0.0 ? Vec3(trial / size) : Vec3(slip.normalized());
 }
 
-void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty* p, Mat3* k,
-                            Mat3* d) {
+VISCERA_AVX_CLONE void StickSlipFriction::Add(const ContactCandidate& c, double mu,
+                                              ContactPenalty* p, Mat3* k, Mat3* d) {
   const double limit = mu * std::max(p->normal_force, 0.0);
   if (!(limit > 0.0)) return;
   const Vec3& n = p->normal;
@@ -148,7 +150,7 @@ void StickSlipFriction::Add(const ContactCandidate& c, double mu, ContactPenalty
   pairs_.push_back(pair);
 }
 
-void StickSlipFriction::GatherSpheres(const Points& x, const double* dx) {
+VISCERA_AVX_CLONE void StickSlipFriction::GatherSpheres(const Points& x, const double* dx) {
   const auto& spheres = chain_.spheres();
   moved_.resize(spheres.size());  // the chain's count: no allocation
   for (size_t k = 0; k < spheres.size(); ++k)
@@ -162,8 +164,9 @@ Vec3 StickSlipFriction::Motion(const Pair& pair, const Vec3& tip) const {
   return relative - pair.normal.dot(relative) * pair.normal;
 }
 
-bool StickSlipFriction::Revise(const Points& v, const double* dv, const double* tip_dv,
-                               const std::vector<Vec3>& tool_velocity) {
+VISCERA_AVX_CLONE bool StickSlipFriction::Revise(const Points& v, const double* dv,
+                                                 const double* tip_dv,
+                                                 const std::vector<Vec3>& tool_velocity) {
   const double kt = tangential_stiffness_;
   const double ct = cp_.damping;
   bool revised = false;
@@ -229,7 +232,7 @@ bool StickSlipFriction::ApplyRevisions(std::vector<Change>* changes) {
   return true;
 }
 
-void StickSlipFriction::Advance(const Points& dq, double h, State* state) {
+VISCERA_AVX_CLONE void StickSlipFriction::Advance(const Points& dq, double h, State* state) {
   const double kt = tangential_stiffness_;
   next_anchors_.clear();
   if (!pairs_.empty()) GatherSpheres(dq, nullptr);

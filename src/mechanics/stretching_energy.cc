@@ -79,13 +79,22 @@ Eigen::RowVector3d NodeTangent(const StretchScratch& s, int node) {
 class PairWeights {
  public:
   const V4& operator()(int pair, int g) const { return w_[pair][g]; }
+  // Node g's weights of pairs 4 k to 4 k + 3 (the last group's lanes 2 and 3 +0): the blocks'
+  // last entries, four pairs per vector.
+  const V4& Group(int k, int g) const { return group_[k][g]; }
   void For(const Eigen::Matrix4d& dw) {
     if (&dw == dw_) return;
     dw_ = &dw;
     int pair = 0;
+    for (int k = 0; k < 3; ++k) {
+      for (int g = 0; g < 4; ++g) group_[k][g] = Splat(0.0);
+    }
     for (int a = 0; a < 4; ++a) {
       for (int b = a; b < 4; ++b, ++pair) {
-        for (int g = 0; g < 4; ++g) w_[pair][g] = Splat(dw(g, a) * dw(g, b));
+        for (int g = 0; g < 4; ++g) {
+          w_[pair][g] = Splat(dw(g, a) * dw(g, b));
+          group_[pair / 4][g][pair % 4] = w_[pair][g][0];
+        }
       }
     }
   }
@@ -93,6 +102,7 @@ class PairWeights {
  private:
   const Eigen::Matrix4d* dw_ = nullptr;
   V4 w_[10][4];
+  V4 group_[3][4];
 };
 
 // K += coeff * d^2 l_j / dq^2 = coeff * sum_g w_g b'_a b'_b (I - t t^T) / |P'|, summed over the
@@ -120,6 +130,15 @@ class PairWeights {
     p[g] = {Splat(c) * (lanes::kIdentityLo - tt.lo), Splat(c) * (lanes::kIdentityMid - tt.mid),
             c * (1.0 - tt.last)};
   }
+  // The 10 blocks' last entries four pairs per vector (the same products and sums as a
+  // block's own), rather than one scalar chain per block.
+  alignas(32) double last[12];
+  for (int k = 0; k < 3; ++k) {
+    const V4 sum = ((w.Group(k, 0) * Splat(p[0].last) + w.Group(k, 1) * Splat(p[1].last)) +
+                    w.Group(k, 2) * Splat(p[2].last)) +
+                   w.Group(k, 3) * Splat(p[3].last);
+    Store4(last + 4 * k, sum);
+  }
   int pair = 0;
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b, ++pair) {
@@ -128,8 +147,7 @@ class PairWeights {
               w(pair, 3) * p[3].lo,
           ((w(pair, 0) * p[0].mid + w(pair, 1) * p[1].mid) + w(pair, 2) * p[2].mid) +
               w(pair, 3) * p[3].mid,
-          ((w(pair, 0)[0] * p[0].last + w(pair, 1)[0] * p[1].last) + w(pair, 2)[0] * p[2].last) +
-              w(pair, 3)[0] * p[3].last};
+          last[pair]};
       lanes::AddBlock(K, f + a, f + b, h);
     }
   }

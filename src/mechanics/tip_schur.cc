@@ -85,38 +85,32 @@ void TipSchur::SubtractProduct(const VecX& z, double* y) const {
   Eigen::Map<VecX>(y + row_begin_, len).noalias() -= B_.middleRows(row_begin_, len) * z;
 }
 
-void TipSchur::PrepareCorrection(BandSystemSolver& band,
-                                 const std::function<void(double*)>& corrections) {
+void TipSchur::LoadColumns(std::vector<double*>* columns, std::vector<int>* first) {
   // Woodbury: (P - B C^-1 B')^-1 = P^-1 + Y S^-1 Y',  Y = P^-1 B,  S = C - B' Y, P the
   // preconditioner with its rank-one term and pins (ApplyCorrections without this part yet).
-  woodbury_ = false;
-  if (!linked_) return;
   // B's columns are +0 above their tool's first linked point, and all +0 for a tool with no
   // link (its columns of Y are then +0 too, as the solve would give them): the band solves
-  // start at that point, two columns at a time (each column's numbers those of its own solve).
+  // start at that point (each column's numbers those of its own solve).
+  woodbury_ = false;
+  if (!linked_) return;
   std::fill(first_.begin(), first_.end(), n_);
   for (const TipLink& link : interactions_->tip_links())
     first_[link.tool] = std::min(first_[link.tool], link.first);
-  int pending = -1;
   for (int j = 0; j < 3 * num_tools_; ++j) {
     if (first_[j / 3] >= n_) {
       Y_.col(j).setZero();
       continue;
     }
     Y_.col(j) = B_.col(j);
-    if (pending < 0) {
-      pending = j;
-      continue;
-    }
-    band.SolveTwoInPlace(Y_.col(pending).data(), Y_.col(j).data(),
-                         std::min(first_[pending / 3], first_[j / 3]));
-    corrections(Y_.col(pending).data());
-    corrections(Y_.col(j).data());
-    pending = -1;
+    columns->push_back(Y_.col(j).data());
+    first->push_back(first_[j / 3]);
   }
-  if (pending >= 0) {
-    band.SolveInPlace(Y_.col(pending).data(), first_[pending / 3]);
-    corrections(Y_.col(pending).data());
+}
+
+void TipSchur::PrepareCorrection(const std::function<void(double*)>& corrections) {
+  if (!linked_) return;
+  for (int j = 0; j < 3 * num_tools_; ++j) {
+    if (first_[j / 3] < n_) corrections(Y_.col(j).data());
   }
   S_ = c_;
   S_.noalias() -= B_.transpose() * Y_;

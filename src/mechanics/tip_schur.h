@@ -36,9 +36,14 @@ class TipSchur {
     woodbury_ = false;
     linked_ = false;
   }
-  /// Y = P^-1 B through the band solve `band` and `corrections` (the preconditioner's rank-one
-  /// and pins' terms, called while this correction is still off), and S = C - B' Y.
-  void PrepareCorrection(BandSystemSolver& band, const std::function<void(double*)>& corrections);
+  /// Y's columns set to B's for the band solve, each with its tool's first linked point (B's
+  /// rows are +0 before it) added to `columns` and `first`; a tool with no link gets Y = +0
+  /// (its solve's answer) and no column. Nothing without a link.
+  void LoadColumns(std::vector<double*>* columns, std::vector<int>* first);
+  /// Once the band has solved those columns (Y = P^-1 B): `corrections` on each (the
+  /// preconditioner's rank-one and pins' terms, called while this correction is still off), and
+  /// S = C - B' Y.
+  void PrepareCorrection(const std::function<void(double*)>& corrections);
   /// Whether PrepareCorrection made a correction (some tip is linked to the tube).
   bool woodbury() const { return woodbury_; }
   /// x (3N, a band solution) <- that of P - B C^-1 B': x += Y S^-1 Y' x.

@@ -114,8 +114,8 @@ void EigenSolve(const BlockBandCholesky& chol, double* b) {
   }
 }
 
-// The one-column solve against Eigen's row-by-row solve, and the two-column solve (one column
-// per lane) against it, bit for bit.
+// The one-column solve against Eigen's row-by-row solve, and the two- and four-column solves
+// (one column per lane) against it, bit for bit.
 TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
 #if defined(__AVX__)
   GTEST_SKIP() << "the solve keeps Eigen's SSE2 association; built for AVX (VISCERA_NATIVE=ON), "
@@ -136,6 +136,14 @@ TEST(BlockBand, SolveIsEigensRowByRowSolveBitForBit) {
       EXPECT_EQ(std::memcmp(solved.data(), expected.data(), sizeof(double) * 3 * n), 0) << seed;
       EXPECT_EQ(std::memcmp(b_two.data(), expected.data(), sizeof(double) * 3 * n), 0) << seed;
       EXPECT_EQ(std::memcmp(c_two.data(), expected_c.data(), sizeof(double) * 3 * n), 0) << seed;
+      // Four: b and c in two lanes each (lanes 0 and 3 are b, 1 and 2 are c).
+      VecX four[4] = {b, c, c, b};
+      chol.SolveFourInPlace(four[0].data(), four[1].data(), four[2].data(), four[3].data());
+      for (int lane = 0; lane < 4; ++lane) {
+        const VecX& want = lane == 0 || lane == 3 ? expected : expected_c;
+        EXPECT_EQ(std::memcmp(four[lane].data(), want.data(), sizeof(double) * 3 * n), 0)
+            << seed << " lane " << lane;
+      }
     }
   }
 }
@@ -161,6 +169,12 @@ TEST(BlockBand, SolveFromFirstNonzeroBlockIsTheWholeSolveBitForBit) {
     EXPECT_EQ(std::memcmp(from.data(), whole.data(), sizeof(double) * 3 * n), 0);
     EXPECT_EQ(std::memcmp(two_b.data(), whole.data(), sizeof(double) * 3 * n), 0);
     EXPECT_EQ(std::memcmp(two_c.data(), whole_c.data(), sizeof(double) * 3 * n), 0);
+    VecX four_b = b, four_c = c, four_b2 = b, four_c2 = c;
+    chol.SolveFourInPlace(four_b.data(), four_c.data(), four_b2.data(), four_c2.data(), first);
+    EXPECT_EQ(std::memcmp(four_b.data(), whole.data(), sizeof(double) * 3 * n), 0);
+    EXPECT_EQ(std::memcmp(four_c.data(), whole_c.data(), sizeof(double) * 3 * n), 0);
+    EXPECT_EQ(std::memcmp(four_b2.data(), whole.data(), sizeof(double) * 3 * n), 0);
+    EXPECT_EQ(std::memcmp(four_c2.data(), whole_c.data(), sizeof(double) * 3 * n), 0);
     if (first + 1 < n) {
       VecX late = b;
       chol.SolveInPlace(late.data(), first + 1);  // skips block `first`'s nonzero rows
