@@ -92,15 +92,14 @@ class ImplicitEulerIntegrator final : public Integrator {
   /// With stick-slip friction, the share of gravity's impulse over the sub-step at which CG's
   /// stop is floored (set_gravity_floor; the whole impulse under the regularized law). Held by
   /// static friction, a resting pile is a network of springs that a looser stop's residual sets
-  /// jittering: floored at the whole impulse, the shipped fall's pile moved at 0.8 mm/s and gained
-  /// up to 9e-9 J in a step at 250 Hz; at 0.3 it rests and gains nothing beyond round-off, and the
-  /// clearing gesture costs the same. A pile that slides under viscous friction damps the residual.
+  /// jittering: floored at the whole impulse, the shipped fall's pile gained up to 5e-9 J in a step
+  /// at 250 Hz; at 0.3 it rests and gains nothing beyond round-off, and the clearing gesture costs
+  /// the same. A pile that slides under viscous friction damps the residual.
   static constexpr double kStickSlipGravityFloor = 0.3;
   /// The share while a tool's tip is linked to the tube in the solve (kLinkedGravityFloor): the
   /// hand drives the tube, no resting network of stuck springs, and the whole impulse's stop
-  /// saves CG a sixth of its iterations on the clearing gesture (3.00 per 100 Hz sub-step and
-  /// 0.91 per 1 kHz step, against 3.58 and 1.08 at 0.3), the same gesture to 4 digits of its
-  /// deepest pair and the hand's peak force.
+  /// saves CG a sixth of its iterations on the clearing gesture (3.99 per 100 Hz sub-step and
+  /// 1.10 per 1 kHz step, against 4.82 and 1.32 at 0.3).
   static constexpr double kLinkedGravityFloor = 1.0;
   static constexpr int kMaxCgIterations = 60;
   /// A solve still short of kCgTolerance after kMaxCgIterations goes on to this many; still
