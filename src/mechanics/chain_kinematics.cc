@@ -31,9 +31,7 @@ bool ChainKinematics::Configure(const Points& q, bool place) {
 }
 
 VISCERA_AVX_CLONE void ChainKinematics::Gather(const Points& qd) {
-  const bool same =
-      gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
-  if (same) return;
+  if (GatheredAt(qd)) return;
   double fastest = 0.0;
   for (int k = 0; k < chain_.size(); ++k) {
     velocity_[k] = Window(k).Gather(qd);

@@ -32,13 +32,15 @@ class ChainKinematics {
   double fastest() const { return fastest_; }
   /// fastest() if the velocities were last gathered at qd (and the chain not moved since),
   /// else -1.
-  double FastestAt(const Points& qd) const {
-    const bool same =
-        gathered_ && qd.rows() == gathered_qd_.rows() && (qd.array() == gathered_qd_.array()).all();
-    return same ? fastest_ : -1.0;
-  }
+  double FastestAt(const Points& qd) const { return GatheredAt(qd) ? fastest_ : -1.0; }
 
  private:
+  // The velocities were last gathered at qd (and the chain not moved since).
+  bool GatheredAt(const Points& qd) const {
+    return gathered_ && qd.rows() == gathered_qd_.rows() &&
+           (qd.array() == gathered_qd_.array()).all();
+  }
+
   collision::SphereChain chain_;
   bool follow_material_;  // params().contacts.spheres_follow_material
   Points configured_q_, gathered_qd_;
