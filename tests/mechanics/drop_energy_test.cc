@@ -24,14 +24,21 @@ constexpr double kRoundOff = 1e-9;  // of the energy at release: far above doubl
 // safeguard off shows a gain; with the tissue card's μ (the scene's) they happen not to gain.
 constexpr double kControlFriction = 0.3;
 
-// held = false: the impact limiter and the stiffening law alone, without the impulses inside the
-// implicit solve and the material spheres that are on by default (docs/impacts.md);
-// friction >= 0: that μ against the plane and itself instead of the scene's.
-FallRecord Drop(double rate_hz, double impact_depth = -1.0, bool held = true,
-                double friction = -1.0) {
+// scenes/fall.toml at rate_hz; friction >= 0: that μ against the plane and itself instead of the
+// scene's.
+ModelParams Fall(double rate_hz, double friction) {
   ModelParams p = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/fall.toml").model;
   scene::ChangeRate(&p, rate_hz);
   if (friction >= 0.0) p.contacts.friction = p.contacts.self_friction = friction;
+  return p;
+}
+
+// held = false: the impact limiter and the stiffening law alone, without the impulses inside the
+// implicit solve and the material spheres that are on by default (docs/impacts.md);
+// friction: as Fall's.
+FallRecord Drop(double rate_hz, double impact_depth = -1.0, bool held = true,
+                double friction = -1.0) {
+  ModelParams p = Fall(rate_hz, friction);
   if (impact_depth >= 0.0) p.contacts.impact_depth = impact_depth;
   p.contacts.impact_constraints = held;
   p.contacts.spheres_follow_material = held;
@@ -81,12 +88,10 @@ struct ShippedFall {
 
 // stick_slip: Coulomb's law with a static phase (the default), else the regularized law;
 // floor_share > 0: CG's stop floored at that share of gravity's impulse instead of the default;
-// friction >= 0: that μ against the plane and itself instead of the scene's.
+// friction: as Fall's.
 ShippedFall RunShippedFall(double rate_hz, bool impact_redo, bool stick_slip = false,
                            double floor_share = 0.0, double friction = -1.0) {
-  ModelParams p = scene::LoadSceneFile(VISCERA_SOURCE_DIR "/scenes/fall.toml").model;
-  scene::ChangeRate(&p, rate_hz);
-  if (friction >= 0.0) p.contacts.friction = p.contacts.self_friction = friction;
+  ModelParams p = Fall(rate_hz, friction);
   p.contacts.friction_law = stick_slip ? FrictionLaw::kStickSlip : FrictionLaw::kRegularized;
   const Model model(p);
   State s = InitialState(model);
